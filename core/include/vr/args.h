@@ -1,0 +1,60 @@
+/* One command-line style for every tool: GNU long options (--name VALUE or
+ * --name=VALUE), optional one-letter aliases, "--" to end options, options
+ * and operands in any order, and --help / --version handled the same way
+ * everywhere.  Usage errors print "tool: message" and a hint to stderr. */
+#ifndef VR_ARGS_H
+#define VR_ARGS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+#include "vr/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vr_option {
+  const char *name;   /* long name without the dashes */
+  char short_name;    /* 0 for none */
+  const char *arg;    /* metavar ("FILE") if it takes a value, NULL for a flag */
+  const char *help;   /* one line */
+} vr_option;
+
+typedef struct vr_args {
+  const char *tool;
+  const vr_option *options;
+  size_t noptions;
+  const char **values;      /* per option: its value, "" for a set flag, NULL if absent */
+  const char **operands;    /* non-option arguments in order */
+  size_t noperands;
+} vr_args;
+
+typedef enum vr_args_outcome {
+  VR_ARGS_RUN = 0,      /* parsed; run the tool */
+  VR_ARGS_EXIT_OK,      /* --help or --version was printed: exit 0 */
+  VR_ARGS_EXIT_USAGE    /* a usage error was printed: exit 2 */
+} vr_args_outcome;
+
+/* usage: the synopsis lines after the tool name ("fit DATA [options]");
+ * about: a paragraph printed under it by --help. */
+vr_args_outcome vr_args_parse(vr_args *a, const char *tool, const char *usage, const char *about,
+                              const vr_option *opts, size_t nopts, int argc, char **argv);
+void vr_args_free(vr_args *a);
+
+const char *vr_args_get(const vr_args *a, const char *name); /* NULL if absent */
+bool vr_args_flag(const vr_args *a, const char *name);
+/* Parses an option's value as a finite number; absent -> *out = fallback. */
+vr_status vr_args_double(const vr_args *a, const char *name, double fallback, double *out,
+                         vr_error *err);
+
+void vr_args_print_help(FILE *f, const char *tool, const char *usage, const char *about,
+                        const vr_option *opts, size_t nopts);
+/* "tool (Virtuelium-C) 0.1.0" */
+void vr_args_print_version(FILE *f, const char *tool);
+const char *vr_version(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

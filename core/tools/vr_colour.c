@@ -1,0 +1,118 @@
+/* vr-colour: the colour of spectra.  Reads a table of reflectance,
+ * transmittance or emission spectra (first column wavelength, one spectrum
+ * per further column) and prints CIE XYZ, xy, CIELAB and 8-bit sRGB for each
+ * one, under a chosen illuminant and observer. */
+#include "vr/args.h"
+#include "vr/colour.h"
+#include "vr/spectrum.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static const vr_option OPTIONS[] = {
+    {"illuminant", 'i', "NAME", "illuminant for reflectances (default D65); see --list-illuminants"},
+    {"observer", 'o', "2|10", "CIE 1931 2° (default) or CIE 1964 10° observer"},
+    {"emitter", 'e', NULL, "the spectra are radiances in W/(sr m² nm): print absolute XYZ (cd/m²)"},
+    {"json", 'j', NULL, "print JSON instead of a table"},
+    {"list-illuminants", 0, NULL, "list the built-in illuminant names and exit"},
+};
+#define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
+
+static void json_string(const char *s) {
+  putchar('"');
+  for (; *s; s++) {
+    if (*s == '"' || *s == '\\') putchar('\\');
+    if ((unsigned char)*s < 0x20) printf("\\u%04x", *s);
+    else putchar(*s);
+  }
+  putchar('"');
+}
+
+int main(int argc, char **argv) {
+  vr_args a;
+  vr_args_outcome o = vr_args_parse(
+      &a, "vr-colour", "[options] SPECTRA.csv",
+      "Prints the CIE colour of each spectrum in SPECTRA.csv (header line; first column the\n"
+      "wavelength in nm, um, A or eV as its header says; one spectrum per further column).\n"
+      "Reflectances are taken under the illuminant and normalised so the perfect white has\n"
+      "Y = 1; CIELAB is relative to the illuminant's white; sRGB (IEC 61966-2-1) is computed\n"
+      "after Bradford adaptation from that white to D65, and marked '*' when out of gamut.",
+      OPTIONS, NOPT, argc, argv);
+  if (o == VR_ARGS_EXIT_OK) return 0;
+  if (o == VR_ARGS_EXIT_USAGE) return 2;
+  int rc = 1;
+  vr_error err = {0};
+  vr_spectrum *illum = NULL;
+  vr_spectrum_table t = {0};
+  if (vr_args_flag(&a, "list-illuminants")) {
+    size_t n;
+    const char *const *names = vr_illuminant_names(&n);
+    for (size_t i = 0; i < n; i++) printf("%s\n", names[i]);
+    printf("D<CCT>   CIE daylight at any CCT from 4000 to 25000 K, e.g. D6000\n");
+    printf("BB<T>    blackbody at T kelvin, e.g. BB2700\n");
+    vr_args_free(&a);
+    return 0;
+  }
+  if (a.noperands != 1) {
+    fprintf(stderr, "vr-colour: expected one spectra file, got %zu\nTry 'vr-colour --help'.\n",
+            a.noperands);
+    vr_args_free(&a);
+    return 2;
+  }
+  vr_observer obs = VR_CIE1931_2DEG;
+  const char *obs_text = vr_args_get(&a, "observer");
+  const char *illum_name = vr_args_get(&a, "illuminant");
+  bool emitter = vr_args_flag(&a, "emitter"), json = vr_args_flag(&a, "json");
+  if (!illum_name) illum_name = "D65";
+  if (obs_text && vr_observer_parse(obs_text, &obs, &err)) goto fail;
+  if (!(illum = vr_illuminant(illum_name, &err))) goto fail;
+  if (vr_spectrum_table_read(a.operands[0], &t, &err)) goto fail;
+
+  double white[3], d65[3];
+  vr_xyz_white(illum, obs, white);
+  vr_srgb_white(d65);
+  if (json) printf("{\"illuminant\": \"%s\", \"observer\": \"%s\", \"spectra\": [", illum_name,
+                   obs == VR_CIE1931_2DEG ? "CIE 1931 2" : "CIE 1964 10");
+  else if (emitter)
+    printf("%-20s %12s %12s %12s %8s %8s\n", "spectrum", "X", "Y (cd/m2)", "Z", "x", "y");
+  else
+    printf("%-20s %9s %9s %9s %8s %8s %8s %8s %8s %s\n", "spectrum", "X", "Y", "Z", "x", "y",
+           "L*", "a*", "b*", "sRGB8");
+  for (size_t i = 0; i < t.count; i++) {
+    double xyz[3], xyy[3], lab[3], adapted[3];
+    int rgb[3];
+    if (emitter) vr_xyz_emitter(t.spectra[i], obs, xyz);
+    else vr_xyz_reflectance(t.spectra[i], illum, obs, xyz);
+    vr_xyz_to_xyy(xyz, white, xyy);
+    vr_xyz_to_lab(xyz, white, lab);
+    vr_bradford(xyz, white, d65, adapted);
+    bool clipped = vr_xyz_to_srgb8(adapted, rgb);
+    if (json) {
+      printf("%s\n  {\"name\": ", i ? "," : "");
+      json_string(t.names[i]);
+      printf(", \"XYZ\": [%.6f, %.6f, %.6f], \"xy\": [%.6f, %.6f]", xyz[0], xyz[1], xyz[2], xyy[0],
+             xyy[1]);
+      if (!emitter)
+        printf(", \"Lab\": [%.4f, %.4f, %.4f], \"sRGB8\": [%d, %d, %d], \"out_of_gamut\": %s",
+               lab[0], lab[1], lab[2], rgb[0], rgb[1], rgb[2], clipped ? "true" : "false");
+      printf("}");
+    } else if (emitter) {
+      printf("%-20.20s %12.6g %12.6g %12.6g %8.5f %8.5f\n", t.names[i], xyz[0], xyz[1], xyz[2],
+             xyy[0], xyy[1]);
+    } else {
+      printf("%-20.20s %9.5f %9.5f %9.5f %8.5f %8.5f %8.3f %8.3f %8.3f %3d %3d %3d%s\n", t.names[i],
+             xyz[0], xyz[1], xyz[2], xyy[0], xyy[1], lab[0], lab[1], lab[2], rgb[0], rgb[1], rgb[2],
+             clipped ? " *" : "");
+    }
+  }
+  if (json) printf("\n]}\n");
+  rc = 0;
+  goto done;
+fail:
+  fprintf(stderr, "vr-colour: %s\n", err.message);
+done:
+  vr_spectrum_table_free(&t);
+  vr_spectrum_destroy(illum);
+  vr_args_free(&a);
+  return rc;
+}

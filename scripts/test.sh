@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Set-up and the whole test suite: installs dependencies, builds twice (a
+# normal build and one with AddressSanitizer + UndefinedBehaviorSanitizer),
+# runs ctest on both, then the fuzz targets for a bounded time.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+scripts/install-deps.sh
+
+echo "== normal build"
+scripts/build.sh build
+(cd build && ctest --output-on-failure -j "$(nproc)")
+
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"
+scripts/build.sh build-asan -DVR_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
+(cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+   ctest --output-on-failure -j "$(nproc)")
+
+echo "== fuzz targets (libFuzzer, bounded)"
+scripts/fuzz.sh 30

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Command-line test of vr-colour: the real executable on a real file, its
+# --help/--version, and its errors on bad input.
+set -u
+bin="$VR_BIN/vr-colour"
+src="$VR_SOURCE_DIR"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+check() { # name, condition...
+  local name=$1; shift
+  if "$@"; then echo "ok - $name"; else echo "not ok - $name"; fails=$((fails+1)); fi
+}
+
+"$bin" --help > "$tmp/help" 2>&1; rc=$?
+check "--help exits 0" test $rc -eq 0
+check "--help shows usage" grep -q "^Usage: vr-colour" "$tmp/help"
+"$bin" --version > "$tmp/ver"; check "--version" grep -q "vr-colour (Virtuelium-C) " "$tmp/ver"
+
+# The white patch of the ColorChecker under D65: L* about 96.5 (BabelColor
+# average, white 9.5), sRGB near (243, 243, 242) (Pascale 2006).
+"$bin" --json "$src/samples/spectra/colorchecker_babelcolor.csv" > "$tmp/out.json"; rc=$?
+check "runs on the sample" test $rc -eq 0
+check "JSON names the white patch" grep -q '"name": "white_9.5"' "$tmp/out.json"
+python3 - "$tmp/out.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+w = [s for s in d["spectra"] if s["name"] == "white_9.5"][0]
+assert abs(w["Lab"][0] - 96.5) < 0.6, w
+assert all(abs(a - b) <= 2 for a, b in zip(w["sRGB8"], [243, 243, 242])), w
+assert len(d["spectra"]) == 24
+PY
+check "white patch colour" test $? -eq 0
+
+# Bad input: a NaN, an unknown illuminant, a missing file, no operand.
+printf 'nm,T\n400,0.5\n410,nan\n' > "$tmp/bad.csv"
+"$bin" "$tmp/bad.csv" > /dev/null 2> "$tmp/err"; rc=$?
+check "NaN exits non-zero" test $rc -ne 0
+check "NaN error names file:line:col and field" grep -q "bad.csv:3:5: field 'T'" "$tmp/err"
+"$bin" -i F99 "$src/samples/spectra/colorchecker_babelcolor.csv" > /dev/null 2> "$tmp/err"; rc=$?
+check "unknown illuminant exits 1" test $rc -eq 1
+check "unknown illuminant is named" grep -q "unknown illuminant 'F99'" "$tmp/err"
+"$bin" "$tmp/none.csv" > /dev/null 2> "$tmp/err"; rc=$?
+check "missing file exits 1" test $rc -eq 1
+check "missing file is named" grep -q "none.csv: cannot open" "$tmp/err"
+"$bin" > /dev/null 2>&1; rc=$?
+check "no operand is a usage error (2)" test $rc -eq 2
+"$bin" --bogus x > /dev/null 2> "$tmp/err"; rc=$?
+check "unknown option is a usage error (2)" test $rc -eq 2
+
+echo "$((12 + 3 - fails)) checks passed, $fails failed"
+test $fails -eq 0

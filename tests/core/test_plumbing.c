@@ -1,0 +1,115 @@
+/* Shared plumbing: error messages, whole-or-nothing files, the progress
+ * line, and the one argument style of every tool. */
+#include "vr_test.h"
+#include "vr/args.h"
+#include "vr/atomic_file.h"
+#include "vr/error.h"
+#include "vr/progress.h"
+
+#include <sys/stat.h>
+
+static void error_messages(void **state) {
+  (void)state;
+  vr_error err = {0};
+  assert_int_equal(vr_error_at(&err, VR_E_PARSE, "a.csv", 12, 3, "field '%s': bad", "T"), VR_E_PARSE);
+  assert_string_equal(err.message, "a.csv:12:3: field 'T': bad");
+  vr_error_at(&err, VR_E_IO, "b.dat", 7, 0, "short");
+  assert_string_equal(err.message, "b.dat:7: short");
+  vr_error_prefix(&err, "while importing %s: ", "x");
+  assert_string_equal(err.message, "while importing x: b.dat:7: short");
+  assert_int_equal(vr_error_set(NULL, VR_E_ARG, "ignored"), VR_E_ARG);
+  assert_string_equal(vr_status_name(VR_E_NOT_FOUND), "not found");
+}
+
+static void atomic_files_appear_whole_or_not_at_all(void **state) {
+  (void)state;
+  char dir[] = "/tmp/vr_atomic_XXXXXX";
+  assert_non_null(mkdtemp(dir));
+  char path[128];
+  snprintf(path, sizeof path, "%s/out.txt", dir);
+  FILE *f = fopen(path, "w");
+  fputs("old", f);
+  fclose(f);
+  vr_atomic_file af;
+  vr_error err = {0};
+  /* An aborted write leaves the old content and no temporary file. */
+  assert_int_equal(vr_atomic_file_open(&af, path, &err), VR_OK);
+  fputs("partial", af.fp);
+  vr_atomic_file_abort(&af);
+  char buf[16] = {0};
+  f = fopen(path, "r");
+  assert_non_null(fgets(buf, sizeof buf, f));
+  fclose(f);
+  assert_string_equal(buf, "old");
+  /* A committed write replaces it. */
+  assert_int_equal(vr_atomic_file_open(&af, path, &err), VR_OK);
+  fputs("new", af.fp);
+  assert_int_equal(vr_atomic_file_commit(&af, &err), VR_OK);
+  f = fopen(path, "r");
+  assert_non_null(fgets(buf, sizeof buf, f));
+  fclose(f);
+  assert_string_equal(buf, "new");
+  remove(path);
+  assert_int_equal(rmdir(dir), 0); /* nothing else was left in the directory */
+}
+
+static void progress_line(void **state) {
+  (void)state;
+  char line[128];
+  vr_progress_format(line, sizeof line, "fit", 25, 100, 10.0, 10);
+  assert_string_equal(line, "fit [##        ]  25%  ETA 0:30");
+  vr_progress_format(line, sizeof line, "fit", 100, 100, 3725.0, 4);
+  assert_string_equal(line, "fit [####] 100%  took 1:02:05");
+  vr_progress_format(line, sizeof line, "x", 0, 10, 1.0, 2);
+  assert_string_equal(line, "x [  ]   0%  ETA --:--");
+  /* Not a terminal under ctest: the bar is silent and NULL is accepted. */
+  vr_progress *p = vr_progress_create("quiet", 10);
+  vr_progress_update(p, 5);
+  vr_progress_finish(p);
+}
+
+static const vr_option OPTS[] = {
+    {"db", 'd', "FILE", "database"},
+    {"json", 'j', NULL, "JSON output"},
+    {"angle", 0, "DEG", "angle"},
+};
+
+static void arguments(void **state) {
+  (void)state;
+  vr_args a;
+  char *argv1[] = {"t", "in.csv", "--db=x.db", "-j", "--angle", "-12.5", "-3", "--", "--json", NULL};
+  assert_int_equal(vr_args_parse(&a, "t", "FILE", "", OPTS, 3, 9, argv1), VR_ARGS_RUN);
+  assert_string_equal(vr_args_get(&a, "db"), "x.db");
+  assert_true(vr_args_flag(&a, "json"));
+  double v;
+  assert_int_equal(vr_args_double(&a, "angle", 0, &v, NULL), VR_OK);
+  assert_near(v, -12.5, 0);
+  assert_int_equal(a.noperands, 3);
+  assert_string_equal(a.operands[0], "in.csv");
+  assert_string_equal(a.operands[1], "-3");
+  assert_string_equal(a.operands[2], "--json");
+  vr_args_free(&a);
+  /* Usage errors: exit code 2 through VR_ARGS_EXIT_USAGE. */
+  char *argv2[] = {"t", "--nope", NULL};
+  assert_int_equal(vr_args_parse(&a, "t", "FILE", "", OPTS, 3, 2, argv2), VR_ARGS_EXIT_USAGE);
+  char *argv3[] = {"t", "--db", NULL};
+  assert_int_equal(vr_args_parse(&a, "t", "FILE", "", OPTS, 3, 2, argv3), VR_ARGS_EXIT_USAGE);
+  char *argv4[] = {"t", "--json=yes", NULL};
+  assert_int_equal(vr_args_parse(&a, "t", "FILE", "", OPTS, 3, 2, argv4), VR_ARGS_EXIT_USAGE);
+  char *argv5[] = {"t", "--angle", "abc", NULL};
+  assert_int_equal(vr_args_parse(&a, "t", "FILE", "", OPTS, 3, 3, argv5), VR_ARGS_RUN);
+  vr_error err = {0};
+  assert_int_equal(vr_args_double(&a, "angle", 0, &v, &err), VR_E_ARG);
+  assert_string_equal(err.message, "option --angle: 'abc' is not a finite number");
+  vr_args_free(&a);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(error_messages),
+      cmocka_unit_test(atomic_files_appear_whole_or_not_at_all),
+      cmocka_unit_test(progress_line),
+      cmocka_unit_test(arguments),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
