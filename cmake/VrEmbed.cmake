@@ -15,3 +15,16 @@ function(vr_embed_csv out_var symbol csv)
     COMMENT "Embedding ${csv}")
   set(${out_var} ${${out_var}} "${dst}" PARENT_SCOPE)
 endfunction()
+
+# Embeds a text file verbatim as   const unsigned char SYMBOL[];  const unsigned long SYMBOL_len;
+function(vr_embed_text out_var symbol file)
+  set(src "${CMAKE_CURRENT_SOURCE_DIR}/${file}")
+  set(dst "${CMAKE_CURRENT_BINARY_DIR}/embedded/${symbol}.c")
+  add_custom_command(
+    OUTPUT "${dst}"
+    COMMAND ${CMAKE_COMMAND} -DSRC=${src} -DDST=${dst} -DSYMBOL=${symbol} -DTEXT=1
+            -P "${PROJECT_SOURCE_DIR}/cmake/VrEmbedRun.cmake"
+    DEPENDS "${src}" "${PROJECT_SOURCE_DIR}/cmake/VrEmbedRun.cmake"
+    COMMENT "Embedding ${file}")
+  set(${out_var} ${${out_var}} "${dst}" PARENT_SCOPE)
+endfunction()

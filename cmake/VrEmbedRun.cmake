@@ -1,4 +1,17 @@
-# Script half of vr_embed_csv (runs at build time with -P).
+# Script half of vr_embed_csv and vr_embed_text (runs at build time with -P).
+if(TEXT)
+  file(READ "${SRC}" hex HEX)
+  string(LENGTH "${hex}" hexlen)
+  math(EXPR len "${hexlen} / 2")
+  string(REGEX REPLACE "([0-9a-f][0-9a-f])" "0x\\1," bytes "${hex}")
+  string(REGEX REPLACE "(0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,0x..,)" "\\1\n" bytes "${bytes}")
+  file(WRITE "${DST}.tmp"
+    "/* Generated from ${SRC} by cmake/VrEmbedRun.cmake. Do not edit. */\n"
+    "const unsigned char ${SYMBOL}[] = {\n${bytes}0x00};\n"
+    "const unsigned long ${SYMBOL}_len = ${len};\n")
+  file(RENAME "${DST}.tmp" "${DST}")
+  return()
+endif()
 file(STRINGS "${SRC}" lines)
 set(body "")
 set(rows 0)

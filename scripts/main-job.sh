@@ -7,9 +7,20 @@ cd "$root"
 scripts/install-deps.sh
 scripts/build.sh build
 mkdir -p out
-bin=build/core
+export VR_MATDB="$root/out/materials.db"
+rm -f "$VR_MATDB" "$VR_MATDB-wal" "$VR_MATDB-shm"   # a fresh database each run
+
+echo "== material database: create with the built-in library, import the samples (vr-matdb)"
+build/matdb/vr-matdb init
+build/matdb/vr-matdb import samples/materials/CLEAR_3.DAT --name NFRC-102-clear
+build/matdb/vr-matdb import samples/materials/hikari_e-bk7.yml --name E-BK7
+build/matdb/vr-matdb list --kind glazing
+build/matdb/vr-matdb show NFRC-102-clear
+build/matdb/vr-matdb eval E-BK7 486.13 587.56 656.27
+build/matdb/vr-matdb eval N-BK7 486.13 587.56 656.27
+build/matdb/vr-matdb export NFRC-102-clear --csv -o out/NFRC-102-clear.csv
 
 echo "== colour of the ColorChecker under D65 and under A (vr-colour)"
-"$bin/vr-colour" samples/spectra/colorchecker_babelcolor.csv | tee out/colorchecker_D65.txt
-"$bin/vr-colour" --illuminant A --json samples/spectra/colorchecker_babelcolor.csv > out/colorchecker_A.json
-echo "wrote out/colorchecker_D65.txt and out/colorchecker_A.json"
+build/core/vr-colour samples/spectra/colorchecker_babelcolor.csv | tee out/colorchecker_D65.txt
+build/core/vr-colour --illuminant A --json samples/spectra/colorchecker_babelcolor.csv > out/colorchecker_A.json
+echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/colorchecker_D65.txt, out/colorchecker_A.json"

@@ -4,6 +4,7 @@
  * one, under a chosen illuminant and observer. */
 #include "vr/args.h"
 #include "vr/colour.h"
+#include "vr/json.h"
 #include "vr/spectrum.h"
 
 #include <stdio.h>
@@ -17,16 +18,6 @@ static const vr_option OPTIONS[] = {
     {"list-illuminants", 0, NULL, "list the built-in illuminant names and exit"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
-
-static void json_string(const char *s) {
-  putchar('"');
-  for (; *s; s++) {
-    if (*s == '"' || *s == '\\') putchar('\\');
-    if ((unsigned char)*s < 0x20) printf("\\u%04x", *s);
-    else putchar(*s);
-  }
-  putchar('"');
-}
 
 int main(int argc, char **argv) {
   vr_args a;
@@ -89,7 +80,7 @@ int main(int argc, char **argv) {
     bool clipped = vr_xyz_to_srgb8(adapted, rgb);
     if (json) {
       printf("%s\n  {\"name\": ", i ? "," : "");
-      json_string(t.names[i]);
+      vr_json_string(stdout, t.names[i]);
       printf(", \"XYZ\": [%.6f, %.6f, %.6f], \"xy\": [%.6f, %.6f]", xyz[0], xyz[1], xyz[2], xyy[0],
              xyy[1]);
       if (!emitter)

@@ -5,6 +5,7 @@
 #include "vr/atomic_file.h"
 #include "vr/error.h"
 #include "vr/progress.h"
+#include "vr/sha256.h"
 
 #include <sys/stat.h>
 
@@ -104,12 +105,39 @@ static void arguments(void **state) {
   vr_args_free(&a);
 }
 
+static void sha256_fips_vectors(void **state) {
+  (void)state;
+  /* FIPS 180-2 Appendix B test vectors. */
+  char hex[65];
+  vr_sha256_buffer("abc", 3, hex);
+  assert_string_equal(hex, "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  const char *two = "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";
+  vr_sha256_buffer(two, strlen(two), hex);
+  assert_string_equal(hex, "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  /* One million 'a', fed in uneven pieces. */
+  vr_sha256 c;
+  vr_sha256_init(&c);
+  char a[997];
+  memset(a, 'a', sizeof a);
+  size_t left = 1000000;
+  while (left) {
+    size_t n = left < sizeof a ? left : sizeof a;
+    vr_sha256_update(&c, a, n);
+    left -= n;
+  }
+  vr_sha256_final(&c, hex);
+  assert_string_equal(hex, "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  vr_sha256_buffer("", 0, hex);
+  assert_string_equal(hex, "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(error_messages),
       cmocka_unit_test(atomic_files_appear_whole_or_not_at_all),
       cmocka_unit_test(progress_line),
       cmocka_unit_test(arguments),
+      cmocka_unit_test(sha256_fips_vectors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

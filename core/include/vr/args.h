@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdio.h>
 #include "vr/error.h"
+#include "vr/version.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -52,7 +53,7 @@ void vr_args_print_help(FILE *f, const char *tool, const char *usage, const char
                         const vr_option *opts, size_t nopts);
 /* "tool (Virtuelium-C) 0.1.0" */
 void vr_args_print_version(FILE *f, const char *tool);
-const char *vr_version(void);
+
 
 #ifdef __cplusplus
 }

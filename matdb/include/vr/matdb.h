@@ -1,0 +1,81 @@
+/* The material database: one SQLite file that every tool writes to and the
+ * renderer reads from.
+ *
+ * Location: the path given, else $VR_MATDB, else "materials.db" in the
+ * working directory.  The first open creates the schema and seeds the
+ * built-in library (standard glasses, metals, Si, CIE illuminants, the
+ * ASTM G173 solar spectra, the ColorChecker), each with its published
+ * source.  Saving a material under an existing name adds a new version;
+ * loads take the newest unless a version is named.  Every save is one
+ * transaction: a failure or a killed process leaves the file as it was.  The
+ * file is in WAL mode, so any number of readers work while one process
+ * writes.  A handle is for one thread; open one per thread. */
+#ifndef VR_MATDB_H
+#define VR_MATDB_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "vr/error.h"
+#include "vr/material.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VR_MATDB_SCHEMA_VERSION 1
+
+typedef struct vr_matdb vr_matdb;
+
+enum { VR_MATDB_READONLY = 1 };
+
+/* path NULL: $VR_MATDB or "materials.db".  A read-only open of a missing
+ * file fails; a read-write open creates and seeds it.  Refuses, with a
+ * message naming the file: something that is not SQLite, a SQLite file
+ * that is not a material database, a schema newer than this build. */
+vr_status vr_matdb_open(const char *path, int flags, vr_matdb **out, vr_error *err);
+void vr_matdb_close(vr_matdb *db);
+const char *vr_matdb_path(const vr_matdb *db);
+/* The path vr_matdb_open(NULL, ...) would use. */
+const char *vr_matdb_default_path(void);
+
+/* Saves m as a new version of m->name; sets m->version and
+ * m->prov.created_at.  Validates first: a name, data fitting the kind (n for
+ * dielectrics and conductors, "value" for reflectances and illuminants, T,
+ * Rf and Rb for glazing), k >= 0, no negative thickness. */
+vr_status vr_matdb_save(vr_matdb *db, vr_material *m, vr_error *err);
+/* version 0: the newest. */
+vr_status vr_matdb_load(vr_matdb *db, const char *name, int version, vr_material **out,
+                        vr_error *err);
+/* Removes every version of name; VR_E_NOT_FOUND if there is none. */
+vr_status vr_matdb_remove(vr_matdb *db, const char *name, int *removed_versions, vr_error *err);
+
+typedef struct vr_matdb_entry {
+  const char *name;
+  int version;          /* newest (list) or this row's (history) */
+  int versions;         /* how many versions exist */
+  const char *kind;
+  const char *created_at;
+  const char *tool;
+  const char *tool_version;
+  const char *source_path;
+  const char *source_sha256;
+  const char *model;
+  const char *reference;
+  const char *note;
+  double residual;      /* NAN if none */
+} vr_matdb_entry;
+typedef int (*vr_matdb_visit)(const vr_matdb_entry *e, void *user); /* non-zero stops */
+
+/* The newest version of every material, by name; kind NULL for all. */
+vr_status vr_matdb_list(vr_matdb *db, const char *kind, vr_matdb_visit visit, void *user,
+                        vr_error *err);
+/* Every version of one material, oldest first. */
+vr_status vr_matdb_history(vr_matdb *db, const char *name, vr_matdb_visit visit, void *user,
+                           vr_error *err);
+/* SQLite's integrity check plus the schema version; ok set to true if sound. */
+vr_status vr_matdb_check(vr_matdb *db, bool *ok, char *report, size_t size, vr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

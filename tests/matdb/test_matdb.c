@@ -1,0 +1,251 @@
+/* The material database: creation and seeding, versions, the IGDB importer
+ * on NFRC 102, refusal of foreign, corrupt and newer files, validation. */
+#include "vr_test.h"
+#include "import.h"
+#include "vr/matdb.h"
+
+#include <sqlite3.h>
+
+static char dbdir[64];
+
+static const char *fresh_path(const char *name) {
+  static char path[128];
+  if (!dbdir[0]) {
+    snprintf(dbdir, sizeof dbdir, "/tmp/vr_matdb_XXXXXX");
+    if (!mkdtemp(dbdir)) return NULL;
+  }
+  snprintf(path, sizeof path, "%s/%s", dbdir, name);
+  unlink(path);
+  return path;
+}
+
+static int count_visit(const vr_matdb_entry *e, void *user) {
+  (void)e;
+  (*(int *)user)++;
+  return 0;
+}
+
+static void new_database_is_seeded_with_sources(void **state) {
+  (void)state;
+  vr_matdb *db;
+  vr_error err = {0};
+  const char *path = fresh_path("seed.db");
+  assert_int_equal(vr_matdb_open(path, 0, &db, &err), VR_OK);
+  int n = 0;
+  assert_int_equal(vr_matdb_list(db, NULL, count_visit, &n, &err), VR_OK);
+  /* 13 refractiveindex.info materials, 27 CIE + 3 ASTM G173 illuminants,
+   * 24 ColorChecker patches. */
+  assert_int_equal(n, 13 + 30 + 24);
+  n = 0;
+  assert_int_equal(vr_matdb_list(db, "conductor", count_visit, &n, &err), VR_OK);
+  assert_int_equal(n, 4);
+  vr_material *m;
+  assert_int_equal(vr_matdb_load(db, "N-BK7", 0, &m, &err), VR_OK);
+  assert_contains(m->prov.reference, "SCHOTT");
+  assert_int_equal(strlen(m->prov.sha256), 64);
+  double nn, k;
+  /* SCHOTT N-BK7 datasheet: nd = 1.51680 at 587.56 nm. */
+  assert_int_equal(vr_material_nk(m, 587.56, false, &nn, &k, NULL, &err), VR_OK);
+  assert_near(nn, 1.516800, 1e-6);
+  vr_material_destroy(m);
+  /* ASTM G173 AM1.5 global integrates to 1000.4 W/m2 over 280-4000 nm
+   * (ASTM G173-03 table totals). */
+  assert_int_equal(vr_matdb_load(db, "ASTM-G173-AM1.5G", 0, &m, &err), VR_OK);
+  assert_near(vr_spectrum_integrate(vr_material_spectrum(m, "value"), VR_TRAPEZOID), 1000.4, 0.5);
+  vr_material_destroy(m);
+  vr_matdb_close(db);
+  /* Reopening does not seed twice. */
+  assert_int_equal(vr_matdb_open(path, VR_MATDB_READONLY, &db, &err), VR_OK);
+  n = 0;
+  assert_int_equal(vr_matdb_list(db, NULL, count_visit, &n, &err), VR_OK);
+  assert_int_equal(n, 67);
+  vr_matdb_close(db);
+}
+
+static void versions_history_and_removal(void **state) {
+  (void)state;
+  vr_matdb *db;
+  vr_error err = {0};
+  assert_int_equal(vr_matdb_open(fresh_path("versions.db"), 0, &db, &err), VR_OK);
+  for (int v = 1; v <= 3; v++) {
+    vr_material *m = vr_material_create("white-paint", VR_KIND_REFLECTANCE, NULL);
+    vr_material_add_spectrum(m, "value", vr_spectrum_create_uniform(400, 100, 4, 0.8 + 0.05 * v, NULL), NULL);
+    vr_material_add_parameter(m, "albedo", 0.8 + 0.05 * v, NAN, NULL, NULL);
+    vr_material_set_text(&m->prov.tool, "test", NULL);
+    assert_int_equal(vr_matdb_save(db, m, &err), VR_OK);
+    assert_int_equal(m->version, v);
+    vr_material_destroy(m);
+  }
+  vr_material *m;
+  assert_int_equal(vr_matdb_load(db, "white-paint", 0, &m, &err), VR_OK);
+  assert_int_equal(m->version, 3);
+  assert_near(m->spectra[0].s->value[0], 0.95, 1e-15);
+  assert_true(isnan(m->params[0].stderr_));
+  vr_material_destroy(m);
+  assert_int_equal(vr_matdb_load(db, "white-paint", 1, &m, &err), VR_OK);
+  assert_near(m->spectra[0].s->value[0], 0.85, 1e-15);
+  vr_material_destroy(m);
+  assert_int_equal(vr_matdb_load(db, "white-paint", 7, &m, &err), VR_E_NOT_FOUND);
+  assert_contains(err.message, "no version 7 of material 'white-paint'");
+  int n = 0;
+  assert_int_equal(vr_matdb_history(db, "white-paint", count_visit, &n, &err), VR_OK);
+  assert_int_equal(n, 3);
+  int removed;
+  assert_int_equal(vr_matdb_remove(db, "white-paint", &removed, &err), VR_OK);
+  assert_int_equal(removed, 3);
+  assert_int_equal(vr_matdb_load(db, "white-paint", 0, &m, &err), VR_E_NOT_FOUND);
+  assert_contains(err.message, "unknown material 'white-paint'");
+  assert_int_equal(vr_matdb_remove(db, "white-paint", &removed, &err), VR_E_NOT_FOUND);
+  bool ok;
+  char report[256];
+  assert_int_equal(vr_matdb_check(db, &ok, report, sizeof report, &err), VR_OK);
+  assert_true(ok);
+  vr_matdb_close(db);
+}
+
+static void igdb_nfrc_102(void **state) {
+  (void)state;
+  /* NFRC 102 "Generic Clear Glass", CLEAR_3.DAT from LBNL's pyWinCalc
+   * examples: 111 rows from 0.300 to 2.500 um, 3.048 mm, emissivity 0.84. */
+  vr_material *m;
+  vr_error err = {0};
+  assert_int_equal(vr_import_file(VR_TEST_DATA "/CLEAR_3.DAT", NULL, NULL, "test", &m, &err), VR_OK);
+  assert_string_equal(m->name, "CLEAR_3");
+  assert_int_equal(m->kind, VR_KIND_GLAZING);
+  const vr_spectrum *T = vr_material_spectrum(m, "T");
+  assert_int_equal(T->n, 111);
+  assert_near(T->nm[0], 300.0, 1e-9);
+  assert_near(T->nm[110], 2500.0, 1e-9);
+  assert_int_equal(vr_material_spectrum(m, "Rf")->n, 111);
+  assert_int_equal(vr_material_spectrum(m, "Rb")->n, 111);
+  assert_near(vr_material_property(m, "thickness")->value, 3.048, 1e-12);
+  assert_string_equal(vr_material_property(m, "thickness")->unit, "mm");
+  assert_near(vr_material_property(m, "emissivity_front")->value, 0.84, 0);
+  assert_near(vr_material_property(m, "emissivity_back")->value, 0.84, 0);
+  assert_near(vr_material_property(m, "conductivity")->value, 1.0, 0);
+  assert_near(vr_material_property(m, "nfrc_id")->value, 102, 0);
+  assert_string_equal(vr_material_property(m, "product_name")->text, "Generic Clear Glass");
+  assert_string_equal(vr_material_property(m, "manufacturer")->text, "Generic");
+  assert_string_equal(vr_material_property(m, "coated_side")->text, "Neither");
+  /* Last row of the file: 2.500 0.8220 0.0680 0.0680. */
+  assert_near(T->value[110], 0.8220, 0);
+  assert_near(vr_material_spectrum(m, "Rb")->value[110], 0.0680, 0);
+  assert_int_equal(strlen(m->prov.sha256), 64);
+  /* Stored and loaded back, every field survives. */
+  vr_matdb *db;
+  assert_int_equal(vr_matdb_open(fresh_path("igdb.db"), 0, &db, &err), VR_OK);
+  assert_int_equal(vr_matdb_save(db, m, &err), VR_OK);
+  vr_material *back;
+  assert_int_equal(vr_matdb_load(db, "CLEAR_3", 0, &back, &err), VR_OK);
+  assert_int_equal(back->nprops, m->nprops);
+  for (size_t i = 0; i < m->nprops; i++) {
+    assert_string_equal(back->props[i].key, m->props[i].key);
+    if (m->props[i].text) assert_string_equal(back->props[i].text, m->props[i].text);
+    if (isfinite(m->props[i].value)) assert_true(back->props[i].value == m->props[i].value);
+  }
+  for (size_t j = 0; j < T->n; j++) assert_true(vr_material_spectrum(back, "T")->value[j] == T->value[j]);
+  assert_string_equal(back->prov.sha256, m->prov.sha256);
+  vr_material_destroy(back);
+  vr_material_destroy(m);
+  vr_matdb_close(db);
+}
+
+static void igdb_bad_input(void **state) {
+  (void)state;
+  vr_error err = {0};
+  struct { const char *text, *expect; } cases[] = {
+      {"{ Thickness } 3\n0.30 0.5 0.1 0.1\n0.31 0.6 abc 0.1\n", ":3: field 'Rf': expected a number, got 'abc'"},
+      {"{ Thickness } -3\n0.30 0.5 0.1 0.1\n", ":1: field 'Thickness': -3 mm must be positive"},
+      {"0.30 0.5 0.1 0.1\n", "no '{ Thickness }' header line"},
+      {"{ Thickness } 3\n0.30 0.95 0.1 0.1\n", ":2: T + R = 1.05 exceeds 1"},
+      {"{ Thickness } 3\n0.30 0.5 0.1 0.1\n0.30 0.5 0.1 0.1\n", ":3: field 'wavelength': 0.3 does not increase"},
+      {"{ Thickness } 3\n0.30 0.5 0.1\n", ":2: field 'Rb' is missing"},
+      {"{ Thickness } 3\n0.30 nan 0.1 0.1\n", ":2: field 'T': 'nan' is not a finite number"},
+      {"{ Thickness } 3\n", "no data rows"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    vr_material *m = vr_material_create("x", VR_KIND_GLAZING, NULL);
+    vr_status st = vr_igdb_parse(cases[i].text, strlen(cases[i].text), "bad.DAT", m, &err);
+    if (st == VR_OK) fail_msg("case %zu parsed", i);
+    assert_contains(err.message, "bad.DAT");
+    assert_contains(err.message, cases[i].expect);
+    vr_material_destroy(m);
+  }
+}
+
+static void refuses_foreign_corrupt_and_newer_files(void **state) {
+  (void)state;
+  vr_matdb *db;
+  vr_error err = {0};
+  /* Not SQLite at all. */
+  const char *garbage = fresh_path("garbage.db");
+  FILE *f = fopen(garbage, "wb");
+  for (int i = 0; i < 4096; i++) fputc((i * 37) & 0xff, f);
+  fclose(f);
+  assert_int_equal(vr_matdb_open(garbage, 0, &db, &err), VR_E_DB);
+  assert_contains(err.message, "not a SQLite database");
+  /* A SQLite file of someone else's. */
+  const char *foreign = fresh_path("foreign.db");
+  sqlite3 *s;
+  sqlite3_open(foreign, &s);
+  sqlite3_exec(s, "CREATE TABLE invoices (id INTEGER)", NULL, NULL, NULL);
+  sqlite3_close(s);
+  assert_int_equal(vr_matdb_open(foreign, 0, &db, &err), VR_E_DB);
+  assert_contains(err.message, "not a Virtuelium-C material database");
+  assert_int_equal(vr_matdb_open(foreign, VR_MATDB_READONLY, &db, &err), VR_E_DB);
+  /* A newer schema. */
+  const char *newer = fresh_path("newer.db");
+  assert_int_equal(vr_matdb_open(newer, 0, &db, &err), VR_OK);
+  vr_matdb_close(db);
+  sqlite3_open(newer, &s);
+  sqlite3_exec(s, "PRAGMA user_version = 99", NULL, NULL, NULL);
+  sqlite3_close(s);
+  assert_int_equal(vr_matdb_open(newer, 0, &db, &err), VR_E_DB);
+  assert_contains(err.message, "newer Virtuelium-C (schema 99");
+  assert_int_equal(vr_matdb_open(newer, VR_MATDB_READONLY, &db, &err), VR_E_DB);
+  /* Missing file, read-only. */
+  assert_int_equal(vr_matdb_open(fresh_path("missing.db"), VR_MATDB_READONLY, &db, &err), VR_E_IO);
+}
+
+static void validation_before_writing(void **state) {
+  (void)state;
+  vr_matdb *db;
+  vr_error err = {0};
+  assert_int_equal(vr_matdb_open(fresh_path("valid.db"), 0, &db, &err), VR_OK);
+  vr_material *m = vr_material_create("bad-glass", VR_KIND_DIELECTRIC, NULL);
+  assert_int_equal(vr_matdb_save(db, m, &err), VR_E_NOT_FOUND);
+  assert_contains(err.message, "has no refractive index");
+  double nm[] = {400, 500}, n[] = {1.5, 1.5}, k[] = {0.0, -1e-3};
+  vr_material_add_spectrum(m, "n", vr_spectrum_create(2, nm, n, NULL), NULL);
+  vr_material_add_spectrum(m, "k", vr_spectrum_create(2, nm, k, NULL), NULL);
+  assert_int_equal(vr_matdb_save(db, m, &err), VR_E_RANGE);
+  assert_contains(err.message, "k = -0.001 at 500 nm is negative");
+  vr_material_destroy(m);
+  m = vr_material_create("pane", VR_KIND_GLAZING, NULL);
+  vr_material_add_spectrum(m, "T", vr_spectrum_create(2, nm, n, NULL), NULL);
+  assert_int_equal(vr_matdb_save(db, m, &err), VR_E_ARG);
+  assert_contains(err.message, "needs T, Rf and Rb");
+  vr_material_destroy(m);
+  m = vr_material_create("film", VR_KIND_DIELECTRIC, NULL);
+  vr_material_add_spectrum(m, "n", vr_spectrum_create(2, nm, n, NULL), NULL);
+  vr_material_add_property(m, "thickness", NULL, -5, "nm", NULL);
+  assert_int_equal(vr_matdb_save(db, m, &err), VR_E_RANGE);
+  assert_contains(err.message, "negative thickness (-5)");
+  vr_material_destroy(m);
+  int count = 0;
+  assert_int_equal(vr_matdb_list(db, "glazing", count_visit, &count, &err), VR_OK);
+  assert_int_equal(count, 0);
+  vr_matdb_close(db);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(new_database_is_seeded_with_sources),
+      cmocka_unit_test(versions_history_and_removal),
+      cmocka_unit_test(igdb_nfrc_102),
+      cmocka_unit_test(igdb_bad_input),
+      cmocka_unit_test(refuses_foreign_corrupt_and_newer_files),
+      cmocka_unit_test(validation_before_writing),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
