@@ -1,4 +1,4 @@
-/* refractiveindex.info YAML files in and out: the database's own format
+/* refractiveindex.info YAML input: the database's own format
  * (polyanskiy/refractiveindex.info-database), with a REFERENCES text,
  * COMMENTS, a DATA list of blocks (a dispersion formula, or rows of
  * tabulated n, k or n k, wavelengths in micrometres) and CONDITIONS / SPECS /
@@ -66,7 +66,8 @@ static yaml_node_t *map_get(const rii_ctx *c, const yaml_node_t *map, const char
 
 static vr_status fail_at(const rii_ctx *c, long line, long col, vr_status st, const char *fmt, ...)
     __attribute__((format(printf, 5, 6)));
-static vr_status fail_at(const rii_ctx *c, long line, long col, vr_status st, const char *fmt, ...) {
+static vr_status fail_at(const rii_ctx *c, long line, long col, vr_status st, const char *fmt,
+                         ...) {
   char msg[VR_ERROR_MESSAGE_MAX];
   va_list ap;
   va_start(ap, fmt);
@@ -106,17 +107,43 @@ static int token_number(const char *tok, size_t len, double *out) {
   return vr_parse_double(buf, out);
 }
 
+/* A wavelength in µm, as nm.  The decimal point moves three places in the
+ * text ("2.5000e-01" is read as "2.5000e2"), so the result is the double
+ * nearest the decimal value in nm: 0.5875618 µm gives the double nearest
+ * 587.5618, where strtod("0.5875618") * 1000 can be one ulp off.  It also
+ * makes writing exact: any nm double has a µm text that reads back to it
+ * (fmt_um).  Hexadecimal floats, whose exponent is binary, are scaled. */
+int vr_rii_um_to_nm(const char *tok, size_t len, double *nm) {
+  double um;
+  int rc = token_number(tok, len, &um);
+  if (rc) return rc;
+  char buf[96];
+  memcpy(buf, tok, len);
+  buf[len] = '\0';
+  long ex = 0;
+  char *e = strpbrk(buf, "eE");
+  if (!strpbrk(buf, "xX") && (!e || (ex = strtol(e + 1, NULL, 10), labs(ex) < 100000))) {
+    if (e) *e = '\0';
+    snprintf(buf + strlen(buf), sizeof buf - strlen(buf), "e%ld", ex + 3);
+    *nm = strtod(buf, NULL);
+  } else {
+    *nm = um * 1000.0;
+  }
+  return isfinite(*nm) ? 0 : -2;
+}
+
 /* The whitespace-separated numbers of a scalar ("0.21 6.7"): the first max
- * go to out, *count says how many there were. */
-static vr_status numbers(const rii_ctx *c, const yaml_node_t *n, const char *field, double *out,
-                         size_t max, size_t *count) {
+ * go to out (as nm if they are wavelengths in µm), *count says how many
+ * there were. */
+static vr_status numbers(const rii_ctx *c, const yaml_node_t *n, const char *field, bool um,
+                         double *out, size_t max, size_t *count) {
   if (!is_scalar(n))
     return fail(c, n, VR_E_PARSE, "field '%s': expected numbers separated by spaces", field);
   const char *p = sval(n), *end = p + slen(n), *tok;
   size_t len, i = 0;
   while (next_token(&p, end, &tok, &len)) {
     double v;
-    int rc = token_number(tok, len, &v);
+    int rc = um ? vr_rii_um_to_nm(tok, len, &v) : token_number(tok, len, &v);
     if (rc)
       return fail(c, n, rc == -2 ? VR_E_RANGE : VR_E_PARSE, "field '%s': item %zu, '%.*s', is %s",
                   field, i + 1, (int)(len > 40 ? 40 : len), tok,
@@ -228,7 +255,7 @@ static vr_status parse_rows(rii_ctx *c, const yaml_node_t *data, int ncols,
                        "data row %zu: an extra field '%.*s' after '%s' (tabulated rows here have "
                        "%d fields)",
                        row, (int)(len > 40 ? 40 : len), tok, fields[ncols - 1], ncols);
-      int rc = token_number(tok, len, &v[k]);
+      int rc = k == 0 ? vr_rii_um_to_nm(tok, len, &v[k]) : token_number(tok, len, &v[k]);
       if (rc)
         return fail_at(c, line, col, rc == -2 ? VR_E_RANGE : VR_E_PARSE,
                        "data row %zu: field '%s': %s, got '%.*s'", row, fields[k],
@@ -238,12 +265,7 @@ static vr_status parse_rows(rii_ctx *c, const yaml_node_t *data, int ncols,
         if (!(v[0] > 0.0))
           return fail_at(c, line, col, VR_E_RANGE,
                          "data row %zu: field '%s': %g µm is not a positive wavelength", row,
-                         fields[0], v[0]);
-        v[0] *= 1000.0;
-        if (!isfinite(v[0]))
-          return fail_at(c, line, col, VR_E_RANGE,
-                         "data row %zu: field '%s': '%.*s' µm is too large", row, fields[0],
-                         (int)(len > 40 ? 40 : len), tok);
+                         fields[0], v[0] / 1000.0);
         if (r->n && !(v[0] > r->nm[r->n - 1]))
           return fail_at(c, line, col, VR_E_PARSE,
                          "data row %zu: field '%s': %.9g µm does not follow the previous row's "
@@ -304,24 +326,25 @@ static vr_status parse_formula(rii_ctx *c, const yaml_node_t *blk, size_t b, int
                 b, type);
   double r[2];
   size_t nr;
-  vr_status st = numbers(c, rn, "wavelength_range", r, 2, &nr);
+  vr_status st = numbers(c, rn, "wavelength_range", true, r, 2, &nr);
   if (st) return st;
   if (nr != 2)
     return fail(c, rn, VR_E_PARSE,
                 "field 'wavelength_range': expected two wavelengths in µm, found %zu number%s",
                 nr, nr == 1 ? "" : "s");
-  if (!(r[0] > 0.0 && r[1] > r[0]) || !isfinite(r[1] * 1000.0))
+  if (!(r[0] > 0.0 && r[1] > r[0]))
     return fail(c, rn, VR_E_RANGE,
                 "field 'wavelength_range': %g to %g µm is not an increasing range of positive "
                 "wavelengths",
-                r[0], r[1]);
+                r[0] / 1000.0, r[1] / 1000.0);
 
   const yaml_node_t *cn = map_get(c, blk, "coefficients");
   if (!cn)
     return fail(c, blk, VR_E_PARSE, "DATA block %zu (formula %d): field 'coefficients' is missing",
                 b, type);
-  vr_formula f = {.type = type, .min_nm = r[0] * 1000.0, .max_nm = r[1] * 1000.0};
-  if ((st = numbers(c, cn, "coefficients", f.c, VR_FORMULA_MAX_COEFFS, &f.ncoeffs))) return st;
+  vr_formula f = {.type = type, .min_nm = r[0], .max_nm = r[1]};
+  st = numbers(c, cn, "coefficients", false, f.c, VR_FORMULA_MAX_COEFFS, &f.ncoeffs);
+  if (st) return st;
   if (f.ncoeffs == 0) return fail(c, cn, VR_E_PARSE, "field 'coefficients': no coefficients");
   if (f.ncoeffs > VR_FORMULA_MAX_COEFFS)
     return fail(c, cn, VR_E_PARSE,
@@ -584,7 +607,7 @@ static vr_status commit(vr_material *m, vr_material *t, vr_error *err) {
     if (!p) return vr_error_set(err, VR_E_NOMEM, "out of memory");
     m->props = p;
   }
-  memcpy(m->spectra + m->nspectra, t->spectra, t->nspectra * sizeof *t->spectra);
+  if (t->nspectra) memcpy(m->spectra + m->nspectra, t->spectra, t->nspectra * sizeof *t->spectra);
   m->nspectra += t->nspectra;
   t->nspectra = 0;
   if (t->nprops) memcpy(m->props + m->nprops, t->props, t->nprops * sizeof *t->props);
@@ -629,204 +652,4 @@ vr_status vr_rii_parse(const char *text, size_t len, const char *name, vr_materi
   yaml_parser_delete(&parser);
   vr_material_destroy(t);
   return st;
-}
-
-/* ---------------------------------------------------------------------- */
-/* Write */
-
-/* The shortest of %.15g, %.16g and %.17g that reads back as exactly v. */
-static void fmt_double(char *buf, size_t size, double v) {
-  for (int p = 15; p <= 17; p++) {
-    snprintf(buf, size, "%.*g", p, v);
-    if (strtod(buf, NULL) == v) return;
-  }
-}
-
-/* A wavelength in µm such that the reader's strtod(text) * 1000 gives back
- * exactly nm.  nm / 1000 is not always that number (the division and the
- * multiplication each round), but then one of its nearest neighbours is,
- * for every nm that came from a µm value in the first place.  Where none
- * is (an nm value no µm double maps onto), the nearest µm value is written. */
-static void fmt_um(char *buf, size_t size, double nm) {
-  const double u = nm / 1000.0;
-  double lo = u, hi = u;
-  for (int step = 0; step <= 8; step++) {
-    const double cand[2] = {lo, hi};
-    for (int j = 0; j < (step ? 2 : 1); j++)
-      for (int p = 15; p <= 17; p++) {
-        snprintf(buf, size, "%.*g", p, cand[j]);
-        if (strtod(buf, NULL) * 1000.0 == nm) return;
-      }
-    lo = nextafter(lo, -INFINITY);
-    hi = nextafter(hi, INFINITY);
-  }
-  snprintf(buf, size, "%.17g", u);
-}
-
-/* A literal block keeps a text readable; it cannot carry leading blanks on
- * the first line, a leading empty line or control characters, which go in a
- * double-quoted scalar with escapes instead. */
-static bool literal_ok(const char *s) {
-  if (!*s || *s == ' ' || *s == '\t' || *s == '\n') return false;
-  for (const unsigned char *p = (const unsigned char *)s; *p; p++)
-    if ((*p < 0x20 && *p != '\n' && *p != '\t') || *p == 0x7f) return false;
-  return true;
-}
-
-static void write_quoted(FILE *f, const char *s) {
-  fputc('"', f);
-  for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
-    switch (*p) {
-    case '"': fputs("\\\"", f); break;
-    case '\\': fputs("\\\\", f); break;
-    case '\n': fputs("\\n", f); break;
-    case '\t': fputs("\\t", f); break;
-    case '\r': fputs("\\r", f); break;
-    default:
-      if (*p < 0x20 || *p == 0x7f) fprintf(f, "\\x%02X", *p);
-      else fputc(*p, f);
-    }
-  }
-  fputc('"', f);
-}
-
-static void write_text(FILE *f, const char *key, const char *s) {
-  if (!s || !*s) return;
-  fprintf(f, "%s: ", key);
-  if (!literal_ok(s)) {
-    write_quoted(f, s);
-    fputc('\n', f);
-    return;
-  }
-  fputs("|\n", f);
-  for (const char *line = s;;) {
-    const char *eol = strchr(line, '\n');
-    size_t n = eol ? (size_t)(eol - line) : strlen(line);
-    if (n) fprintf(f, "    %.*s", (int)n, line);
-    fputc('\n', f);
-    if (!eol) break;
-    line = eol + 1;
-  }
-}
-
-/* A key that reads back as the same text without quotes. */
-static bool plain_key_ok(const char *s) {
-  if (!*s || *s == '-' || *s == '.') return false;
-  for (; *s; s++)
-    if (!((*s >= 'A' && *s <= 'Z') || (*s >= 'a' && *s <= 'z') || (*s >= '0' && *s <= '9') ||
-          *s == '_' || *s == '.' || *s == '-' || *s == '(' || *s == ')'))
-      return false;
-  return true;
-}
-
-static void write_rows(FILE *f, const vr_spectrum *a, const vr_spectrum *b) {
-  char x[40], y[40], z[40];
-  fputs("    data: |\n", f);
-  for (size_t i = 0; i < a->n; i++) {
-    fmt_um(x, sizeof x, a->nm[i]);
-    fmt_double(y, sizeof y, a->value[i]);
-    if (b) {
-      fmt_double(z, sizeof z, b->value[i]);
-      fprintf(f, "        %s %s %s\n", x, y, z);
-    } else {
-      fprintf(f, "        %s %s\n", x, y);
-    }
-  }
-}
-
-vr_status vr_rii_write(FILE *f, const vr_material *m, vr_error *err) {
-  if (!f || !m) return vr_error_set(err, VR_E_ARG, "vr_rii_write: NULL argument");
-  const vr_formula *fo = &m->n_formula;
-  const vr_spectrum *n = vr_material_spectrum(m, "n"), *k = vr_material_spectrum(m, "k");
-  /* Refuse what the format cannot hold rather than drop it silently. */
-  for (size_t i = 0; i < m->nspectra; i++)
-    if (strcmp(m->spectra[i].role, "n") && strcmp(m->spectra[i].role, "k"))
-      return vr_error_set(err, VR_E_ARG,
-                          "material '%s' has '%s' data, which a refractiveindex.info file cannot "
-                          "hold (only n and k)",
-                          m->name, m->spectra[i].role);
-  if (fo->type && n)
-    return vr_error_set(err, VR_E_ARG,
-                        "material '%s' has both a formula and tabulated n; a refractiveindex.info "
-                        "file holds one",
-                        m->name);
-  if (!fo->type && !n && !k)
-    return vr_error_set(err, VR_E_ARG, "material '%s' has no n or k to write", m->name);
-  if (fo->type) {
-    if (fo->type < 1 || fo->type > 9 || fo->ncoeffs == 0 || fo->ncoeffs > VR_FORMULA_MAX_COEFFS)
-      return vr_error_set(err, VR_E_ARG,
-                          "material '%s': formula type %d with %zu coefficients cannot be written",
-                          m->name, fo->type, fo->ncoeffs);
-    bool finite = isfinite(fo->min_nm) && isfinite(fo->max_nm) && fo->min_nm > 0;
-    for (size_t i = 0; i < fo->ncoeffs; i++) finite = finite && isfinite(fo->c[i]);
-    if (!finite)
-      return vr_error_set(err, VR_E_ARG,
-                          "material '%s': the formula has a non-finite coefficient or range",
-                          m->name);
-  }
-
-  fputs("# refractiveindex.info database format, written by Virtuelium-C (vr_rii_write);\n"
-        "# wavelengths in micrometres\n",
-        f);
-  write_text(f, "REFERENCES", m->prov.reference);
-  write_text(f, "COMMENTS", m->description);
-  fputs("DATA:\n", f);
-  char x[40], y[40];
-  if (fo->type) {
-    fmt_um(x, sizeof x, fo->min_nm);
-    fmt_um(y, sizeof y, fo->max_nm);
-    fprintf(f, "  - type: formula %d\n    wavelength_range: %s %s\n    coefficients:", fo->type,
-            x, y);
-    for (size_t i = 0; i < fo->ncoeffs; i++) {
-      fmt_double(x, sizeof x, fo->c[i]);
-      fprintf(f, " %s", x);
-    }
-    fputc('\n', f);
-  }
-  if (n && k && vr_spectrum_same_grid(n, k)) {
-    fputs("  - type: tabulated nk\n", f);
-    write_rows(f, n, k);
-  } else {
-    if (n) {
-      fputs("  - type: tabulated n\n", f);
-      write_rows(f, n, NULL);
-    }
-    if (k) {
-      fputs("  - type: tabulated k\n", f);
-      write_rows(f, k, NULL);
-    }
-  }
-
-  /* Properties go back as one flat SPECS mapping: a key "a.b" reads back
-   * as "a.b", numbers stay plain and text is quoted so it stays text. */
-  bool header = false;
-  for (size_t i = 0; i < m->nprops; i++) {
-    const vr_property *p = &m->props[i];
-    if (!p->text && !isfinite(p->value)) continue;
-    if (!header) fputs("SPECS:\n", f), header = true;
-    fputs("    ", f);
-    if (plain_key_ok(p->key)) fputs(p->key, f);
-    else write_quoted(f, p->key);
-    fputs(": ", f);
-    if (p->text) {
-      write_quoted(f, p->text);
-    } else {
-      fmt_double(x, sizeof x, p->value);
-      if (p->unit) {
-        /* "20 °C" is how the database itself writes a quantity with a unit. */
-        char *both = malloc(strlen(x) + strlen(p->unit) + 2);
-        if (!both) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-        sprintf(both, "%s %s", x, p->unit);
-        write_quoted(f, both);
-        free(both);
-      } else {
-        fputs(x, f);
-      }
-    }
-    fputc('\n', f);
-  }
-  if (fflush(f) != 0 || ferror(f))
-    return vr_error_set(err, VR_E_IO, "material '%s': writing the refractiveindex.info file failed",
-                        m->name);
-  return VR_OK;
 }

@@ -21,4 +21,10 @@ vr_status vr_rii_parse(const char *text, size_t len, const char *name, vr_materi
  * gives identical data. */
 vr_status vr_rii_write(FILE *f, const vr_material *m, vr_error *err);
 
+/* A wavelength token in micrometres (len characters at tok, at most 90) as
+ * nm, by moving the decimal point in the text so the result is the double
+ * nearest the decimal value.  0 on success, -1 not a number, -2 not finite.
+ * Shared by the reader and the writer, which checks its output with it. */
+int vr_rii_um_to_nm(const char *tok, size_t len, double *nm);
+
 #endif
