@@ -10,7 +10,7 @@
  * where R', T' are those of everything behind.  All terms are powers <= 1,
  * so the sum of the geometric series is stable for any thickness (Harbecke,
  * Appl. Phys. B 39, 165 (1986); Centurioni, Appl. Opt. 44, 7532 (2005)). */
-#include "optics_internal.h"
+#include "vr/optics.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -12,7 +12,7 @@
  * k = 1e3 gives underflow to zero, never overflow.  Absorption per layer
  * comes from the Poynting flux at both faces of each layer (Byrnes,
  * arXiv:1603.02720, eq. 15-16), independently of R and T. */
-#include "optics_internal.h"
+#include "vr/optics.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -80,6 +80,14 @@ typedef struct vr_tmm_result {
 vr_status vr_tmm_coherent(const vr_layer *layers, size_t count, double theta0, double lambda_nm,
                           vr_pol pol, vr_tmm_result *res, double *absorbed, vr_error *err);
 
+/* The same solve on the Snell invariant beta = n0 sin(theta0) instead of an
+ * angle, for callers that start inside a medium where the angle may be
+ * complex (light coming back up from a substrate).  No argument validation:
+ * callers pass stacks already checked (or built by vr_tmm_coherent's rules). */
+vr_status vr_tmm_coherent_beta(const vr_layer *layers, size_t count, vr_complex beta,
+                               double lambda_nm, vr_pol pol, vr_tmm_result *res, double *absorbed,
+                               vr_error *err);
+
 /* Ellipsometric angles of a coherent stack: Psi in [0, 90], Delta in
  * [0, 360) degrees, rho = conj(r_p / r_s) = tan(Psi) e^{i Delta} (see the
  * convention note at the top). */

@@ -1,0 +1,72 @@
+/* Fitting a sample model to ellipsometry data: a global search over layer
+ * thicknesses (so the periodicity of thickness cannot trap the fit), then
+ * Levenberg-Marquardt on all free parameters, then uncertainties.
+ *
+ * Residuals are r = (Ψ_model - Ψ)/σΨ and (Δ_model - Δ)/σΔ with the Δ
+ * difference wrapped into (-180°, 180°].  The reported figure of merit is
+ * Woollam's mean squared error
+ *     MSE = sqrt( Σ r² / (2N - M) ),
+ * N the number of (Ψ, Δ) pairs, M the number of free parameters.  Standard
+ * errors are sqrt(diag(C)) with C = (JᵀJ)⁻¹ · Σ r² / (2N - M) (the
+ * covariance scaled by the reduced chi-square, so wrong σ do not make them
+ * dishonest); 90 % limits are value ± t(0.95, 2N - M) · stderr. */
+#ifndef VR_ELLIPSO_FIT_H
+#define VR_ELLIPSO_FIT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "vr/ellipso_data.h"
+#include "vr/ellipso_model.h"
+#include "vr/lsq.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vr_fit_options {
+  int grid_points;        /* per free thickness in the global search (default: from the data) */
+  int grid_wavelengths;   /* wavelengths kept for the search (default 60) */
+  int candidates;         /* grid minima refined by LM (default 3) */
+  int max_iterations;     /* LM iterations (default 200) */
+  bool global_search;     /* default true */
+} vr_fit_options;
+
+vr_fit_options vr_fit_default_options(void);
+
+typedef struct vr_fit_result {
+  size_t nfree;
+  char **names;           /* nfree parameter names */
+  double *value, *stderr_, *ci_lo, *ci_hi;
+  double *correlation;    /* nfree x nfree, row-major; NAN when undetermined */
+  bool covariance_ok;     /* false: the Jacobian is rank deficient (message says why) */
+  char covariance_message[256];
+  double mse;             /* Woollam's MSE */
+  double chi2;            /* Σ r² */
+  size_t npoints;         /* N (Ψ, Δ pairs) */
+  int dof;                /* 2N - M */
+  double *psi_model, *delta_model; /* per data point, at the solution */
+  vr_lsq_summary summary;
+  int grid_evaluations;
+  double seconds;
+} vr_fit_result;
+
+/* Fits m (its free parameters) to d; m holds the solution on return. */
+vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_fit_options *opt,
+                         vr_fit_result *out, vr_error *err);
+void vr_fit_result_free(vr_fit_result *r);
+
+/* Pseudo-optical constants of a bulk sample from one (Ψ, Δ) pair:
+ * <ε> = sin²θ [1 + tan²θ ((1 - ρ)/(1 + ρ))²]. */
+vr_complex vr_pseudo_epsilon(double psi_deg, double delta_deg, double aoi_deg);
+
+/* Without a model: per-wavelength inversion of a bulk sample, then an
+ * automatic dispersion fit (Cauchy with an Urbach tail when the pseudo k
+ * stays below 0.05, else a Kramers-Kronig consistent B-spline ε2).  Returns
+ * the fitted bulk model in *model_out. */
+vr_status vr_ellipso_fit_bulk(const vr_ellipso_data *d, const vr_fit_options *opt,
+                              vr_sample_model **model_out, vr_fit_result *out, vr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

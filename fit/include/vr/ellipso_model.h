@@ -1,0 +1,104 @@
+/* The optical model of an ellipsometry sample: ambient | layers | substrate,
+ * each layer a dispersion model (or an effective-medium mixture of two) with
+ * a thickness, the substrate optionally a thick incoherent slab whose back
+ * face reflects; and the list of parameters a fit may adjust, with bounds.
+ *
+ * Model files are text, one statement per line ('#' comments):
+ *
+ *   ambient   MATERIAL
+ *   layer     NAME MATERIAL thickness=NM [fit] [min=V] [max=V]
+ *   layer     NAME ema=bruggeman|maxwell-garnett(A,B) fraction=F [fit] thickness=NM ...
+ *   substrate MATERIAL [thickness=MM backside]
+ *   param     NAME.PARAMETER = VALUE [fit] [min=V] [max=V]
+ *
+ * MATERIAL is a dispersion model with its parameters at their defaults
+ * (constant, cauchy, sellmeier:N, sellmeier2:N, genosc:TERM+TERM+...
+ * with TERMs lorentz, drude, tauc_lorentz, cody_lorentz, gaussian,
+ * bspline:E1,E2,...,En), or tabulated data: db:NAME (material database),
+ * file:PATH (refractiveindex.info YAML, relative to the model file).  The
+ * ambient and substrate are named "ambient" and "substrate" in param lines;
+ * A and B of an EMA name earlier layers, or "void" (n = 1).  Layers are
+ * listed from the ambient down.  docs/vr-ellipso.md has examples. */
+#ifndef VR_ELLIPSO_MODEL_H
+#define VR_ELLIPSO_MODEL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "vr/dispersion.h"
+#include "vr/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vr_matdb vr_matdb;
+
+typedef enum vr_ema_kind { VR_EMA_NONE = 0, VR_EMA_BRUGGEMAN, VR_EMA_MAXWELL_GARNETT } vr_ema_kind;
+
+typedef struct vr_model_layer {
+  char *name;
+  vr_dispersion *disp;       /* NULL for an EMA layer */
+  vr_ema_kind ema;
+  long ema_a, ema_b;         /* layer indices, -1 = void */
+  double fraction;           /* of component B, 0..1 */
+  double thickness_nm;
+} vr_model_layer;
+
+/* Where a parameter lives: owner is a layer index, VR_OWNER_SUBSTRATE or
+ * VR_OWNER_AMBIENT; slot is a dispersion parameter index, or
+ * VR_SLOT_THICKNESS / VR_SLOT_FRACTION. */
+enum { VR_OWNER_SUBSTRATE = -1, VR_OWNER_AMBIENT = -2 };
+enum { VR_SLOT_THICKNESS = -1, VR_SLOT_FRACTION = -2 };
+
+typedef struct vr_model_param {
+  char *name;                /* "oxide.thickness", "oxide.A", ... */
+  long owner, slot;
+  double lower, upper;
+  bool free;
+  long line;                 /* model-file line that set it, 0 if default */
+} vr_model_param;
+
+typedef struct vr_sample_model {
+  vr_dispersion *ambient;
+  size_t nlayers;
+  vr_model_layer *layers;
+  vr_dispersion *substrate;
+  double substrate_thickness_nm; /* > 0 with backside: incoherent slab */
+  bool backside;
+  size_t nparams;
+  vr_model_param *params;
+  char *source;
+} vr_sample_model;
+
+/* Parses a model file.  db may be NULL (then db: materials are an error). */
+vr_status vr_model_read(const char *path, vr_matdb *db, vr_sample_model **out, vr_error *err);
+vr_status vr_model_parse(const char *text, size_t len, const char *name, const char *base_dir,
+                         vr_matdb *db, vr_sample_model **out, vr_error *err);
+/* A bulk sample: ambient n = 1 over the given substrate dispersion (taken). */
+vr_sample_model *vr_model_bulk(vr_dispersion *substrate, vr_error *err);
+void vr_model_destroy(vr_sample_model *m);
+vr_sample_model *vr_model_copy(const vr_sample_model *m, vr_error *err);
+
+/* Index of a parameter by name, or -1. */
+long vr_model_param_index(const vr_sample_model *m, const char *name);
+/* The storage of parameter i inside the model (valid until the model is
+ * destroyed). */
+double *vr_model_param_value(vr_sample_model *m, size_t i);
+double vr_model_param_get(const vr_sample_model *m, size_t i);
+/* Checks every free parameter's value against its bounds and the model's
+ * domain (thickness >= 0, 0 <= fraction <= 1). */
+vr_status vr_model_check(const vr_sample_model *m, vr_error *err);
+
+/* Ψ and Δ (degrees, Woollam's convention) at a wavelength and angle; with a
+ * reflecting incoherent back side, the incoherent sum of the back-reflected
+ * beams is added and depolarisation (0..1) reported (0 otherwise). */
+vr_status vr_model_psi_delta(const vr_sample_model *m, double nm, double aoi_deg, double *psi,
+                             double *delta, double *depolarisation, vr_error *err);
+/* n, k of layer i (or of the substrate with i = -1) at a wavelength. */
+vr_status vr_model_layer_index(const vr_sample_model *m, long i, double nm, vr_complex *N,
+                               vr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,106 @@
+/* Ellipsometry data from CSV tables with a header line.  Columns are found
+ * by name: the wavelength (or photon energy) with its unit, the angle of
+ * incidence, Ψ, Δ, and optionally their standard deviations. */
+#include "ellipso_read.h"
+#include "vr/csv.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+static int has(const char *h, const char *word) {
+  size_t n = strlen(word);
+  for (; *h; h++)
+    if (!strncasecmp(h, word, n)) return 1;
+  return 0;
+}
+
+static int is_sigma(const char *h) {
+  return has(h, "sigma") || has(h, "err") || has(h, "std") || has(h, "unc") ||
+         !strncasecmp(h, "dpsi", 4) || !strncasecmp(h, "ddelta", 6) || !strncasecmp(h, "s_", 2);
+}
+
+/* The wavelength unit a header names, or NULL. */
+static const char *unit_of(const char *h) {
+  char low[96];
+  size_t n = 0;
+  for (; h[n] && n + 1 < sizeof low; n++) low[n] = (char)tolower((unsigned char)h[n]);
+  low[n] = '\0';
+  char *save = NULL;
+  for (char *t = strtok_r(low, " ()[]_,/-", &save); t; t = strtok_r(NULL, " ()[]_,/-", &save)) {
+    if (!strcmp(t, "nm")) return "nm";
+    if (!strcmp(t, "um") || !strcmp(t, "\xc2\xb5m") || !strcmp(t, "micron") || !strcmp(t, "microns")) return "um";
+    if (!strcmp(t, "a") || !strcmp(t, "angstrom") || !strcmp(t, "angstroms")) return "A";
+    if (!strcmp(t, "ev") || !strcmp(t, "energy")) return "eV";
+  }
+  return NULL;
+}
+
+vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name, const char *unit,
+                               vr_ellipso_data *out, vr_error *err) {
+  vr_csv *csv;
+  vr_status st = vr_csv_parse(text, len, name, &csv, err);
+  if (st) return st;
+  long cw = -1, ca = -1, cp = -1, cd = -1, csp = -1, csd = -1;
+  const char *wunit = NULL;
+  if (vr_csv_rows(csv) == 0) {
+    vr_csv_destroy(csv);
+    return vr_error_at(err, VR_E_PARSE, name, 0, 0, "empty file");
+  }
+  for (size_t c = 0; c < vr_csv_cols(csv, 0); c++) {
+    const char *h = vr_csv_field(csv, 0, c);
+    if (is_sigma(h)) {
+      if (has(h, "psi")) csp = (long)c;
+      else if (has(h, "delta")) csd = (long)c;
+    } else if (has(h, "psi")) cp = (long)c;
+    else if (has(h, "delta")) cd = (long)c;
+    else if (has(h, "aoi") || has(h, "angle") || has(h, "theta")) ca = (long)c;
+    else if (cw < 0 && (has(h, "wave") || has(h, "lambda") || has(h, "wl") || unit_of(h))) {
+      cw = (long)c;
+      wunit = unit_of(h);
+    }
+  }
+  const char *missing = cw < 0 ? "wavelength (or energy)" : ca < 0 ? "angle of incidence (aoi)"
+                        : cp < 0 ? "psi" : cd < 0 ? "delta" : NULL;
+  if (missing) {
+    st = vr_error_at(err, VR_E_PARSE, name, vr_csv_line(csv, 0), 0,
+                     "no '%s' column in the header (expected columns such as wavelength_nm, aoi, "
+                     "psi, delta, sigma_psi, sigma_delta)", missing);
+    vr_csv_destroy(csv);
+    return st;
+  }
+  if (unit) wunit = unit;
+  if (!wunit) wunit = "nm";
+  size_t rows = vr_csv_rows(csv) - 1;
+  out->p = calloc(rows ? rows : 1, sizeof *out->p);
+  if (!out->p) {
+    vr_csv_destroy(csv);
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  }
+  out->has_sigma = csp >= 0 && csd >= 0;
+  for (size_t r = 1; r <= rows && !st; r++) {
+    vr_ellipso_point *p = &out->p[out->n];
+    double w;
+    const char *wname = vr_csv_field(csv, 0, (size_t)cw);
+    if ((st = vr_csv_number(csv, r, (size_t)cw, wname, &w, err)) ||
+        (st = vr_csv_number(csv, r, (size_t)ca, vr_csv_field(csv, 0, (size_t)ca), &p->aoi_deg, err)) ||
+        (st = vr_csv_number(csv, r, (size_t)cp, vr_csv_field(csv, 0, (size_t)cp), &p->psi_deg, err)) ||
+        (st = vr_csv_number(csv, r, (size_t)cd, vr_csv_field(csv, 0, (size_t)cd), &p->delta_deg, err)))
+      break;
+    p->sigma_psi = p->sigma_delta = VR_ELLIPSO_DEFAULT_SIGMA_DEG;
+    if (out->has_sigma &&
+        ((st = vr_csv_number(csv, r, (size_t)csp, vr_csv_field(csv, 0, (size_t)csp), &p->sigma_psi, err)) ||
+         (st = vr_csv_number(csv, r, (size_t)csd, vr_csv_field(csv, 0, (size_t)csd), &p->sigma_delta, err))))
+      break;
+    p->line = vr_csv_line(csv, r);
+    p->depolarisation = NAN;
+    if ((st = vr_ellipso_point_finish(p, w, wunit, name, err))) break;
+    out->n++;
+  }
+  vr_csv_destroy(csv);
+  if (!st && out->n == 0) st = vr_error_at(err, VR_E_PARSE, name, 0, 0, "no data rows");
+  return st;
+}

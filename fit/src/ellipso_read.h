@@ -1,0 +1,17 @@
+/* Shared pieces of the ellipsometry readers. */
+#ifndef VR_ELLIPSO_READ_H
+#define VR_ELLIPSO_READ_H
+
+#include "vr/ellipso_data.h"
+
+vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name, const char *unit,
+                               vr_ellipso_data *out, vr_error *err);
+vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *name,
+                                   const char *unit, vr_ellipso_data *out, vr_error *err);
+/* Converts the wavelength w given in unit to nm, normalises Δ and checks
+ * the point's domain (0 < AOI < 90, 0 <= Ψ <= 90, σ > 0), naming the line. */
+vr_status vr_ellipso_point_finish(vr_ellipso_point *p, double w, const char *unit,
+                                  const char *name, vr_error *err);
+/* w in unit ("nm", "um", "A", "eV") as nm; NAN for an unknown unit. */
+double vr_ellipso_to_nm(double w, const char *unit);
+#endif

@@ -1,0 +1,302 @@
+/* vr-ellipso's outputs: the text and JSON summaries of a fit, the HTML
+ * report with measured and model Ψ, Δ per angle and the fitted n, k, and the
+ * material saved to the database with its provenance. */
+#include "ellipso_output.h"
+#include "vr/atomic_file.h"
+#include "vr/json.h"
+#include "vr/plot.h"
+#include "vr/sha256.h"
+#include "vr/version.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+vr_status vr_fit_view_init(vr_fit_view *v, const vr_sample_model *m, const vr_ellipso_data *d,
+                           const vr_fit_result *r, const char *layer, vr_error *err) {
+  memset(v, 0, sizeof *v);
+  v->model = m;
+  v->data = d;
+  v->fit = r;
+  v->layer = VR_OWNER_SUBSTRATE;
+  v->layer_name = "substrate";
+  if (layer) {
+    size_t i = 0;
+    while (i < m->nlayers && strcmp(m->layers[i].name, layer)) i++;
+    if (i < m->nlayers) {
+      v->layer = (long)i;
+      v->layer_name = m->layers[i].name;
+    } else if (strcmp(layer, "substrate")) {
+      return vr_error_set(err, VR_E_NOT_FOUND, "no layer '%s' in the model", layer);
+    }
+  } else {
+    /* The first layer whose optical constants were fitted, else the first
+     * layer, else the substrate. */
+    long pick = m->nlayers ? 0 : VR_OWNER_SUBSTRATE;
+    for (size_t j = 0; j < m->nparams; j++)
+      if (m->params[j].free && m->params[j].slot >= 0 && m->params[j].owner != VR_OWNER_AMBIENT) {
+        pick = m->params[j].owner;
+        break;
+      }
+    v->layer = pick;
+    v->layer_name = pick >= 0 ? m->layers[pick].name : "substrate";
+  }
+  v->wl = malloc((d->n ? d->n : 1) * sizeof *v->wl);
+  if (!v->wl) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t i = 0; i < d->n; i++) v->wl[i] = d->p[i].nm;
+  qsort(v->wl, d->n, sizeof *v->wl, cmp_double);
+  for (size_t i = 0; i < d->n; i++)
+    if (!v->nwl || v->wl[i] != v->wl[v->nwl - 1]) v->wl[v->nwl++] = v->wl[i];
+  v->n = malloc(v->nwl * sizeof *v->n);
+  v->k = malloc(v->nwl * sizeof *v->k);
+  if (!v->n || !v->k) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t i = 0; i < v->nwl; i++) {
+    vr_complex N;
+    vr_status st = vr_model_layer_index(m, v->layer, v->wl[i], &N, err);
+    if (st) return st;
+    v->n[i] = creal(N);
+    v->k[i] = cimag(N);
+  }
+  return VR_OK;
+}
+
+void vr_fit_view_free(vr_fit_view *v) {
+  free(v->wl);
+  free(v->n);
+  free(v->k);
+  memset(v, 0, sizeof *v);
+}
+
+static int high_correlations(const vr_fit_result *r, FILE *f, bool print) {
+  int count = 0;
+  for (size_t i = 0; i < r->nfree; i++)
+    for (size_t j = i + 1; j < r->nfree; j++) {
+      double c = r->correlation[i * r->nfree + j];
+      if (fabs(c) > 0.95) {
+        count++;
+        if (print)
+          fprintf(f, "warning: %s and %s are correlated (r = %+.4f): the data barely tell them apart\n",
+                  r->names[i], r->names[j], c);
+      }
+    }
+  return count;
+}
+
+static const char *termination(const vr_fit_result *r) {
+  return r->summary.termination == VR_LSQ_CONVERGED ? "converged"
+         : r->summary.termination == VR_LSQ_NO_CONVERGENCE ? "iteration limit" : "failure";
+}
+
+void vr_fit_print_text(FILE *f, const vr_fit_view *v) {
+  const vr_fit_result *r = v->fit;
+  fprintf(f, "MSE %.4f   (chi2 %.6g over %zu (Psi, Delta) pairs, %zu free parameters; %s after %d iterations, %d grid evaluations)\n",
+          r->mse, r->chi2, r->npoints, r->nfree, termination(r), r->summary.iterations, r->grid_evaluations);
+  fprintf(f, "\n%-24s %14s %12s %28s\n", "parameter", "value", "std error", "90% confidence limits");
+  for (size_t i = 0; i < r->nfree; i++)
+    fprintf(f, "%-24s %14.8g %12.4g   [%12.8g, %12.8g]\n", r->names[i], r->value[i], r->stderr_[i],
+            r->ci_lo[i], r->ci_hi[i]);
+  if (!r->covariance_ok) fprintf(f, "warning: uncertainties unavailable: %s\n", r->covariance_message);
+  if (r->nfree > 1 && r->covariance_ok) {
+    fprintf(f, "\ncorrelation matrix\n");
+    for (size_t i = 0; i < r->nfree; i++) {
+      fprintf(f, "%-24s", r->names[i]);
+      for (size_t j = 0; j < r->nfree; j++) fprintf(f, " %+7.4f", r->correlation[i * r->nfree + j]);
+      fputc('\n', f);
+    }
+  }
+  high_correlations(r, f, true);
+  fprintf(f, "\nn, k of %s\n%10s %12s %12s\n", v->layer_name, "nm", "n", "k");
+  size_t step = v->nwl > 20 ? (v->nwl + 19) / 20 : 1;
+  for (size_t i = 0; i < v->nwl; i += step) fprintf(f, "%10.2f %12.6f %12.6g\n", v->wl[i], v->n[i], v->k[i]);
+  if (step > 1) fprintf(f, "(every %zu-th of %zu wavelengths; --json gives all)\n", step, v->nwl);
+}
+
+void vr_fit_print_json(FILE *f, const vr_fit_view *v) {
+  const vr_fit_result *r = v->fit;
+  fputs("{\"mse\": ", f);
+  vr_json_number(f, r->mse);
+  fputs(", \"chi2\": ", f);
+  vr_json_number(f, r->chi2);
+  fprintf(f, ", \"points\": %zu, \"free_parameters\": %zu, \"iterations\": %d, \"termination\": \"%s\", \"parameters\": [",
+          r->npoints, r->nfree, r->summary.iterations, termination(r));
+  for (size_t i = 0; i < r->nfree; i++) {
+    fputs(i ? ", {\"name\": " : "{\"name\": ", f);
+    vr_json_string(f, r->names[i]);
+    fputs(", \"value\": ", f);
+    vr_json_number(f, r->value[i]);
+    fputs(", \"stderr\": ", f);
+    vr_json_number(f, r->stderr_[i]);
+    fputs(", \"ci90\": [", f);
+    vr_json_number(f, r->ci_lo[i]);
+    fputs(", ", f);
+    vr_json_number(f, r->ci_hi[i]);
+    fputs("]}", f);
+  }
+  fputs("], \"correlation\": [", f);
+  for (size_t i = 0; i < r->nfree; i++) {
+    fputs(i ? ", [" : "[", f);
+    for (size_t j = 0; j < r->nfree; j++) {
+      if (j) fputs(", ", f);
+      vr_json_number(f, r->correlation[i * r->nfree + j]);
+    }
+    fputc(']', f);
+  }
+  fprintf(f, "], \"high_correlations\": %d, \"covariance_ok\": %s, \"layer\": ", high_correlations(r, f, false),
+          r->covariance_ok ? "true" : "false");
+  vr_json_string(f, v->layer_name);
+  fputs(", \"nk\": [", f);
+  for (size_t i = 0; i < v->nwl; i++) {
+    fputs(i ? ", {\"wavelength_nm\": " : "{\"wavelength_nm\": ", f);
+    vr_json_number(f, v->wl[i]);
+    fputs(", \"n\": ", f);
+    vr_json_number(f, v->n[i]);
+    fputs(", \"k\": ", f);
+    vr_json_number(f, v->k[i]);
+    fputc('}', f);
+  }
+  fputs("]}\n", f);
+}
+
+static const unsigned COLOURS[] = {0x1f77b4, 0xd62728, 0x2ca02c, 0x9467bd, 0xff7f0e, 0x8c564b};
+
+static bool plot_quantity(FILE *f, const vr_fit_view *v, bool delta) {
+  const vr_ellipso_data *d = v->data;
+  double angles[16];
+  size_t na = vr_ellipso_angles(d, angles, 16);
+  vr_plot *p = vr_plot_create(delta ? "Delta: measured (dots) and model (lines)" : "Psi: measured (dots) and model (lines)",
+                              "wavelength (nm)", delta ? "Delta (deg)" : "Psi (deg)");
+  double *x = malloc(d->n * sizeof *x), *ym = malloc(d->n * sizeof *ym), *yf = malloc(d->n * sizeof *yf);
+  bool ok = p && x && ym && yf;
+  for (size_t a = 0; ok && a < na; a++) {
+    size_t n = 0;
+    for (size_t i = 0; i < d->n; i++)
+      if (fabs(d->p[i].aoi_deg - angles[a]) < 0.01) {
+        x[n] = d->p[i].nm;
+        ym[n] = delta ? d->p[i].delta_deg : d->p[i].psi_deg;
+        yf[n] = delta ? v->fit->delta_model[i] : v->fit->psi_model[i];
+        n++;
+      }
+    char label[48];
+    snprintf(label, sizeof label, "%.2f deg", angles[a]);
+    unsigned c = COLOURS[a % 6];
+    ok = vr_plot_add(p, n, x, ym, c, true, label) && vr_plot_add(p, n, x, yf, c, false, "");
+  }
+  if (ok) ok = vr_plot_write_svg(p, f, 720, 360);
+  vr_plot_destroy(p);
+  free(x);
+  free(ym);
+  free(yf);
+  return ok;
+}
+
+static void html_text(FILE *f, const char *s) {
+  for (; s && *s; s++) {
+    if (*s == '<') fputs("&lt;", f);
+    else if (*s == '>') fputs("&gt;", f);
+    else if (*s == '&') fputs("&amp;", f);
+    else fputc(*s, f);
+  }
+}
+
+vr_status vr_fit_write_report(const char *path, const vr_fit_view *v, vr_error *err) {
+  vr_atomic_file af;
+  vr_status st = vr_atomic_file_open(&af, path, err);
+  if (st) return st;
+  FILE *f = af.fp;
+  const vr_fit_result *r = v->fit;
+  fputs("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>vr-ellipso fit</title>\n"
+        "<style>body{font-family:sans-serif;max-width:980px;margin:2em auto}table{border-collapse:collapse}"
+        "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}.warn{color:#b00}</style></head><body>\n", f);
+  fputs("<h1>Ellipsometry fit</h1>\n<p>Data: ", f);
+  html_text(f, v->data->source);
+  fputs("<br>Model: ", f);
+  html_text(f, v->model->source);
+  fprintf(f, "<br>MSE = %.4f (Woollam's definition, sqrt(chi2 / (2N - M))), chi2 = %.6g, N = %zu, M = %zu; %s after %d iterations.</p>\n",
+          r->mse, r->chi2, r->npoints, r->nfree, termination(r), r->summary.iterations);
+  fputs("<h2>Parameters</h2>\n<table><tr><th>parameter</th><th>value</th><th>std error</th><th>90% limits</th></tr>\n", f);
+  for (size_t i = 0; i < r->nfree; i++) {
+    fputs("<tr><td style=\"text-align:left\">", f);
+    html_text(f, r->names[i]);
+    fprintf(f, "</td><td>%.8g</td><td>%.4g</td><td>[%.8g, %.8g]</td></tr>\n", r->value[i], r->stderr_[i], r->ci_lo[i], r->ci_hi[i]);
+  }
+  fputs("</table>\n", f);
+  if (!r->covariance_ok) {
+    fputs("<p class=\"warn\">Uncertainties unavailable: ", f);
+    html_text(f, r->covariance_message);
+    fputs("</p>\n", f);
+  }
+  if (r->covariance_ok && r->nfree > 1) {
+    fputs("<h2>Correlation</h2>\n<table><tr><th></th>", f);
+    for (size_t j = 0; j < r->nfree; j++) {
+      fputs("<th>", f);
+      html_text(f, r->names[j]);
+      fputs("</th>", f);
+    }
+    fputs("</tr>\n", f);
+    for (size_t i = 0; i < r->nfree; i++) {
+      fputs("<tr><th>", f);
+      html_text(f, r->names[i]);
+      fputs("</th>", f);
+      for (size_t j = 0; j < r->nfree; j++) {
+        double c = r->correlation[i * r->nfree + j];
+        fprintf(f, i != j && fabs(c) > 0.95 ? "<td class=\"warn\">%+.4f</td>" : "<td>%+.4f</td>", c);
+      }
+      fputs("</tr>\n", f);
+    }
+    fputs("</table>\n", f);
+    if (high_correlations(r, f, false))
+      fputs("<p class=\"warn\">Correlations above 0.95 in magnitude: those parameters are not separately determined by these data.</p>\n", f);
+  }
+  fputs("<h2>Psi and Delta</h2>\n", f);
+  bool ok = plot_quantity(f, v, false) && plot_quantity(f, v, true);
+  fputs("\n<h2>Optical constants of ", f);
+  html_text(f, v->layer_name);
+  fputs("</h2>\n", f);
+  vr_plot *p = vr_plot_create("n (blue) and k (red)", "wavelength (nm)", "n, k");
+  ok = ok && p && vr_plot_add(p, v->nwl, v->wl, v->n, 0x1f77b4, false, "n") &&
+       vr_plot_add(p, v->nwl, v->wl, v->k, 0xd62728, false, "k") && vr_plot_write_svg(p, f, 720, 320);
+  vr_plot_destroy(p);
+  fputs("\n</body></html>\n", f);
+  if (!ok) {
+    vr_atomic_file_abort(&af);
+    return vr_error_set(err, VR_E_IO, "%s: could not draw the plots", path);
+  }
+  return vr_atomic_file_commit(&af, err);
+}
+
+vr_status vr_fit_save(vr_matdb *db, const char *name, const vr_fit_view *v, const char *data_path,
+                      const char *model_path, vr_error *err) {
+  vr_complex N;
+  vr_status st = vr_model_layer_index(v->model, v->layer, 550.0, &N, NULL);
+  vr_material *m = vr_material_create(name, st == VR_OK && cimag(N) > creal(N) ? VR_KIND_CONDUCTOR : VR_KIND_DIELECTRIC, err);
+  if (!m) return VR_E_NOMEM;
+  vr_spectrum *n = vr_spectrum_create(v->nwl, v->wl, v->n, err), *k = n ? vr_spectrum_create(v->nwl, v->wl, v->k, err) : NULL;
+  if (!n || !k) {
+    vr_spectrum_destroy(n);
+    vr_material_destroy(m);
+    return err ? err->status : VR_E_NOMEM;
+  }
+  char model[256];
+  snprintf(model, sizeof model, "ellipsometry fit of layer '%s' in %s", v->layer_name, model_path ? model_path : "an automatic bulk model");
+  if ((st = vr_material_add_spectrum(m, "n", n, err)) || (st = vr_material_add_spectrum(m, "k", k, err)) ||
+      (st = vr_material_set_text(&m->prov.source_path, data_path, err)) ||
+      (st = vr_material_set_text(&m->prov.tool, "vr-ellipso fit", err)) ||
+      (st = vr_material_set_text(&m->prov.tool_version, vr_version(), err)) ||
+      (st = vr_material_set_text(&m->prov.model, model, err)))
+    goto done;
+  if ((st = vr_sha256_file(data_path, m->prov.sha256, err))) goto done;
+  m->prov.residual = v->fit->mse;
+  for (size_t i = 0; i < v->fit->nfree && !st; i++)
+    st = vr_material_add_parameter(m, v->fit->names[i], v->fit->value[i], v->fit->stderr_[i], NULL, err);
+  if (!st && v->layer >= 0)
+    st = vr_material_add_property(m, "thickness", NULL, v->model->layers[v->layer].thickness_nm, "nm", err);
+  if (!st) st = vr_matdb_save(db, m, err);
+done:
+  vr_material_destroy(m);
+  return st;
+}

@@ -1,0 +1,32 @@
+/* What vr-ellipso prints, reports and saves after a fit. */
+#ifndef VR_ELLIPSO_OUTPUT_H
+#define VR_ELLIPSO_OUTPUT_H
+
+#include <stdio.h>
+#include "vr/ellipso_fit.h"
+#include "vr/matdb.h"
+
+typedef struct vr_fit_view {
+  const vr_sample_model *model;
+  const vr_ellipso_data *data;
+  const vr_fit_result *fit;
+  long layer;            /* the layer whose n, k are reported (VR_OWNER_SUBSTRATE for the substrate) */
+  const char *layer_name;
+  size_t nwl;            /* distinct wavelengths, increasing */
+  double *wl;
+  double *n, *k;         /* of that layer at wl */
+} vr_fit_view;
+
+/* Fills the view's wavelength list and n, k (frees with vr_fit_view_free). */
+vr_status vr_fit_view_init(vr_fit_view *v, const vr_sample_model *m, const vr_ellipso_data *d,
+                           const vr_fit_result *r, const char *layer, vr_error *err);
+void vr_fit_view_free(vr_fit_view *v);
+
+void vr_fit_print_text(FILE *f, const vr_fit_view *v);
+void vr_fit_print_json(FILE *f, const vr_fit_view *v);
+vr_status vr_fit_write_report(const char *path, const vr_fit_view *v, vr_error *err);
+/* Saves the layer's n, k table, model, parameters and provenance. */
+vr_status vr_fit_save(vr_matdb *db, const char *name, const vr_fit_view *v, const char *data_path,
+                      const char *model_path, vr_error *err);
+
+#endif

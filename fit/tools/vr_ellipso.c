@@ -1,0 +1,202 @@
+/* vr-ellipso: spectroscopic ellipsometry to optical constants and layer
+ * thicknesses.  "fit" reads Ψ, Δ data and fits a sample model (or, without
+ * one, inverts a bulk sample and fits a dispersion model); "simulate" prints
+ * the Ψ, Δ a model predicts, for planning measurements and for tests. */
+#include "ellipso_output.h"
+#include "vr/args.h"
+#include "vr/csv.h"
+#include "vr/matdb.h"
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const vr_option OPTIONS[] = {
+    {"model", 'm', "FILE", "sample model file (docs/vr-ellipso.md); without it: bulk inversion"},
+    {"save", 's', "NAME", "fit: save the fitted layer's n, k and parameters under NAME"},
+    {"layer", 'l', "NAME", "fit: the layer whose n, k are reported and saved (default: the fitted one)"},
+    {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
+    {"report", 'r', "FILE.html", "fit: write an HTML report with plots"},
+    {"units", 'u', "UNIT", "wavelength unit of a CSV without one in its header (nm, um, A, eV)"},
+    {"no-global", 0, NULL, "fit: skip the global thickness search"},
+    {"angles", 'a', "LIST", "simulate: angles of incidence in degrees, e.g. 65,70,75"},
+    {"wavelengths", 'w', "FROM:TO:STEP", "simulate: wavelengths in nm"},
+    {"noise", 0, "SPSI,SDELTA", "simulate: add Gaussian noise with these standard deviations (deg)"},
+    {"seed", 0, "N", "simulate: random seed for --noise (default 1)"},
+    {"json", 'j', NULL, "fit: JSON output"},
+};
+#define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
+
+static const char USAGE[] =
+    "fit DATA [--model FILE] [--save NAME] [--db FILE] [--report FILE.html] [--json]\n"
+    "       vr-ellipso simulate --model FILE --angles LIST --wavelengths FROM:TO:STEP [--noise SPSI,SDELTA]";
+static const char ABOUT[] =
+    "Fits spectroscopic ellipsometry data (Psi, Delta; CSV or J.A. Woollam WVASE/CompleteEASE\n"
+    ".dat) to optical constants and layer thicknesses.  With a model: a global search over the\n"
+    "free thicknesses, then Levenberg-Marquardt (Ceres); each parameter is printed with its\n"
+    "standard error and 90% confidence limits, the correlation matrix (warning above 0.95) and\n"
+    "Woollam's MSE.  Without a model the sample is treated as bulk: pseudo-optical constants\n"
+    "per wavelength, then a Cauchy/Urbach or B-spline dispersion fit.  Delta follows Woollam's\n"
+    "convention (bare Si at 70 deg, 633 nm: Psi 10.6, Delta 179.3).";
+
+static int fail(const vr_error *e) {
+  fprintf(stderr, "vr-ellipso: %s\n", e->message);
+  return 1;
+}
+
+static vr_status open_db(const vr_args *a, int flags, vr_matdb **db, vr_error *err) {
+  return vr_matdb_open(vr_args_get(a, "db"), flags, db, err);
+}
+
+/* Does the model file name db: materials?  Then the database is opened. */
+static int model_needs_db(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return 0;
+  char line[512];
+  int need = 0;
+  while (!need && fgets(line, sizeof line, f)) {
+    char *hash = strchr(line, '#');
+    if (hash) *hash = '\0';
+    need = strstr(line, "db:") != NULL;
+  }
+  fclose(f);
+  return need;
+}
+
+static int cmd_fit(vr_args *a) {
+  vr_error err = {0};
+  vr_ellipso_data d;
+  vr_matdb *db = NULL;
+  vr_sample_model *m = NULL;
+  vr_fit_result r = {0};
+  vr_fit_view v = {0};
+  int rc = 1;
+  const char *data_path = a->operands[1];
+  const char *model_path = vr_args_get(a, "model");
+  const char *save = vr_args_get(a, "save");
+  if (vr_ellipso_read(data_path, vr_args_get(a, "units"), &d, &err)) return fail(&err);
+  vr_fit_options opt = vr_fit_default_options();
+  opt.global_search = !vr_args_flag(a, "no-global");
+  if ((save || (model_path && model_needs_db(model_path))) && open_db(a, 0, &db, &err)) goto out;
+  if (model_path) {
+    if (vr_model_read(model_path, db, &m, &err)) goto out;
+    if (vr_ellipso_fit(m, &d, &opt, &r, &err)) goto out;
+  } else {
+    if (vr_ellipso_fit_bulk(&d, &opt, &m, &r, &err)) goto out;
+  }
+  if (vr_fit_view_init(&v, m, &d, &r, vr_args_get(a, "layer"), &err)) goto out;
+  if (vr_args_flag(a, "json")) vr_fit_print_json(stdout, &v);
+  else vr_fit_print_text(stdout, &v);
+  const char *report = vr_args_get(a, "report");
+  if (report && vr_fit_write_report(report, &v, &err)) goto out;
+  if (save) {
+    if (vr_fit_save(db, save, &v, data_path, model_path, &err)) goto out;
+    fprintf(stderr, "vr-ellipso: saved '%s' to %s\n", save, vr_matdb_path(db));
+  }
+  fprintf(stderr, "vr-ellipso: fit took %.3f s\n", r.seconds);
+  rc = 0;
+out:
+  if (rc) fail(&err);
+  vr_fit_view_free(&v);
+  vr_fit_result_free(&r);
+  vr_model_destroy(m);
+  vr_matdb_close(db);
+  vr_ellipso_data_free(&d);
+  return rc;
+}
+
+static int parse_list(const char *s, double *out, size_t max, size_t *n) {
+  char buf[512];
+  snprintf(buf, sizeof buf, "%s", s);
+  *n = 0;
+  char *save = NULL;
+  for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+    if (*n == max || vr_parse_double(t, &out[*n])) return -1;
+    (*n)++;
+  }
+  return *n ? 0 : -1;
+}
+
+static int cmd_simulate(vr_args *a) {
+  vr_error err = {0};
+  const char *model_path = vr_args_get(a, "model"), *angles = vr_args_get(a, "angles"),
+             *wls = vr_args_get(a, "wavelengths"), *noise = vr_args_get(a, "noise");
+  if (!model_path || !angles || !wls) {
+    fprintf(stderr, "vr-ellipso: simulate needs --model, --angles and --wavelengths\n");
+    return 2;
+  }
+  double ang[32], w[3], sig[2] = {0, 0}, seed = 1;
+  size_t na, nw, ns = 0;
+  char wbuf[128];
+  snprintf(wbuf, sizeof wbuf, "%s", wls);
+  for (char *c = wbuf; *c; c++)
+    if (*c == ':') *c = ',';
+  if (parse_list(angles, ang, 32, &na)) {
+    fprintf(stderr, "vr-ellipso: --angles '%s': expected numbers separated by commas\n", angles);
+    return 2;
+  }
+  if (parse_list(wbuf, w, 3, &nw) || nw != 3 || !(w[2] > 0) || !(w[1] >= w[0]) || !(w[0] > 0)) {
+    fprintf(stderr, "vr-ellipso: --wavelengths '%s': expected FROM:TO:STEP in nm with STEP > 0\n", wls);
+    return 2;
+  }
+  if (noise && (parse_list(noise, sig, 2, &ns) || ns != 2 || sig[0] < 0 || sig[1] < 0)) {
+    fprintf(stderr, "vr-ellipso: --noise '%s': expected SPSI,SDELTA in degrees\n", noise);
+    return 2;
+  }
+  if (vr_args_double(a, "seed", 1, &seed, &err)) return fail(&err);
+  vr_matdb *db = NULL;
+  vr_sample_model *m = NULL;
+  if (model_needs_db(model_path) && open_db(a, 0, &db, &err)) return fail(&err);
+  int rc = 1;
+  if (vr_model_read(model_path, db, &m, &err)) goto out;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  if (!rng) goto out;
+  gsl_rng_set(rng, (unsigned long)seed);
+  printf(noise ? "wavelength_nm,aoi,psi,delta,sigma_psi,sigma_delta\n" : "wavelength_nm,aoi,psi,delta\n");
+  size_t steps = (size_t)floor((w[1] - w[0]) / w[2] + 1e-9) + 1;
+  for (size_t i = 0; i < steps && rc; i++) {
+    double nm = w[0] + w[2] * (double)i;
+    for (size_t j = 0; j < na; j++) {
+      double psi, delta;
+      if (vr_model_psi_delta(m, nm, ang[j], &psi, &delta, NULL, &err)) {
+        gsl_rng_free(rng);
+        goto out;
+      }
+      if (noise) {
+        psi += gsl_ran_gaussian(rng, sig[0]);
+        delta += gsl_ran_gaussian(rng, sig[1]);
+        if (delta < 0) delta += 360;
+        if (delta >= 360) delta -= 360;
+        printf("%.4f,%.4f,%.6f,%.6f,%g,%g\n", nm, ang[j], psi, delta, sig[0], sig[1]);
+      } else {
+        printf("%.4f,%.4f,%.10f,%.10f\n", nm, ang[j], psi, delta);
+      }
+    }
+  }
+  gsl_rng_free(rng);
+  rc = 0;
+out:
+  if (rc) fail(&err);
+  vr_model_destroy(m);
+  vr_matdb_close(db);
+  return rc;
+}
+
+int main(int argc, char **argv) {
+  vr_args a;
+  vr_args_outcome o = vr_args_parse(&a, "vr-ellipso", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
+  if (o == VR_ARGS_EXIT_OK) return 0;
+  if (o == VR_ARGS_EXIT_USAGE) return 2;
+  int rc;
+  if (a.noperands >= 2 && !strcmp(a.operands[0], "fit")) rc = cmd_fit(&a);
+  else if (a.noperands >= 1 && !strcmp(a.operands[0], "simulate")) rc = cmd_simulate(&a);
+  else {
+    fprintf(stderr, "vr-ellipso: expected 'fit DATA' or 'simulate'\nTry 'vr-ellipso --help'.\n");
+    rc = 2;
+  }
+  vr_args_free(&a);
+  return rc;
+}
