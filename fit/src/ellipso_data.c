@@ -107,6 +107,14 @@ void vr_ellipso_data_free(vr_ellipso_data *d) {
   memset(d, 0, sizeof *d);
 }
 
+size_t vr_ellipso_crop(vr_ellipso_data *d, double lo, double hi) {
+  size_t k = 0;
+  for (size_t i = 0; i < d->n; i++)
+    if (d->p[i].nm >= lo && d->p[i].nm <= hi) d->p[k++] = d->p[i];
+  d->n = k;
+  return k;
+}
+
 static int cmp_double(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);

@@ -12,7 +12,7 @@
 #include <time.h>
 
 vr_fit_options vr_fit_default_options(void) {
-  vr_fit_options o = {0, 60, 3, 200, true};
+  vr_fit_options o = {0, 60, 3, 200, true, VR_RESID_PSI_DELTA};
   return o;
 }
 
@@ -23,6 +23,7 @@ typedef struct fit_ctx {
   size_t nfree;
   const size_t *points;  /* data points used, NULL = all */
   size_t npoints;
+  vr_fit_residual residual;
 } fit_ctx;
 
 static double wrap180(double x) {
@@ -44,8 +45,15 @@ static int residuals(const double *x, double *r, double *jac, void *user) {
     const vr_ellipso_point *p = &c->d->p[c->points ? c->points[k] : k];
     double psi, delta;
     if (vr_model_psi_delta(c->m, p->nm, p->aoi_deg, &psi, &delta, NULL, NULL)) return 1;
-    r[2 * k] = (psi - p->psi_deg) / p->sigma_psi;
-    r[2 * k + 1] = wrap180(delta - p->delta_deg) / p->sigma_delta;
+    if (c->residual == VR_RESID_RHO) {
+      vr_complex d = tan(psi * M_PI / 180) * cexp(I * delta * M_PI / 180) -
+                     tan(p->psi_deg * M_PI / 180) * cexp(I * p->delta_deg * M_PI / 180);
+      r[2 * k] = creal(d);
+      r[2 * k + 1] = cimag(d);
+    } else {
+      r[2 * k] = (psi - p->psi_deg) / p->sigma_psi;
+      r[2 * k + 1] = wrap180(delta - p->delta_deg) / p->sigma_delta;
+    }
   }
   return 0;
 }
@@ -181,7 +189,7 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
   for (size_t j = 0; j < nfree; j++) x[j] = vr_model_param_get(m, free_idx[j]);
 
   /* Every model evaluation must work at the start. */
-  fit_ctx all = {m, d, free_idx, nfree, NULL, d->n};
+  fit_ctx all = {m, d, free_idx, nfree, NULL, d->n, opt.residual};
   for (size_t k = 0; k < d->n; k++) {
     double psi, delta;
     if ((st = vr_model_psi_delta(m, d->p[k].nm, d->p[k].aoi_deg, &psi, &delta, NULL, err))) {
@@ -214,7 +222,7 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
       }
       if ((w - 1) % stride == 0) subset[ns++] = k;
     }
-    fit_ctx sub = {m, d, free_idx, nfree, subset, ns};
+    fit_ctx sub = {m, d, free_idx, nfree, subset, ns, opt.residual};
     size_t first = 0;
     for (size_t j = 0; j < nfree; j++)
       if (m->params[free_idx[j]].slot == VR_SLOT_THICKNESS) {

@@ -277,28 +277,36 @@ static vr_status statement(parser *p, char **tok, size_t ntok) {
     long tk = (long)m->nparams - 1;
     if (L.ema && (st = add_param(p, name, "fraction", idx, VR_SLOT_FRACTION, 0, 1))) return st;
     if (L.disp && (st = add_disp_params(p, name, idx, L.disp))) return st;
-    /* thickness= and fraction= first, flags after apply to the thickness. */
-    size_t i = 3;
+    /* key=value settings (thickness=, fraction=, dispersion parameters) and
+     * the flags fit / fixed / min= / max=, which apply to the thickness. */
+    char *flagtok[32];
+    size_t nflags = 0;
     int have_thickness = 0;
-    for (; i < ntok && strchr(tok[i], '=') && strncasecmp(tok[i], "min=", 4) && strncasecmp(tok[i], "max=", 4); i++) {
-      double v;
+    for (size_t i = 3; i < ntok; i++) {
       char *eq = strchr(tok[i], '=');
+      if (!eq || !strncasecmp(tok[i], "min=", 4) || !strncasecmp(tok[i], "max=", 4)) {
+        flagtok[nflags++] = tok[i];
+        continue;
+      }
+      double v;
       *eq = '\0';
-      if (vr_parse_double(eq + 1, &v)) return fail(p, VR_E_PARSE, "'%s': '%s' is not a number", tok[i], eq + 1);
-      if (!strcasecmp(tok[i], "thickness")) {
-        if (v < 0) return fail(p, VR_E_RANGE, "layer '%s': negative thickness %s nm", name, eq + 1);
-        m->layers[idx].thickness_nm = v;
-        have_thickness = 1;
-      } else if (!strcasecmp(tok[i], "fraction") && L.ema) {
-        if (v < 0 || v > 1) return fail(p, VR_E_RANGE, "layer '%s': fraction %s outside [0, 1]", name, eq + 1);
-        m->layers[idx].fraction = v;
+      if (!strcasecmp(tok[i], "thickness") || (!strcasecmp(tok[i], "fraction") && L.ema)) {
+        if (vr_parse_double(eq + 1, &v)) return fail(p, VR_E_PARSE, "'%s': '%s' is not a number", tok[i], eq + 1);
+        if (!strcasecmp(tok[i], "thickness")) {
+          if (v < 0) return fail(p, VR_E_RANGE, "layer '%s': negative thickness %s nm", name, eq + 1);
+          m->layers[idx].thickness_nm = v;
+          have_thickness = 1;
+        } else {
+          if (v < 0 || v > 1) return fail(p, VR_E_RANGE, "layer '%s': fraction %s outside [0, 1]", name, eq + 1);
+          m->layers[idx].fraction = v;
+        }
       } else {
         *eq = '=';
         if ((st = set_inline(p, name, &tok[i], 1))) return st;
       }
     }
     if (!have_thickness) return fail(p, VR_E_PARSE, "layer '%s' needs thickness=NM", name, NULL);
-    return flags(p, tk, tok + i, ntok - i);
+    return flags(p, tk, flagtok, nflags);
   }
   if (!strcasecmp(kw, "param")) {
     /* param NAME.P = V flags...   or   param NAME.P=V flags... */

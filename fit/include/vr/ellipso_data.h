@@ -45,6 +45,9 @@ vr_status vr_ellipso_parse(const char *text, size_t len, const char *name, const
                            vr_ellipso_data *out, vr_error *err);
 void vr_ellipso_data_free(vr_ellipso_data *d);
 
+/* Keeps the points with lo_nm <= wavelength <= hi_nm; returns how many. */
+size_t vr_ellipso_crop(vr_ellipso_data *d, double lo_nm, double hi_nm);
+
 /* Δ folded into [0, 360). */
 double vr_delta_normalise(double delta_deg);
 /* The distinct angles of incidence (sorted, merged within 0.01°). */

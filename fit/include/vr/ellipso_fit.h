@@ -23,12 +23,18 @@
 extern "C" {
 #endif
 
+typedef enum vr_fit_residual {
+  VR_RESID_PSI_DELTA = 0, /* (Ψ_m - Ψ)/σΨ and wrapped (Δ_m - Δ)/σΔ, in degrees */
+  VR_RESID_RHO            /* Re and Im of ρ_m - ρ, unweighted (as pyElli's examples fit) */
+} vr_fit_residual;
+
 typedef struct vr_fit_options {
   int grid_points;        /* per free thickness in the global search (default: from the data) */
   int grid_wavelengths;   /* wavelengths kept for the search (default 60) */
   int candidates;         /* grid minima refined by LM (default 3) */
   int max_iterations;     /* LM iterations (default 200) */
   bool global_search;     /* default true */
+  vr_fit_residual residual; /* default VR_RESID_PSI_DELTA */
 } vr_fit_options;
 
 vr_fit_options vr_fit_default_options(void);
