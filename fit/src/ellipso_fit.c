@@ -202,6 +202,7 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
   size_t nthick = 0;
   for (size_t j = 0; j < nfree; j++) nthick += m->params[free_idx[j]].slot == VR_SLOT_THICKNESS;
   double bestchi = INFINITY;
+  int search_iterations = 0, search_evaluations = 0;
   memcpy(best, x, nfree * sizeof *x);
   if (opt.global_search && nthick > 0) {
     size_t stride = 1, distinct = 0;
@@ -248,7 +249,12 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
       }
       vr_lsq_summary sum;
       vr_error lerr = {0};
-      if (local_fit(&all, y, &opt, &sum, NULL, &lerr) == VR_OK && sum.chi2 < bestchi) {
+      vr_status lst = local_fit(&all, y, &opt, &sum, NULL, &lerr);
+      if (lst == VR_OK) {
+        search_iterations += sum.iterations;
+        search_evaluations += sum.residual_evaluations;
+      }
+      if (lst == VR_OK && sum.chi2 < bestchi) {
         bestchi = sum.chi2;
         memcpy(best, y, nfree * sizeof *y);
       }
@@ -259,6 +265,9 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
   if (!isfinite(bestchi)) memcpy(best, x, nfree * sizeof *x);
   vr_lsq *lsq = NULL;
   if ((st = local_fit(&all, best, &opt, &out->summary, &lsq, err))) goto done;
+  /* Report the work of the whole search, not only of the last polish. */
+  out->summary.iterations += search_iterations;
+  out->summary.residual_evaluations += search_evaluations;
   set_params(&all, best);
   out->npoints = d->n;
   out->nfree = nfree;

@@ -94,7 +94,7 @@ bool vr_plot_write_svg(const vr_plot *p, FILE *f, int W, int H) {
   y0 -= dy, y1 += dy;
   cairo_surface_t *surf = cairo_svg_surface_create_for_stream(to_file, f, W, H);
   cairo_t *cr = cairo_create(surf);
-  const double L = 70, R = 20, T = 36, B = 50;
+  const double L = 78, R = 20, T = 36, B = 50;
   double pw = W - L - R, ph = H - T - B;
 #define PX(x) (L + ((x) - x0) / (x1 - x0) * pw)
 #define PY(y) (T + ph - ((y) - y0) / (y1 - y0) * ph)
@@ -123,7 +123,9 @@ bool vr_plot_write_svg(const vr_plot *p, FILE *f, int W, int H) {
     cairo_stroke(cr);
     cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
     snprintf(buf, sizeof buf, "%g", fabs(v) < 1e-12 * sy ? 0.0 : v);
-    cairo_move_to(cr, 8, PY(v) + 4);
+    cairo_text_extents_t ext;
+    cairo_text_extents(cr, buf, &ext);
+    cairo_move_to(cr, L - 6 - ext.x_advance, PY(v) + 4); /* right-aligned on the axis */
     cairo_show_text(cr, buf);
   }
   cairo_set_source_rgb(cr, 0, 0, 0);
@@ -132,7 +134,7 @@ bool vr_plot_write_svg(const vr_plot *p, FILE *f, int W, int H) {
   cairo_move_to(cr, L + pw / 2 - 40, H - 12);
   cairo_show_text(cr, p->xlabel);
   cairo_save(cr);
-  cairo_move_to(cr, 20, T + ph / 2 + 30);
+  cairo_move_to(cr, 14, T + ph / 2 + 30);
   cairo_rotate(cr, -M_PI / 2);
   cairo_show_text(cr, p->ylabel);
   cairo_restore(cr);
@@ -167,9 +169,17 @@ bool vr_plot_write_svg(const vr_plot *p, FILE *f, int W, int H) {
     }
   }
   cairo_reset_clip(cr);
+  size_t labelled = 0, shown = 0;
+  for (size_t i = 0; i < p->count; i++) labelled += p->s[i].label[0] != 0;
+  if (labelled) { /* a white box so the legend stays readable over data */
+    cairo_set_source_rgba(cr, 1, 1, 1, 0.85);
+    cairo_rectangle(cr, L + pw - 156, T + 2, 150, 14.0 * (double)labelled + 6);
+    cairo_fill(cr);
+  }
   for (size_t i = 0; i < p->count; i++) {
+    if (!p->s[i].label[0]) continue; /* unlabelled companions (model lines) */
     rgb(cr, p->s[i].colour);
-    double ly = T + 14 + 14.0 * (double)i;
+    double ly = T + 14 + 14.0 * (double)shown++;
     cairo_rectangle(cr, L + pw - 150, ly - 8, 10, 8);
     cairo_fill(cr);
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);

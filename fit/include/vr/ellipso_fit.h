@@ -51,7 +51,7 @@ typedef struct vr_fit_result {
   size_t npoints;         /* N (Ψ, Δ pairs) */
   int dof;                /* 2N - M */
   double *psi_model, *delta_model; /* per data point, at the solution */
-  vr_lsq_summary summary;
+  vr_lsq_summary summary;  /* iterations and evaluations summed over all candidate fits */
   int grid_evaluations;
   double seconds;
 } vr_fit_result;
