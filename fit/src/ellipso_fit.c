@@ -139,8 +139,9 @@ static size_t scan(fit_ctx *c, double *x, size_t j, const vr_fit_options *opt, d
   return found;
 }
 
-static vr_status local_fit(fit_ctx *c, double *x, const vr_fit_options *opt, vr_lsq_summary *sum,
-                           vr_lsq **keep, vr_error *err) {
+/* quick: a loose, short solve, enough to rank the grid candidates. */
+static vr_status local_fit(fit_ctx *c, double *x, const vr_fit_options *opt, bool quick,
+                           vr_lsq_summary *sum, vr_lsq **keep, vr_error *err) {
   vr_lsq *lsq = vr_lsq_create(c->nfree, 2 * c->npoints, residuals, c, false, err);
   if (!lsq) return err ? err->status : VR_E_NOMEM;
   vr_status st = VR_OK;
@@ -152,9 +153,9 @@ static vr_status local_fit(fit_ctx *c, double *x, const vr_fit_options *opt, vr_
     st = vr_lsq_set_bounds(lsq, j, lo, hi, err);
   }
   vr_lsq_options o = vr_lsq_default_options();
-  o.max_iterations = opt->max_iterations;
-  o.function_tolerance = 1e-10;
-  o.parameter_tolerance = 1e-10;
+  o.max_iterations = quick ? 12 : opt->max_iterations;
+  o.function_tolerance = quick ? 1e-6 : 1e-10;
+  o.parameter_tolerance = quick ? 1e-6 : 1e-10;
   if (!st) st = vr_lsq_solve(lsq, x, &o, sum, err);
   if (st || !keep) vr_lsq_destroy(lsq);
   else *keep = lsq;
@@ -249,7 +250,8 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
       }
       vr_lsq_summary sum;
       vr_error lerr = {0};
-      vr_status lst = local_fit(&all, y, &opt, &sum, NULL, &lerr);
+      /* Candidates are refined on the subset; only the winner sees all data. */
+      vr_status lst = local_fit(&sub, y, &opt, true, &sum, NULL, &lerr);
       if (lst == VR_OK) {
         search_iterations += sum.iterations;
         search_evaluations += sum.residual_evaluations;
@@ -264,7 +266,7 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
   /* Final local fit from the best start (or the model's own start). */
   if (!isfinite(bestchi)) memcpy(best, x, nfree * sizeof *x);
   vr_lsq *lsq = NULL;
-  if ((st = local_fit(&all, best, &opt, &out->summary, &lsq, err))) goto done;
+  if ((st = local_fit(&all, best, &opt, false, &out->summary, &lsq, err))) goto done;
   /* Report the work of the whole search, not only of the last polish. */
   out->summary.iterations += search_iterations;
   out->summary.residual_evaluations += search_evaluations;

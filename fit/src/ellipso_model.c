@@ -105,14 +105,30 @@ vr_status vr_model_check(const vr_sample_model *m, vr_error *err) {
   return VR_OK;
 }
 
+/* ε of a dispersion, through the memo when it has no parameters. */
+static vr_status memo_eps(const vr_dispersion *d, vr_eps_memo *memo, double nm, vr_complex *eps,
+                          vr_error *err) {
+  if (vr_dispersion_nparams(d) != 0) return vr_dispersion_eps(d, nm, eps, err);
+  if (memo->nm == nm) {
+    *eps = memo->eps;
+    return VR_OK;
+  }
+  vr_status st = vr_dispersion_eps(d, nm, eps, err);
+  if (!st) {
+    memo->nm = nm;
+    memo->eps = *eps;
+  }
+  return st;
+}
+
 static vr_status layer_eps(const vr_sample_model *m, long i, double nm, vr_complex *eps,
                            vr_error *err) {
   if (i < 0) {
     *eps = 1.0; /* void */
     return VR_OK;
   }
-  const vr_model_layer *L = &m->layers[i];
-  if (L->disp) return vr_dispersion_eps(L->disp, nm, eps, err);
+  vr_model_layer *L = &((vr_sample_model *)m)->layers[i];
+  if (L->disp) return memo_eps(L->disp, &L->memo, nm, eps, err);
   vr_complex a, b;
   vr_status st = layer_eps(m, L->ema_a, nm, &a, err);
   if (!st) st = layer_eps(m, L->ema_b, nm, &b, err);
@@ -124,10 +140,12 @@ static vr_status layer_eps(const vr_sample_model *m, long i, double nm, vr_compl
 
 vr_status vr_model_layer_index(const vr_sample_model *m, long i, double nm, vr_complex *N,
                                vr_error *err) {
-  if (i == VR_OWNER_SUBSTRATE) return vr_dispersion_index(m->substrate, nm, N, err);
-  if (i == VR_OWNER_AMBIENT) return vr_dispersion_index(m->ambient, nm, N, err);
+  vr_sample_model *mm = (vr_sample_model *)m;
   vr_complex eps;
-  vr_status st = layer_eps(m, i, nm, &eps, err);
+  vr_status st;
+  if (i == VR_OWNER_SUBSTRATE) st = memo_eps(m->substrate, &mm->substrate_memo, nm, &eps, err);
+  else if (i == VR_OWNER_AMBIENT) st = memo_eps(m->ambient, &mm->ambient_memo, nm, &eps, err);
+  else st = layer_eps(m, i, nm, &eps, err);
   if (!st) *N = vr_eps_to_index(eps);
   return st;
 }

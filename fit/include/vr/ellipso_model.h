@@ -35,8 +35,17 @@ typedef struct vr_matdb vr_matdb;
 
 typedef enum vr_ema_kind { VR_EMA_NONE = 0, VR_EMA_BRUGGEMAN, VR_EMA_MAXWELL_GARNETT } vr_ema_kind;
 
+/* Last value of a parameter-free (tabulated) dispersion: consecutive points
+ * of a data set share a wavelength across angles, and interpolating the
+ * table is the costly part of such a layer. */
+typedef struct vr_eps_memo {
+  double nm;
+  vr_complex eps;
+} vr_eps_memo;
+
 typedef struct vr_model_layer {
   char *name;
+  vr_eps_memo memo;
   vr_dispersion *disp;       /* NULL for an EMA layer */
   vr_ema_kind ema;
   long ema_a, ema_b;         /* layer indices, -1 = void */
@@ -58,8 +67,10 @@ typedef struct vr_model_param {
   long line;                 /* model-file line that set it, 0 if default */
 } vr_model_param;
 
+/* A model is used by one thread at a time (it keeps small caches). */
 typedef struct vr_sample_model {
   vr_dispersion *ambient;
+  vr_eps_memo ambient_memo, substrate_memo;
   size_t nlayers;
   vr_model_layer *layers;
   vr_dispersion *substrate;

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Command-line tests of vr-ellipso: fit with and without a model on the
+# samples, JSON shape, report, saving to the database, simulate, bad input.
+set -u
+bin="$VR_BIN/vr-ellipso"
+src="$VR_SOURCE_DIR"
+s="$src/samples/ellipsometry"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+export VR_MATDB="$tmp/materials.db"
+pass=0 fails=0
+check() {
+  local name=$1; shift
+  if "$@"; then echo "ok - $name"; pass=$((pass+1)); else echo "not ok - $name"; fails=$((fails+1)); fi
+}
+
+"$bin" --help | grep -q "^Usage: vr-ellipso fit DATA"; check "--help" test $? -eq 0
+
+# The thermal oxide sample was simulated at 104.3 nm (samples/ellipsometry/README.md).
+"$bin" fit "$s/thermal_oxide.csv" --model "$s/thermal_oxide.model" --json --report "$tmp/r.html" \
+  --save SiO2-fit > "$tmp/ox.json" 2> "$tmp/ox.err"; rc=$?
+check "fit with a model" test $rc -eq 0
+python3 - "$tmp/ox.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert set(["mse", "parameters", "correlation", "nk"]) <= set(d), d.keys()
+p = d["parameters"][0]
+assert p["name"] == "oxide.thickness" and set(["value", "stderr", "ci90"]) <= set(p)
+assert p["ci90"][0] <= 104.3 <= p["ci90"][1], p
+assert 0.8 < d["mse"] < 1.3, d["mse"]
+assert len(d["nk"]) == 131 and set(d["nk"][0]) == {"wavelength_nm", "n", "k"}
+PY
+check "JSON: parameters with stderr and 90% limits containing the truth, MSE near 1, nk" test $? -eq 0
+check "HTML report with three plots" test "$(grep -o '<svg' "$tmp/r.html" | wc -l)" -eq 3
+"$VR_BIN/../matdb/vr-matdb" show SiO2-fit > "$tmp/show"
+check "saved with provenance" grep -q "vr-ellipso fit" "$tmp/show"
+check "saved with the fitted thickness" grep -q "thickness *104.3" "$tmp/show"
+
+"$bin" fit "$s/bare_glass.csv" --json > "$tmp/bulk.json"; rc=$?
+python3 - "$tmp/bulk.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+nk = {round(x["wavelength_nm"]): x["n"] for x in d["nk"]}
+# soda-lime (Rubin 1985): n = 1.5130 - 0.003169 l^2 + 0.003962 / l^2 (l in um).
+# The automatic Cauchy A + B/l^2 + C/l^4 has no l^2 term, so it can only
+# follow Rubin's curve to a few 1e-4 over 350-1000 nm.
+for l in (400, 600, 1000):
+    u = l / 1000
+    ref = 1.5130 - 0.003169 * u * u + 0.003962 / (u * u)
+    assert abs(nk[l] - ref) < 1e-3, (l, nk[l], ref)
+PY
+check "bulk fit without a model recovers soda-lime n within 1e-3" test $? -eq 0 -a $rc -eq 0
+
+"$bin" simulate --model "$s/thermal_oxide.model" --angles 70 --wavelengths 632.8:632.8:1 > "$tmp/sim.csv"; rc=$?
+check "simulate" test $rc -eq 0 -a "$(wc -l < "$tmp/sim.csv")" -eq 2
+
+# Bad input.
+printf 'wavelength_nm,aoi,psi,delta\n500,70,NaN,100\n' > "$tmp/nan.csv"
+"$bin" fit "$tmp/nan.csv" 2> "$tmp/err" > /dev/null; rc=$?
+check "NaN row: exit 1, file:line:col and field" test $rc -eq 1 -a -n "$(grep "nan.csv:2:8: field 'psi'" "$tmp/err")"
+printf 'layer a cauchy thickness=-2\nsubstrate constant\n' > "$tmp/neg.model"
+"$bin" fit "$s/thermal_oxide.csv" --model "$tmp/neg.model" 2> "$tmp/err" > /dev/null; rc=$?
+check "negative thickness in a model names file and line" test $rc -eq 1 -a -n "$(grep 'neg.model:1: layer' "$tmp/err")"
+"$bin" fit "$tmp/missing.csv" 2> "$tmp/err" > /dev/null; rc=$?
+check "missing file" test $rc -eq 1 -a -n "$(grep 'missing.csv: cannot open' "$tmp/err")"
+"$bin" fit "$s/thermal_oxide.csv" --model "$s/thermal_oxide.model" --report /nonexistent/r.html > /dev/null 2> "$tmp/err"; rc=$?
+check "unwritable report fails cleanly" test $rc -eq 1
+"$bin" simulate --model "$s/thermal_oxide.model" --angles 70 --wavelengths 600:500:1 > /dev/null 2>&1; rc=$?
+check "bad --wavelengths is a usage error" test $rc -eq 2
+
+echo "$pass passed, $fails failed"
+test $fails -eq 0
