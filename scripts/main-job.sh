@@ -20,7 +20,14 @@ build/matdb/vr-matdb eval E-BK7 486.13 587.56 656.27
 build/matdb/vr-matdb eval N-BK7 486.13 587.56 656.27
 build/matdb/vr-matdb export NFRC-102-clear --csv -o out/NFRC-102-clear.csv
 
+echo "== ellipsometry: fit the samples, save the fitted layers (vr-ellipso)"
+e=samples/ellipsometry
+build/fit/vr-ellipso fit $e/thermal_oxide.csv --model $e/thermal_oxide.model --save SiO2-thermal-fit --report out/thermal_oxide.html
+build/fit/vr-ellipso fit $e/coated_glass.csv --model $e/coated_glass.model --save coating-fit --report out/coated_glass.html
+build/fit/vr-ellipso fit $e/bare_glass.csv --save soda-lime-ellipso --report out/bare_glass.html
+build/matdb/vr-matdb history coating-fit
+
 echo "== colour of the ColorChecker under D65 and under A (vr-colour)"
 build/core/vr-colour samples/spectra/colorchecker_babelcolor.csv | tee out/colorchecker_D65.txt
 build/core/vr-colour --illuminant A --json samples/spectra/colorchecker_babelcolor.csv > out/colorchecker_A.json
-echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/colorchecker_D65.txt, out/colorchecker_A.json"
+echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/colorchecker_D65.txt, out/colorchecker_A.json"

@@ -9,6 +9,14 @@
 #include <stddef.h>
 #include "vr/dispersion.h"
 
+#include <complex.h>
+
+/* clang 14 with glibc has no CMPLX (it needs __builtin_complex); the
+ * arithmetic fallback is exact for the finite values built here. */
+#ifndef CMPLX
+#define CMPLX(x, y) ((double _Complex)((double)(x) + _Complex_I * (double)(y)))
+#endif
+
 #define VR_PARAM_NAME_MAX 32
 
 struct vr_dispersion {

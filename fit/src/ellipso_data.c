@@ -61,8 +61,10 @@ static int looks_like_woollam(const char *text, size_t len) {
         (l == 2 && !strncasecmp(text + i, "eV", 2)) ||
         (l == 9 && !strncasecmp(text + i, "Angstroms", 9)) || (l >= 10 && !strncmp(text + i, "VASEmethod", 10)))
       return 1;
-    if (l > 2 && (text[i] == 'E' || !strncmp(text + i, "dpolE", 5)) && (text[i + 1] == '\t' || text[i + 1] == ' '))
-      return 1;
+    /* A row tag: "E" or "dpolE" followed by a blank (the line is not
+     * NUL-terminated, so lengths are checked before comparing). */
+    if (l > 2 && text[i] == 'E' && (text[i + 1] == '\t' || text[i + 1] == ' ')) return 1;
+    if (l > 6 && !strncmp(text + i, "dpolE", 5) && (text[i + 5] == '\t' || text[i + 5] == ' ')) return 1;
     i = j + 1;
   }
   return 0;
