@@ -61,7 +61,9 @@ int main(void) {
     clock_gettime(CLOCK_MONOTONIC, &a);
     vr_error err = {0};
     vr_fit_result_free(&r);
-    if (vr_ellipso_fit(m, &d, NULL, &r, &err)) {
+    vr_fit_options o = vr_fit_default_options();
+    if (getenv("NOGLOBAL")) o.global_search = false;
+    if (vr_ellipso_fit(m, &d, &o, &r, &err)) {
       fprintf(stderr, "%s\n", err.message);
       return 1;
     }

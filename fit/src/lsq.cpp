@@ -44,6 +44,7 @@ struct vr_lsq {
   vr_lsq_residual_fn fn = nullptr;
   void *user = nullptr;
   bool analytic = false;
+  bool forward = false; /* one-sided differences: half the evaluations */
   std::vector<double> lower, upper, step;
   std::vector<char> fixed;
 };
@@ -151,7 +152,7 @@ class Model {
         hf = xs_[j] - xj;
         ok_f = hf > 0 && residuals(xs_.data(), fp.data());
       }
-      if (can_bwd) {
+      if (can_bwd && !(p_.forward && ok_f)) {
         xs_[j] = xj - h;
         hb = xj - xs_[j];
         ok_b = hb > 0 && residuals(xs_.data(), fm.data());
@@ -566,7 +567,12 @@ vr_status covariance(vr_lsq *p, const double *params, bool scale, double *cov, v
   if (!model.residuals(params, f.data()))
     return vr_error_set(err, VR_E_NUMERIC, "the residual callback failed (or gave a non-finite "
                         "residual) at the parameters of the covariance");
-  if (!model.jacobian(params, f.data(), J.data()))
+  /* Uncertainties always from central differences, whatever the solver used. */
+  const bool forward = p->forward;
+  p->forward = false;
+  const bool jac_ok = model.jacobian(params, f.data(), J.data());
+  p->forward = forward;
+  if (!jac_ok)
     return vr_error_set(err, VR_E_NUMERIC, "the Jacobian could not be evaluated at the "
                         "parameters of the covariance");
 
@@ -709,6 +715,12 @@ vr_status vr_lsq_set_fixed(vr_lsq *p, size_t index, bool fixed, vr_error *err) {
     return vr_error_set(err, VR_E_ARG, "parameter %zu: no such parameter (the problem has %zu)",
                         index, p->n);
   p->fixed[index] = fixed ? 1 : 0;
+  return VR_OK;
+}
+
+vr_status vr_lsq_set_forward_differences(vr_lsq *p, bool forward, vr_error *err) {
+  if (!p) return vr_error_set(err, VR_E_ARG, "vr_lsq_set_forward_differences: problem is NULL");
+  p->forward = forward;
   return VR_OK;
 }
 

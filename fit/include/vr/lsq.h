@@ -97,6 +97,11 @@ vr_status vr_lsq_set_fixed(vr_lsq *p, size_t index, bool fixed, vr_error *err);
  * (1e-3 replacing |p_start| when the start is 0), central, and one-sided
  * within a step of a bound or where the callback fails on one side. */
 vr_status vr_lsq_set_step(vr_lsq *p, size_t index, double relative_step, vr_error *err);
+/* One-sided (forward) finite differences instead of central ones: half the
+ * residual evaluations per Jacobian, O(h) instead of O(h^2) truncation error
+ * (use a relative step near sqrt(machine epsilon), ~1e-8, with it).  The
+ * covariance is always computed from central differences. */
+vr_status vr_lsq_set_forward_differences(vr_lsq *p, bool forward, vr_error *err);
 
 /* Solves in place: params holds the start on entry and the solution on
  * return (also on VR_LSQ_NO_CONVERGENCE, which is not an error).  options
