@@ -13,10 +13,7 @@
 
 #define HC_EV_NM 1239.84198 /* h c in eV nm, CODATA 2018 */
 
-typedef enum unit { UNIT_NM, UNIT_UM, UNIT_ANGSTROM, UNIT_EV, UNIT_UNKNOWN } unit;
-
-/* Looks for a unit token in a header such as "wavelength (nm)" or "lambda_um". */
-static unit header_unit(const char *h) {
+vr_wl_unit vr_wavelength_unit_of(const char *h) {
   char low[128];
   size_t n = 0;
   for (; h[n] && n + 1 < sizeof low; n++) low[n] = (char)tolower((unsigned char)h[n]);
@@ -24,23 +21,23 @@ static unit header_unit(const char *h) {
   /* Split into alphanumeric tokens ("µ" is kept as its UTF-8 bytes). */
   char *save = NULL;
   for (char *tok = strtok_r(low, " ()[]_,/-", &save); tok; tok = strtok_r(NULL, " ()[]_,/-", &save)) {
-    if (!strcmp(tok, "nm") || !strcmp(tok, "nanometer") || !strcmp(tok, "nanometers")) return UNIT_NM;
+    if (!strcmp(tok, "nm") || !strcmp(tok, "nanometer") || !strcmp(tok, "nanometers")) return VR_UNIT_NM;
     if (!strcmp(tok, "um") || !strcmp(tok, "\xc2\xb5m") || !strcmp(tok, "micron") ||
         !strcmp(tok, "microns") || !strcmp(tok, "micrometer") || !strcmp(tok, "micrometers"))
-      return UNIT_UM;
+      return VR_UNIT_UM;
     if (!strcmp(tok, "a") || !strcmp(tok, "angstrom") || !strcmp(tok, "angstroms") ||
         !strcmp(tok, "\xc3\x85") || !strcmp(tok, "\xe2\x84\xab"))
-      return UNIT_ANGSTROM;
-    if (!strcmp(tok, "ev")) return UNIT_EV;
+      return VR_UNIT_ANGSTROM;
+    if (!strcmp(tok, "ev") || !strcmp(tok, "energy")) return VR_UNIT_EV;
   }
-  return UNIT_UNKNOWN;
+  return VR_UNIT_UNKNOWN;
 }
 
-static double to_nm(double x, unit u) {
+double vr_wavelength_to_nm(double x, vr_wl_unit u) {
   switch (u) {
-  case UNIT_UM: return x * 1000.0;
-  case UNIT_ANGSTROM: return x * 0.1;
-  case UNIT_EV: return HC_EV_NM / x;
+  case VR_UNIT_UM: return x * 1000.0;
+  case VR_UNIT_ANGSTROM: return x * 0.1;
+  case VR_UNIT_EV: return x > 0 ? HC_EV_NM / x : -1.0;
   default: return x;
   }
 }
@@ -78,8 +75,8 @@ static vr_status from_csv(vr_csv *csv, vr_spectrum_table *out, vr_error *err) {
                        "need a wavelength column and at least one value column, found %zu column",
                        ncols);
   }
-  unit u = has_header ? header_unit(vr_csv_field(csv, 0, 0)) : UNIT_NM;
-  if (u == UNIT_UNKNOWN) u = UNIT_NM;
+  vr_wl_unit u = has_header ? vr_wavelength_unit_of(vr_csv_field(csv, 0, 0)) : VR_UNIT_NM;
+  if (u == VR_UNIT_UNKNOWN) u = VR_UNIT_NM;
   size_t n = rows - first, m = ncols - 1;
   double *nm = malloc(n * sizeof(double)), *vals = malloc(n * m * sizeof(double));
   out->names = calloc(m, sizeof(char *));
@@ -111,12 +108,12 @@ static vr_status from_csv(vr_csv *csv, vr_spectrum_table *out, vr_error *err) {
     }
     double w;
     if ((st = vr_csv_number(csv, row, 0, wl_name, &w, err))) goto done;
-    if (u == UNIT_EV && w <= 0.0) {
+    if (u == VR_UNIT_EV && w <= 0.0) {
       st = vr_error_at(err, VR_E_RANGE, path, vr_csv_line(csv, row), vr_csv_col_pos(csv, row, 0),
                        "field '%s': photon energy must be positive", wl_name);
       goto done;
     }
-    nm[r] = to_nm(w, u);
+    nm[r] = vr_wavelength_to_nm(w, u);
     if (!(nm[r] > 0.0)) {
       st = vr_error_at(err, VR_E_RANGE, path, vr_csv_line(csv, row), vr_csv_col_pos(csv, row, 0),
                        "field '%s': wavelength must be positive, got %g", wl_name, w);

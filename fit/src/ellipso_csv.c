@@ -3,6 +3,7 @@
  * incidence, Ψ, Δ, and optionally their standard deviations. */
 #include "ellipso_read.h"
 #include "vr/csv.h"
+#include "vr/spectrum.h"
 
 #include <ctype.h>
 #include <math.h>
@@ -25,18 +26,9 @@ static int is_sigma(const char *h) {
 
 /* The wavelength unit a header names, or NULL. */
 static const char *unit_of(const char *h) {
-  char low[96];
-  size_t n = 0;
-  for (; h[n] && n + 1 < sizeof low; n++) low[n] = (char)tolower((unsigned char)h[n]);
-  low[n] = '\0';
-  char *save = NULL;
-  for (char *t = strtok_r(low, " ()[]_,/-", &save); t; t = strtok_r(NULL, " ()[]_,/-", &save)) {
-    if (!strcmp(t, "nm")) return "nm";
-    if (!strcmp(t, "um") || !strcmp(t, "\xc2\xb5m") || !strcmp(t, "micron") || !strcmp(t, "microns")) return "um";
-    if (!strcmp(t, "a") || !strcmp(t, "angstrom") || !strcmp(t, "angstroms")) return "A";
-    if (!strcmp(t, "ev") || !strcmp(t, "energy")) return "eV";
-  }
-  return NULL;
+  static const char *const NAMES[] = {"nm", "um", "A", "eV"};
+  vr_wl_unit u = vr_wavelength_unit_of(h);
+  return u == VR_UNIT_UNKNOWN ? NULL : NAMES[u];
 }
 
 vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name, const char *unit,

@@ -2,6 +2,7 @@
  * checks shared by all formats. */
 #include "ellipso_read.h"
 #include "vr/dispersion.h"
+#include "vr/spectrum.h"
 
 #include <errno.h>
 #include <math.h>
@@ -18,11 +19,8 @@ double vr_delta_normalise(double d) {
 }
 
 double vr_ellipso_to_nm(double w, const char *unit) {
-  if (!strcasecmp(unit, "nm")) return w;
-  if (!strcasecmp(unit, "um") || !strcasecmp(unit, "µm") || !strcasecmp(unit, "micron")) return w * 1000.0;
-  if (!strcasecmp(unit, "A") || !strcasecmp(unit, "angstrom") || !strcasecmp(unit, "angstroms")) return w * 0.1;
-  if (!strcasecmp(unit, "eV")) return w > 0 ? VR_HC_EV_NM / w : -1.0;
-  return NAN;
+  vr_wl_unit u = vr_wavelength_unit_of(unit);
+  return u == VR_UNIT_UNKNOWN ? NAN : vr_wavelength_to_nm(w, u);
 }
 
 vr_status vr_ellipso_point_finish(vr_ellipso_point *p, double w, const char *unit, const char *name,

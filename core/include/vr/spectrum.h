@@ -57,6 +57,17 @@ vr_status vr_spectrum_mul(vr_spectrum *a, const vr_spectrum *b, vr_error *err);
 void vr_spectrum_scale(vr_spectrum *a, double factor);
 bool vr_spectrum_same_grid(const vr_spectrum *a, const vr_spectrum *b);
 
+/* Units of a wavelength axis, as named in file headers. */
+typedef enum vr_wl_unit { VR_UNIT_NM = 0, VR_UNIT_UM, VR_UNIT_ANGSTROM, VR_UNIT_EV, VR_UNIT_UNKNOWN } vr_wl_unit;
+/* The unit named by a header or a unit word: "nm", "um"/"µm"/"micron(s)",
+ * "A"/"Å"/"angstrom(s)", "eV"/"energy", alone or as a token of a longer
+ * header ("wavelength (nm)", "lambda_um", "energy_eV"); VR_UNIT_UNKNOWN if
+ * none. */
+vr_wl_unit vr_wavelength_unit_of(const char *text);
+/* x in unit u as nm (hc = 1239.84198 eV nm for energies; x <= 0 in eV gives
+ * a negative result, which callers reject). */
+double vr_wavelength_to_nm(double x, vr_wl_unit u);
+
 /* A table of spectra read from or written to delimited text: the first column
  * is the wavelength, each further column one spectrum named by its header. */
 typedef struct vr_spectrum_table {
