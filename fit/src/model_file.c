@@ -54,33 +54,28 @@ static vr_status add_disp_params(parser *p, const char *owner_name, long owner, 
 static vr_dispersion *material_disp(parser *p, const char *spec) {
   vr_error *err = p->err;
   vr_dispersion *d = NULL;
-  if (!strncasecmp(spec, "db:", 3)) {
-    if (!p->db) {
-      fail(p, VR_E_ARG, "material '%s' needs the material database (--db)", spec, NULL);
-      return NULL;
+  /* db:NAME and file:PATH: a stored material, tabulated. */
+  int from_db = !strncasecmp(spec, "db:", 3), from_file = !strncasecmp(spec, "file:", 5);
+  if (from_db || from_file) {
+    vr_material *mat = NULL;
+    vr_status st;
+    if (from_db) {
+      if (!p->db) {
+        fail(p, VR_E_ARG, "material '%s' needs the material database (--db)", spec, NULL);
+        return NULL;
+      }
+      st = vr_matdb_load(p->db, spec + 3, 0, &mat, err);
+    } else {
+      char path[PATH_MAX];
+      const char *f = spec + 5;
+      if (f[0] == '/' || !p->base_dir) snprintf(path, sizeof path, "%s", f);
+      else snprintf(path, sizeof path, "%s/%s", p->base_dir, f);
+      st = vr_import_file(path, NULL, NULL, "vr-ellipso", &mat, err);
     }
-    vr_material *mat;
-    if (vr_matdb_load(p->db, spec + 3, 0, &mat, err)) {
-      vr_error_prefix(err, "%s:%ld: ", p->name, p->line);
-      return NULL;
+    if (!st) {
+      d = vr_dispersion_from_material(mat, err);
+      vr_material_destroy(mat);
     }
-    d = vr_dispersion_from_material(mat, err);
-    vr_material_destroy(mat);
-    if (!d) vr_error_prefix(err, "%s:%ld: ", p->name, p->line);
-    return d;
-  }
-  if (!strncasecmp(spec, "file:", 5)) {
-    char path[PATH_MAX];
-    const char *f = spec + 5;
-    if (f[0] == '/' || !p->base_dir) snprintf(path, sizeof path, "%s", f);
-    else snprintf(path, sizeof path, "%s/%s", p->base_dir, f);
-    vr_material *mat;
-    if (vr_import_file(path, NULL, NULL, "vr-ellipso", &mat, err)) {
-      vr_error_prefix(err, "%s:%ld: ", p->name, p->line);
-      return NULL;
-    }
-    d = vr_dispersion_from_material(mat, err);
-    vr_material_destroy(mat);
     if (!d) vr_error_prefix(err, "%s:%ld: ", p->name, p->line);
     return d;
   }
