@@ -6,6 +6,7 @@
  * keep every bit of a double.  SQLite stores NaN as NULL, which is how
  * "unknown" (a residual, an uncertainty, a text-only property) is kept. */
 #include "matdb_internal.h"
+#include "vr/chromogenic.h"
 
 #include <errno.h>
 #include <math.h>
@@ -244,11 +245,19 @@ vr_status vr_matdb_validate(const vr_material *m, vr_error *err) {
       return vr_error_set(err, VR_E_ARG, "material '%s' (glazing) needs T, Rf and Rb spectra",
                           m->name);
     break;
+  case VR_KIND_CHROMOGENIC: {
+    vr_chromo_type type;
+    if ((st = vr_chromo_type_of(m, &type, err))) return st;
+    if (!vr_material_spectrum(m, "T0") || !vr_material_spectrum(m, "dOD"))
+      return vr_error_set(err, VR_E_ARG, "material '%s' (chromogenic) needs T0 and dOD spectra",
+                          m->name);
+    break;
+  }
   default:
     if (m->nspectra == 0 && !m->n_formula.type && m->nparams == 0)
       return vr_error_set(err, VR_E_ARG, "material '%s' holds no data", m->name);
   }
-  const char *nonneg[] = {"k", "value", "T", "Rf", "Rb"};
+  const char *nonneg[] = {"k", "value", "T", "Rf", "Rb", "T0", "Rf0", "Rb0"};
   for (size_t i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
     if ((st = check_spectrum_nonneg(m, nonneg[i], err))) return st;
   for (size_t i = 0; i < m->nprops; i++)

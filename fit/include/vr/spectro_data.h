@@ -1,0 +1,72 @@
+/* Spectrophotometer data of glazing: transmittance T and front and back
+ * reflectance Rf, Rb against wavelength, optionally per angle of incidence
+ * and per tint state.
+ *
+ * CSV (the vr_csv rules: any separator, '#' comments): a header line naming
+ * the columns, found by name, case-insensitive:
+ *   wavelength   "wavelength_nm", "lambda (um)", "nm", ... (unit from the
+ *                header: nm, um, A, eV; nm if none)
+ *   T            "T", "Tnorm", "transmittance"
+ *   Rf           "Rf", "R", "R_front", "reflectance" (optional)
+ *   Rb           "Rb", "R_back" (optional)
+ *   angle        "angle", "aoi", "theta" in degrees (optional, default 0)
+ *   state        "state", "tint", "charge", "voltage", ... (optional):
+ *                rows with the same state label form one spectrum
+ * A "%" in the T/R headers means percent.  A comment line
+ * "# thickness: 3.048 mm" (or nm, um) gives the pane's thickness.
+ * LBNL Optics / IGDB ".DAT" files are read through the material database's
+ * importer (thickness from their header).
+ *
+ * Checks, each naming file:line and the field: numbers must be finite,
+ * 0 <= T, R <= 1, T + R <= 1 + 0.005 (the photometric tolerance LBNL
+ * Optics applies), wavelengths strictly increasing inside each (state,
+ * angle) spectrum, every spectrum at least 1 point. */
+#ifndef VR_SPECTRO_DATA_H
+#define VR_SPECTRO_DATA_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "vr/error.h"
+#include "vr/material.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VR_SPECTRO_TR_TOLERANCE 0.005
+
+typedef struct vr_spectro_point {
+  double nm, T, Rf, Rb;      /* Rf, Rb NAN when not measured */
+  long line;                 /* in the source file, 0 if none */
+} vr_spectro_point;
+
+typedef struct vr_spectro_curve {
+  char *state;               /* state label as written, NULL without a state column */
+  double angle_deg;
+  size_t n;
+  vr_spectro_point *p;
+} vr_spectro_curve;
+
+typedef struct vr_spectro_data {
+  char *source;              /* path */
+  double thickness_nm;       /* NAN when the file does not say */
+  bool has_Rf, has_Rb, has_state, has_angle;
+  size_t ncurves;            /* in order of first appearance */
+  vr_spectro_curve *curves;
+} vr_spectro_data;
+
+vr_status vr_spectro_read(const char *path, vr_spectro_data **out, vr_error *err);
+vr_status vr_spectro_parse_csv(const char *text, size_t len, const char *name,
+                               vr_spectro_data **out, vr_error *err);
+/* From a glazing material (roles T, Rf, Rb; property "thickness" in mm). */
+vr_status vr_spectro_from_material(const vr_material *m, vr_spectro_data **out, vr_error *err);
+void vr_spectro_destroy(vr_spectro_data *d);
+
+/* The curve's column as a spectrum (which: 'T', 'f' front, 'b' back);
+ * NULL with VR_E_NOT_FOUND when that column was not measured. */
+vr_spectrum *vr_spectro_spectrum(const vr_spectro_curve *c, char which, vr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
