@@ -216,15 +216,19 @@ static vr_status statement(parser *p, char **tok, size_t ntok) {
     size_t rest = 2;
     if (!amb) {
       if ((st = add_param(p, "substrate", "thickness", owner, VR_SLOT_THICKNESS, 0, INFINITY))) return st;
-      for (; rest < ntok; rest++) {
+      /* thickness= and backside may stand anywhere among the material's
+       * inline parameters; the others are kept in order for set_inline. */
+      size_t kept = rest;
+      for (size_t i = rest; i < ntok; i++) {
         double mm;
-        if (!strcasecmp(tok[rest], "backside")) m->backside = true;
-        else if (!strncasecmp(tok[rest], "thickness=", 10)) {
-          if (vr_parse_double(tok[rest] + 10, &mm) || !(mm > 0))
-            return fail(p, VR_E_RANGE, "substrate thickness '%s' must be a positive number of mm", tok[rest] + 10, NULL);
+        if (!strcasecmp(tok[i], "backside")) m->backside = true;
+        else if (!strncasecmp(tok[i], "thickness=", 10)) {
+          if (vr_parse_double(tok[i] + 10, &mm) || !(mm > 0))
+            return fail(p, VR_E_RANGE, "substrate thickness '%s' must be a positive number of mm", tok[i] + 10, NULL);
           m->substrate_thickness_nm = mm * 1e6;
-        } else break;
+        } else tok[kept++] = tok[i];
       }
+      ntok = kept;
       if (m->backside && !(m->substrate_thickness_nm > 0))
         return fail(p, VR_E_PARSE, "backside needs the substrate thickness (thickness=MM)", NULL, NULL);
     }
