@@ -1,0 +1,46 @@
+/* vr-spectro's commands and what they share: options, resolving a pane
+ * given as a file or a database name, saving with provenance. */
+#ifndef VR_SPECTRO_CLI_H
+#define VR_SPECTRO_CLI_H
+
+#include "vr/args.h"
+#include "vr/matdb.h"
+#include "vr/spectro_data.h"
+
+/* "vr-spectro: message" on stderr; returns 1. */
+int spectro_fail(const vr_error *e);
+
+/* The database named by --db (or the default), opened once on demand. */
+vr_status spectro_db(const vr_args *a, vr_matdb **db, vr_error *err);
+
+/* A pane from a spectrophotometer file (CSV or IGDB .DAT) if the path
+ * exists, else from the database: a glazing material, a chromogenic one at
+ * --state/--charge/--uv (bleached by default), or a dielectric with
+ * --thickness (its exact slab at normal incidence, 300-2500 nm every 5 nm).
+ * thickness_nm: the file's or material's thickness, else --thickness, else
+ * NAN. */
+vr_status spectro_pane_source(const vr_args *a, const char *item, vr_matdb **db,
+                              vr_spectro_data **out, vr_error *err);
+
+/* --thickness in mm as nm (NAN when absent); VR_E_ARG for a bad value. */
+vr_status spectro_thickness(const vr_args *a, double *nm, vr_error *err);
+
+/* Fills the provenance of m (source file and its SHA-256 when path is a
+ * file, tool "vr-spectro CMD", version) and saves it. */
+vr_status spectro_save(vr_matdb *db, vr_material *m, const char *cmd, const char *path,
+                       vr_error *err);
+
+/* A comma-separated list of numbers (at most max). */
+int spectro_parse_list(const char *s, double *out, size_t max, size_t *n);
+
+int spectro_cmd_fit(vr_args *a);
+int spectro_cmd_metrics(vr_args *a);
+int spectro_cmd_btdf(vr_args *a);
+int spectro_cmd_chromogenic(vr_args *a);
+int spectro_cmd_state(vr_args *a);
+
+/* The state of a chromogenic material asked for by --state S, --charge Q
+ * or --uv E [--temperature T]; 0 (bleached) when none is given. */
+vr_status spectro_state_of(const vr_args *a, const vr_material *m, double *s, vr_error *err);
+
+#endif

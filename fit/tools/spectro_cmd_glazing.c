@@ -1,0 +1,323 @@
+/* vr-spectro metrics (glazing figures) and btdf (pane tables). */
+#include "spectro_cli.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "vr/atomic_file.h"
+#include "vr/btdf_table.h"
+#include "vr/frosted.h"
+#include "vr/glazing.h"
+#include "vr/json.h"
+#include "vr/optical_standard.h"
+
+static vr_status parse_route(const vr_args *a, vr_angular_route *r, vr_error *err) {
+  const char *s = vr_args_get(a, "route");
+  *r = VR_ROUTE_AUTO;
+  if (!s || !strcasecmp(s, "auto")) return VR_OK;
+  if (!strcasecmp(s, "physical")) *r = VR_ROUTE_PHYSICAL;
+  else if (!strcasecmp(s, "coated")) *r = VR_ROUTE_COATED;
+  else return vr_error_set(err, VR_E_ARG, "--route '%s': expected auto, physical or coated", s);
+  return VR_OK;
+}
+
+static const char *route_name(vr_angular_route r) {
+  return r == VR_ROUTE_COATED ? "coated (Windows-CalcEngine polynomials)"
+         : r == VR_ROUTE_PHYSICAL ? "physical (n, k back-solved, Fresnel per polarisation)"
+                                  : "normal incidence (measured)";
+}
+
+/* The normal-incidence curve of a source, refusing several states. */
+static vr_status normal_curve(const vr_spectro_data *d, const char *item,
+                              const vr_spectro_curve **c, vr_error *err) {
+  for (size_t i = 0; i < d->ncurves; i++)
+    if (d->curves[i].angle_deg == 0) {
+      if (d->has_state && d->ncurves > 1 && d->curves[i].state)
+        for (size_t j = i + 1; j < d->ncurves; j++)
+          if (d->curves[j].state && strcmp(d->curves[j].state, d->curves[i].state))
+            return vr_error_set(err, VR_E_ARG, "%s holds several tint states; use vr-spectro "
+                                               "chromogenic, then metrics NAME --state S", item);
+      *c = &d->curves[i];
+      return VR_OK;
+    }
+  return vr_error_set(err, VR_E_ARG, "%s has no normal-incidence spectrum (angle 0)", item);
+}
+
+/* Normal solar transmittance of a curve (chooses the coated polynomial set). */
+static double solar_T(const vr_standard *std, const vr_spectro_curve *c) {
+  vr_pane *p;
+  vr_glazing_metrics m;
+  if (vr_pane_from_curve(c, NAN, 0, VR_ROUTE_AUTO, NAN, &p, NULL, NULL)) return NAN;
+  double t = vr_glazing_metrics_compute(std, p, &m, NULL) ? NAN : m.Tsol;
+  vr_pane_destroy(p);
+  return t;
+}
+
+static void print_metrics(const vr_glazing_metrics *m, const vr_standard *std, double angle,
+                          char **items, size_t n, const char *route, bool json) {
+  if (json) {
+    printf("{\"standard\": ");
+    vr_json_string(stdout, std->name);
+    printf(", \"angle_deg\": ");
+    vr_json_number(stdout, angle);
+    printf(", \"route\": ");
+    vr_json_string(stdout, route);
+    printf(", \"panes\": [");
+    for (size_t i = 0; i < n; i++) {
+      if (i) printf(", ");
+      vr_json_string(stdout, items[i]);
+    }
+    printf("]");
+    const struct {
+      const char *k;
+      double v;
+    } f[] = {{"Tvis", m->Tvis}, {"Rvis_front", m->Rvis_front}, {"Rvis_back", m->Rvis_back},
+             {"Tsol", m->Tsol}, {"Rsol_front", m->Rsol_front}, {"Rsol_back", m->Rsol_back},
+             {"Tuv", m->Tuv}};
+    for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
+      printf(", \"%s\": ", f[i].k);
+      vr_json_number(stdout, f[i].v);
+    }
+    const char *labs[3] = {"T_Lab", "Rf_Lab", "Rb_Lab"};
+    const double *lab[3] = {m->T_lab, m->Rf_lab, m->Rb_lab};
+    for (int i = 0; i < 3; i++) {
+      printf(", \"%s\": ", labs[i]);
+      if (!m->has_colour) {
+        printf("null");
+        continue;
+      }
+      printf("[");
+      for (int j = 0; j < 3; j++) {
+        if (j) printf(", ");
+        vr_json_number(stdout, lab[i][j]);
+      }
+      printf("]");
+    }
+    printf("}\n");
+    return;
+  }
+  printf("# %s, %g deg, %zu pane(s): ", std->description ? std->description : std->name, angle, n);
+  for (size_t i = 0; i < n; i++) printf("%s%s", i ? " | " : "", items[i]);
+  printf("\n# angular route: %s\n", route);
+  printf("Tvis        %.6f\nRvis_front  %.6f\nRvis_back   %.6f\n", m->Tvis, m->Rvis_front, m->Rvis_back);
+  printf("Tsol        %.6f\nRsol_front  %.6f\nRsol_back   %.6f\n", m->Tsol, m->Rsol_front, m->Rsol_back);
+  if (!isnan(m->Tuv)) printf("Tuv         %.6f\n", m->Tuv);
+  if (m->has_colour)
+    printf("transmitted L*a*b*  %.2f %.2f %.2f\nreflected (front)   %.2f %.2f %.2f\n", m->T_lab[0],
+           m->T_lab[1], m->T_lab[2], m->Rf_lab[0], m->Rf_lab[1], m->Rf_lab[2]);
+}
+
+int spectro_cmd_metrics(vr_args *a) {
+  vr_error err = {0};
+  vr_matdb *db = NULL;
+  vr_standard *std = NULL;
+  char *list = NULL, *items[16];
+  size_t n = 0;
+  vr_pane *panes[16] = {0}, *sys = NULL;
+  vr_spectro_data *data[16] = {0};
+  int rc = 1;
+  double angle;
+  vr_angular_route route;
+  const char *stdname = vr_args_get(a, "standard");
+  const char *used_route = route_name(VR_ROUTE_AUTO);
+  if (vr_args_double(a, "angle", 0, &angle, &err) || parse_route(a, &route, &err)) goto out;
+  if (!(angle >= 0 && angle <= 90)) {
+    vr_error_set(&err, VR_E_ARG, "--angle %g: expected 0 to 90 degrees", angle);
+    goto out;
+  }
+  if (vr_standard_open(stdname ? stdname : "nfrc", &std, &err)) goto out;
+  const char *panes_opt = vr_args_get(a, "panes");
+  if (panes_opt) {
+    list = strdup(panes_opt);
+    char *save = NULL;
+    for (char *t = strtok_r(list, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+      if (n == 16) {
+        vr_error_set(&err, VR_E_ARG, "--panes: at most 16 panes");
+        goto out;
+      }
+      items[n++] = t;
+    }
+  } else if (a->noperands >= 2) {
+    items[n++] = (char *)a->operands[1];
+  }
+  if (n == 0) {
+    vr_error_set(&err, VR_E_ARG, "metrics needs a pane: FILE, NAME or --panes A,B");
+    goto out;
+  }
+  for (size_t i = 0; i < n; i++) {
+    const vr_spectro_curve *c;
+    if (spectro_pane_source(a, items[i], &db, &data[i], &err) ||
+        normal_curve(data[i], items[i], &c, &err))
+      goto out;
+    double sol = angle > 0 ? solar_T(std, c) : NAN;
+    size_t unsolved = 0;
+    if (vr_pane_from_curve(c, data[i]->thickness_nm, angle, route, sol, &panes[i], &unsolved, &err)) {
+      vr_error_prefix(&err, "%s: ", items[i]);
+      goto out;
+    }
+    if (angle > 0) used_route = route_name(panes[i]->route);
+    if (unsolved)
+      fprintf(stderr, "vr-spectro: %s: %zu wavelength(s) fit no slab; their index was borrowed "
+                      "from neighbours\n", items[i], unsolved);
+  }
+  if (vr_pane_combine(panes, n, &sys, &err)) goto out;
+  vr_glazing_metrics m;
+  if (vr_glazing_metrics_compute(std, sys, &m, &err)) goto out;
+  print_metrics(&m, std, angle, items, n, used_route, vr_args_flag(a, "json"));
+  rc = 0;
+out:
+  if (rc) spectro_fail(&err);
+  for (size_t i = 0; i < n; i++) {
+    vr_pane_destroy(panes[i]);
+    vr_spectro_destroy(data[i]);
+  }
+  vr_pane_destroy(sys);
+  vr_standard_destroy(std);
+  vr_matdb_close(db);
+  free(list);
+  return rc;
+}
+
+/* --wavelengths FROM:TO:STEP (default 300:2500:10). */
+static vr_status wavelengths(const vr_args *a, double **nm, size_t *n, vr_error *err) {
+  const char *w = vr_args_get(a, "wavelengths");
+  double v[3] = {300, 2500, 10};
+  if (w && (sscanf(w, "%lf:%lf:%lf", &v[0], &v[1], &v[2]) != 3 || !(v[0] > 0) || !(v[1] >= v[0]) ||
+            !(v[2] > 0)))
+    return vr_error_set(err, VR_E_ARG, "--wavelengths '%s': expected FROM:TO:STEP in nm", w);
+  *n = (size_t)floor((v[1] - v[0]) / v[2] + 1e-9) + 1;
+  *nm = malloc(*n * sizeof **nm);
+  if (!*nm) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t i = 0; i < *n; i++) (*nm)[i] = v[0] + v[2] * (double)i;
+  return VR_OK;
+}
+
+static vr_status write_btdf_table(const char *path, const vr_btdf_table *t, vr_error *err) {
+  vr_atomic_file f;
+  vr_status st = vr_atomic_file_open(&f, path, err);
+  if (st) return st;
+  fprintf(f.fp, "angle_deg,wavelength_nm,Ts,Tp,Rfs,Rfp,Rbs,Rbp\n");
+  for (size_t i = 0; i < t->na; i++)
+    for (size_t j = 0; j < t->nl; j++) {
+      fprintf(f.fp, "%g,%g", t->angles[i], t->nm[j]);
+      for (int q = 0; q < VR_BT_COUNT; q++) fprintf(f.fp, ",%.8f", t->q[q][i * t->nl + j]);
+      fprintf(f.fp, "\n");
+    }
+  return vr_atomic_file_commit(&f, err);
+}
+
+static void print_btdf(const vr_btdf_table *t) {
+  size_t j = 0;
+  for (size_t k = 1; k < t->nl; k++)
+    if (fabs(t->nm[k] - 550) < fabs(t->nm[j] - 550)) j = k;
+  printf("# %s\n# at %g nm:\nangle  Ts       Tp       T        Rf       Rb\n", t->method, t->nm[j]);
+  for (size_t i = 0; i < t->na; i++) {
+    const size_t at = i * t->nl + j;
+    printf("%5g  %.6f %.6f %.6f %.6f %.6f\n", t->angles[i], t->q[VR_BT_TS][at], t->q[VR_BT_TP][at],
+           0.5 * (t->q[VR_BT_TS][at] + t->q[VR_BT_TP][at]),
+           0.5 * (t->q[VR_BT_RFS][at] + t->q[VR_BT_RFP][at]),
+           0.5 * (t->q[VR_BT_RBS][at] + t->q[VR_BT_RBP][at]));
+  }
+}
+
+int spectro_cmd_btdf(vr_args *a) {
+  vr_error err = {0};
+  vr_matdb *db = NULL;
+  vr_sample_model *model = NULL;
+  vr_spectro_data *d = NULL;
+  vr_material *src = NULL, *out = NULL;
+  vr_btdf_table t = {0};
+  vr_btdf_sample *samples = NULL;
+  double *nm = NULL, angles[64], d_nm;
+  size_t na = 0, nl = 0, ns = 0;
+  vr_angular_route route;
+  int rc = 1;
+  const char *stack = vr_args_get(a, "stack"), *ang = vr_args_get(a, "angles"),
+             *save = vr_args_get(a, "save"), *scatter = vr_args_get(a, "scatter");
+  const char *item = a->noperands >= 2 ? a->operands[1] : NULL;
+  if (parse_route(a, &route, &err) || spectro_thickness(a, &d_nm, &err)) goto out;
+  if (ang) {
+    if (spectro_parse_list(ang, angles, 64, &na)) {
+      vr_error_set(&err, VR_E_ARG, "--angles '%s': expected up to 64 numbers, e.g. 0,30,60", ang);
+      goto out;
+    }
+  } else {
+    for (int i = 0; i <= 80; i += 10) angles[na++] = i;
+    angles[na++] = 85;
+    angles[na++] = 90;
+  }
+  if (stack) {
+    if (spectro_db(a, &db, &err) || vr_model_read(stack, db, &model, &err) ||
+        wavelengths(a, &nm, &nl, &err) || vr_btdf_from_model(model, angles, na, nm, nl, &t, &err))
+      goto out;
+    item = stack;
+  } else if (!item) {
+    vr_error_set(&err, VR_E_ARG, "btdf needs a pane: FILE, NAME or --stack FILE.model");
+    goto out;
+  } else {
+    FILE *f = fopen(item, "rb");
+    if (f) {
+      fclose(f);
+      const vr_spectro_curve *c;
+      vr_standard *std = NULL;
+      if (spectro_pane_source(a, item, &db, &d, &err) || normal_curve(d, item, &c, &err) ||
+          vr_standard_open("nfrc", &std, &err))
+        goto out;
+      double sol = solar_T(std, c);
+      vr_standard_destroy(std);
+      if (vr_btdf_from_curve(c, d->thickness_nm, route, sol, angles, na, &t, &err)) goto out;
+    } else {
+      if (spectro_db(a, &db, &err) || vr_matdb_load(db, item, 0, &src, &err)) goto out;
+      if (src->kind == VR_KIND_GLAZING) {
+        const vr_spectro_curve *c;
+        vr_standard *std = NULL;
+        if (vr_spectro_from_material(src, &d, &err) || vr_standard_open("nfrc", &std, &err)) goto out;
+        if (!isnan(d_nm)) d->thickness_nm = d_nm;
+        c = &d->curves[0];
+        double sol = solar_T(std, c);
+        vr_standard_destroy(std);
+        if (vr_btdf_from_curve(c, d->thickness_nm, route, sol, angles, na, &t, &err)) goto out;
+      } else {
+        const vr_property *th = vr_material_property(src, "thickness");
+        if (isnan(d_nm) && th && th->value > 0) d_nm = th->value * 1e6;
+        if (wavelengths(a, &nm, &nl, &err) ||
+            vr_btdf_from_material(src, d_nm, angles, na, nm, nl, &t, &err))
+          goto out;
+      }
+    }
+  }
+  print_btdf(&t);
+  vr_frosted_fit ff = {0};
+  if (scatter) {
+    double index;
+    if (vr_args_double(a, "index", 1.52, &index, &err) ||
+        vr_btdf_samples_read(scatter, &samples, &ns, &err) ||
+        vr_frosted_fit_alpha(samples, ns, index, 0.02, &ff, &err))
+      goto out;
+    printf("frosted face (GGX, %zu samples, n = %g): alpha = %.4f +- %.4f, scale %.3f +- %.3f, "
+           "relative RMS %.3f\n", ns, index, ff.alpha, ff.alpha_err, ff.scale, ff.scale_err,
+           ff.rms_rel);
+  }
+  if (vr_args_get(a, "table") && write_btdf_table(vr_args_get(a, "table"), &t, &err)) goto out;
+  if (save) {
+    if (spectro_db(a, &db, &err) || vr_btdf_table_material(&t, save, &out, &err)) goto out;
+    if (scatter && vr_material_add_parameter(out, "roughness_alpha", ff.alpha, ff.alpha_err, NULL, &err))
+      goto out;
+    if (spectro_save(db, out, "btdf", item, &err)) goto out;
+  }
+  rc = 0;
+out:
+  if (rc) spectro_fail(&err);
+  free(samples);
+  free(nm);
+  vr_btdf_table_free(&t);
+  vr_material_destroy(src);
+  vr_material_destroy(out);
+  vr_spectro_destroy(d);
+  vr_model_destroy(model);
+  vr_matdb_close(db);
+  return rc;
+}

@@ -1,0 +1,277 @@
+/* vr-spectro: spectrophotometry of glass to n, k, pane tables, glazing
+ * figures and tint-state models.  This file holds the option table, the
+ * dispatch and what the commands share. */
+#include "spectro_cli.h"
+
+#include <complex.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "vr/chromogenic.h"
+#include "vr/csv.h"
+#include "vr/optics.h"
+#include "vr/sha256.h"
+#include "vr/version.h"
+
+static const vr_option OPTIONS[] = {
+    {"thickness", 't', "MM", "pane thickness in mm (else the file's or material's)"},
+    {"model", 'm', "NAME", "fit: n model sellmeier (default), sellmeier2 or cauchy"},
+    {"sigma", 0, "S", "photometric noise of T and R (absolute, default 1e-3)"},
+    {"save", 's', "NAME", "save the result in the material database under NAME"},
+    {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
+    {"json", 'j', NULL, "JSON output"},
+    {"table", 0, "FILE.csv", "fit, btdf: write the per-wavelength table"},
+    {"standard", 0, "NAME|FILE", "metrics: nfrc (default), en410, iso9050, or an LBNL .std file"},
+    {"angle", 'a', "DEG", "metrics: angle of incidence (default 0)"},
+    {"panes", 0, "A,B,...", "metrics: several panes, outside first (files or database names)"},
+    {"route", 0, "ROUTE", "metrics, btdf: angular route auto (default), physical or coated"},
+    {"angles", 0, "LIST", "btdf: angles in degrees (default 0,10,...,80,85,90)"},
+    {"stack", 0, "FILE.model", "btdf: a coated pane as layers on a substrate (model file)"},
+    {"wavelengths", 'w', "FROM:TO:STEP", "btdf: wavelengths for materials and stacks (default 300:2500:10)"},
+    {"scatter", 0, "FILE.csv", "btdf: angle-resolved scattered transmittance to fit a GGX roughness"},
+    {"index", 0, "N", "btdf: glass index for --scatter (default 1.52)"},
+    {"states", 0, "LIST", "chromogenic: one state per spectrum (see --help text)"},
+    {"state", 0, "S", "metrics, state: tint state in [0, 1] of a chromogenic material"},
+    {"charge", 0, "MC_CM2", "metrics, state: electrochromic charge density (mC/cm2)"},
+    {"uv", 0, "W_M2", "metrics, state: photochromic steady state under this UV irradiance"},
+    {"temperature", 0, "T", "with --uv: glass temperature, e.g. 25C or 298K (default 25C)"},
+};
+#define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
+
+static const char USAGE[] =
+    "fit FILE [--thickness MM] [--model sellmeier|sellmeier2|cauchy] [--save NAME] [--json]\n"
+    "       vr-spectro metrics FILE|NAME [--standard nfrc|en410|iso9050] [--angle DEG] [--panes A,B] [--json]\n"
+    "       vr-spectro btdf FILE|NAME|--stack FILE [--angles LIST] [--scatter FILE] [--save NAME]\n"
+    "       vr-spectro chromogenic FILES... --states LIST [--save NAME] [--json]\n"
+    "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T]]";
+static const char ABOUT[] =
+    "Spectrophotometry of glass (T, Rf, Rb; CSV or LBNL/IGDB .DAT; docs/vr-spectro.md).\n"
+    "fit: n, k of an uncoated pane from T and R (slab equations with every internal\n"
+    "  reflection, physical root, ill-conditioned wavelengths flagged), smoothed by a\n"
+    "  Sellmeier or Cauchy model with standard errors.\n"
+    "metrics: visible, solar and UV transmittance and reflectance under NFRC 300 (the\n"
+    "  Windows-CalcEngine method), EN 410 or ISO 9050; CIELAB of the transmitted light;\n"
+    "  several panes with --panes; angles by the physical route (uncoated) or\n"
+    "  Windows-CalcEngine's coated-glass polynomials (coated).\n"
+    "btdf: angle x wavelength tables of T and R (s, p) for the renderer.\n"
+    "chromogenic: state model of electrochromic (states: charge 12mC/cm2 or voltage -1V)\n"
+    "  or photochromic glass (E=40 steady state, t=60:E=40 activation, fade=120:E=40;\n"
+    "  add :T=25C for temperature) with 90% limits.\n"
+    "state: a chromogenic material's spectrum at a state, a charge or a UV irradiance.";
+
+int spectro_fail(const vr_error *e) {
+  fprintf(stderr, "vr-spectro: %s\n", e->message);
+  return 1;
+}
+
+vr_status spectro_db(const vr_args *a, vr_matdb **db, vr_error *err) {
+  if (*db) return VR_OK;
+  return vr_matdb_open(vr_args_get(a, "db"), 0, db, err);
+}
+
+vr_status spectro_thickness(const vr_args *a, double *nm, vr_error *err) {
+  *nm = NAN;
+  const char *t = vr_args_get(a, "thickness");
+  if (!t) return VR_OK;
+  double mm;
+  if (vr_parse_double(t, &mm) || !(mm > 0))
+    return vr_error_set(err, VR_E_ARG, "--thickness '%s': expected a positive number of mm", t);
+  *nm = mm * 1e6;
+  return VR_OK;
+}
+
+int spectro_parse_list(const char *s, double *out, size_t max, size_t *n) {
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", s);
+  *n = 0;
+  char *save = NULL;
+  for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+    if (*n == max || vr_parse_double(t, &out[*n])) return -1;
+    (*n)++;
+  }
+  return *n ? 0 : -1;
+}
+
+vr_status spectro_state_of(const vr_args *a, const vr_material *m, double *s, vr_error *err) {
+  const char *st = vr_args_get(a, "state"), *q = vr_args_get(a, "charge"),
+             *uv = vr_args_get(a, "uv"), *temp = vr_args_get(a, "temperature");
+  *s = 0;
+  if ((st != NULL) + (q != NULL) + (uv != NULL) > 1)
+    return vr_error_set(err, VR_E_ARG, "give one of --state, --charge and --uv");
+  double x;
+  if (st) {
+    if (vr_parse_double(st, &x) || !(x >= 0 && x <= 1))
+      return vr_error_set(err, VR_E_ARG, "--state '%s': expected a number in [0, 1]", st);
+    *s = x;
+    return VR_OK;
+  }
+  if (q) {
+    if (vr_parse_double(q, &x)) return vr_error_set(err, VR_E_ARG, "--charge '%s': not a number", q);
+    return vr_chromo_state_of_charge(m, x, s, err);
+  }
+  if (uv) {
+    double T = 298.15;
+    if (vr_parse_double(uv, &x) || x < 0)
+      return vr_error_set(err, VR_E_ARG, "--uv '%s': expected W/m2 >= 0", uv);
+    if (temp) {
+      char buf[32];
+      snprintf(buf, sizeof buf, "%s", temp);
+      size_t n = strlen(buf);
+      double add = 0;
+      if (n && (buf[n - 1] == 'C' || buf[n - 1] == 'c')) add = 273.15, buf[n - 1] = '\0';
+      else if (n && (buf[n - 1] == 'K' || buf[n - 1] == 'k')) buf[n - 1] = '\0';
+      if (vr_parse_double(buf, &T) || !(T + add > 0))
+        return vr_error_set(err, VR_E_ARG, "--temperature '%s': use 25C or 298K", temp);
+      T += add;
+    }
+    return vr_chromo_steady_state(m, x, T, s, err);
+  }
+  return VR_OK;
+}
+
+static bool is_file(const char *p) {
+  struct stat sb;
+  return stat(p, &sb) == 0 && S_ISREG(sb.st_mode);
+}
+
+/* A curve from a material evaluated on a grid: chromogenic at a state, or
+ * a dielectric slab. */
+static vr_status curve_from_material(const vr_args *a, const vr_material *m, double d_nm,
+                                     vr_spectro_data **out, vr_error *err) {
+  const vr_spectrum *grid = NULL;
+  double s = 0;
+  vr_status st = VR_OK;
+  if (m->kind == VR_KIND_CHROMOGENIC) {
+    grid = vr_material_spectrum(m, "T0");
+    if ((st = spectro_state_of(a, m, &s, err))) return st;
+  } else if (m->kind == VR_KIND_DIELECTRIC || m->kind == VR_KIND_CONDUCTOR) {
+    if (!(d_nm > 0))
+      return vr_error_set(err, VR_E_ARG, "material %s is a %s: give the pane's --thickness MM",
+                          m->name, vr_kind_name(m->kind));
+  } else {
+    return vr_error_set(err, VR_E_ARG, "material %s is a %s; a pane needs a glazing, chromogenic "
+                                       "or dielectric material", m->name, vr_kind_name(m->kind));
+  }
+  double lo = 300, hi = 2500;
+  if (!grid && (st = vr_material_nk_range(m, &lo, &hi, err))) return st;
+  size_t n = grid ? grid->n : (size_t)floor((fmin(hi, 2500) - fmax(lo, 300)) / 5) + 1;
+  vr_spectro_data *d = calloc(1, sizeof *d);
+  vr_spectro_curve *c = d ? calloc(1, sizeof *c) : NULL;
+  vr_spectro_point *p = c ? calloc(n, sizeof *p) : NULL;
+  if (!p) {
+    free(c);
+    free(d);
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  }
+  d->source = strdup(m->name);
+  d->thickness_nm = d_nm;
+  d->has_Rf = d->has_Rb = true;
+  d->ncurves = 1;
+  d->curves = c;
+  c->p = p;
+  for (size_t i = 0; i < n && !st; i++) {
+    vr_spectro_point *q = &p[c->n];
+    q->nm = grid ? grid->nm[i] : fmax(lo, 300) + 5.0 * (double)i;
+    if (grid) {
+      st = vr_chromo_eval(m, s, q->nm, &q->T, &q->Rf, &q->Rb, err);
+    } else {
+      double nn, kk;
+      vr_slab_result r;
+      st = vr_material_nk(m, q->nm, false, &nn, &kk, NULL, err);
+      if (!st) st = vr_slab(1.0, nn + I * kk, d_nm, 0, q->nm, &r, err);
+      if (!st) q->T = r.T[0], q->Rf = q->Rb = r.R[0];
+    }
+    c->n++;
+  }
+  if (!st && isnan(p[0].Rf)) d->has_Rf = d->has_Rb = false;
+  if (st) {
+    vr_spectro_destroy(d);
+    return st;
+  }
+  *out = d;
+  return VR_OK;
+}
+
+vr_status spectro_pane_source(const vr_args *a, const char *item, vr_matdb **db,
+                              vr_spectro_data **out, vr_error *err) {
+  double d_nm;
+  vr_status st = spectro_thickness(a, &d_nm, err);
+  if (st) return st;
+  if (is_file(item)) {
+    if ((st = vr_spectro_read(item, out, err))) return st;
+    if (!isnan(d_nm)) (*out)->thickness_nm = d_nm;
+    return VR_OK;
+  }
+  if (strchr(item, '/') || strchr(item, '.')) {
+    FILE *f = fopen(item, "rb");
+    if (!f) return vr_error_set(err, VR_E_IO, "%s: no such file", item);
+    fclose(f);
+  }
+  if ((st = spectro_db(a, db, err))) return st;
+  vr_material *m;
+  if ((st = vr_matdb_load(*db, item, 0, &m, err))) return st;
+  if (m->kind == VR_KIND_GLAZING) {
+    st = vr_spectro_from_material(m, out, err);
+    if (!st && !isnan(d_nm)) (*out)->thickness_nm = d_nm;
+  } else {
+    const vr_property *th = vr_material_property(m, "thickness");
+    if (isnan(d_nm) && th && th->value > 0) d_nm = th->value * 1e6;
+    st = curve_from_material(a, m, d_nm, out, err);
+  }
+  vr_material_destroy(m);
+  return st;
+}
+
+vr_status spectro_save(vr_matdb *db, vr_material *m, const char *cmd, const char *path,
+                       vr_error *err) {
+  char tool[64];
+  snprintf(tool, sizeof tool, "vr-spectro %s", cmd);
+  vr_status st;
+  if ((st = vr_material_set_text(&m->prov.tool, tool, err)) ||
+      (st = vr_material_set_text(&m->prov.tool_version, vr_version(), err)))
+    return st;
+  if (path) {
+    if ((st = vr_material_set_text(&m->prov.source_path, path, err))) return st;
+    if (is_file(path) && (st = vr_sha256_file(path, m->prov.sha256, err))) return st;
+  }
+  if ((st = vr_matdb_save(db, m, err))) return st;
+  fprintf(stderr, "vr-spectro: saved '%s' (version %d) to %s\n", m->name, m->version,
+          vr_matdb_path(db));
+  return VR_OK;
+}
+
+int main(int argc, char **argv) {
+  vr_args a;
+  vr_args_outcome o = vr_args_parse(&a, "vr-spectro", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
+  if (o == VR_ARGS_EXIT_OK) return 0;
+  if (o == VR_ARGS_EXIT_USAGE) return 2;
+  static const struct {
+    const char *name;
+    size_t min_operands;
+    int (*run)(vr_args *);
+  } CMDS[] = {{"fit", 2, spectro_cmd_fit},
+              {"metrics", 1, spectro_cmd_metrics},
+              {"btdf", 1, spectro_cmd_btdf},
+              {"chromogenic", 2, spectro_cmd_chromogenic},
+              {"state", 2, spectro_cmd_state}};
+  int rc = -1;
+  for (size_t i = 0; i < sizeof CMDS / sizeof CMDS[0]; i++)
+    if (a.noperands >= 1 && !strcmp(a.operands[0], CMDS[i].name)) {
+      if (a.noperands < CMDS[i].min_operands) {
+        fprintf(stderr, "vr-spectro: '%s' needs its input (see vr-spectro --help)\n", CMDS[i].name);
+        rc = 2;
+      } else {
+        rc = CMDS[i].run(&a);
+      }
+    }
+  if (rc < 0) {
+    fprintf(stderr, "vr-spectro: expected a command: fit, metrics, btdf, chromogenic or state\n"
+                    "Try 'vr-spectro --help'.\n");
+    rc = 2;
+  }
+  vr_args_free(&a);
+  return rc;
+}
