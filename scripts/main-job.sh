@@ -12,7 +12,7 @@ rm -f "$VR_MATDB" "$VR_MATDB-wal" "$VR_MATDB-shm"   # a fresh database each run
 
 echo "== material database: create with the built-in library, import the samples (vr-matdb)"
 build/matdb/vr-matdb init
-build/matdb/vr-matdb import samples/materials/CLEAR_3.DAT --name NFRC-102-clear
+build/matdb/vr-matdb import samples/glazing/clear_float/CLEAR_3.DAT --name NFRC-102-clear
 build/matdb/vr-matdb import samples/materials/hikari_e-bk7.yml --name E-BK7
 build/matdb/vr-matdb list --kind glazing
 build/matdb/vr-matdb show NFRC-102-clear
@@ -27,7 +27,20 @@ build/fit/vr-ellipso fit $e/coated_glass.csv --model $e/coated_glass.model --sav
 build/fit/vr-ellipso fit $e/bare_glass.csv --save soda-lime-ellipso --report out/bare_glass.html
 build/matdb/vr-matdb history coating-fit
 
+echo "== glazing: figures, n and k, pane tables and tint-state models (vr-spectro)"
+g=samples/glazing
+build/fit/vr-spectro metrics $g/clear_float/CLEAR_3.DAT | tee out/clear_float_nfrc.txt
+build/fit/vr-spectro metrics --panes $g/clear_float/CLEAR_3.DAT,$g/clear_float/CLEAR_3.DAT --json > out/double_clear_nfrc.json
+build/fit/vr-spectro metrics $g/lowe/lowe.csv --standard en410 | tee out/lowe_en410.txt
+build/fit/vr-spectro fit $g/clear_float/CLEAR_3.DAT --save clear-float-nk --table out/clear_float_nk.csv
+build/fit/vr-spectro btdf clear-float-nk --save clear-float-btdf --wavelengths 300:2500:10 --table out/clear_float_btdf.csv
+build/fit/vr-spectro btdf --stack $g/lowe/lowe.model --save lowe-btdf --table out/lowe_btdf.csv
+build/fit/vr-spectro chromogenic $g/electrochromic/ec_states.csv --save electrochromic-glass
+build/fit/vr-spectro chromogenic $g/photochromic/pc_states.csv --save photochromic-glass
+build/fit/vr-spectro metrics electrochromic-glass --state 1 | tee out/electrochromic_dark.txt
+build/fit/vr-spectro state photochromic-glass --uv 40 --temperature 25C > out/photochromic_40Wm2.csv
+
 echo "== colour of the ColorChecker under D65 and under A (vr-colour)"
 build/core/vr-colour samples/spectra/colorchecker_babelcolor.csv | tee out/colorchecker_D65.txt
 build/core/vr-colour --illuminant A --json samples/spectra/colorchecker_babelcolor.csv > out/colorchecker_A.json
-echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/colorchecker_D65.txt, out/colorchecker_A.json"
+echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/colorchecker_D65.txt, out/colorchecker_A.json"
