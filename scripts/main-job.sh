@@ -34,7 +34,7 @@ build/fit/vr-spectro metrics --panes $g/clear_float/CLEAR_3.DAT,$g/clear_float/C
 build/fit/vr-spectro metrics $g/lowe/lowe.csv --standard en410 | tee out/lowe_en410.txt
 build/fit/vr-spectro fit $g/clear_float/CLEAR_3.DAT --save clear-float-nk --table out/clear_float_nk.csv
 build/fit/vr-spectro btdf clear-float-nk --save clear-float-btdf --wavelengths 300:2500:10 --table out/clear_float_btdf.csv
-build/fit/vr-spectro btdf --stack $g/lowe/lowe.model --save lowe-btdf --table out/lowe_btdf.csv
+build/fit/vr-spectro btdf --stack $g/lowe/lowe.model --wavelengths 310:2500:10 --save lowe-btdf --table out/lowe_btdf.csv
 build/fit/vr-spectro chromogenic $g/electrochromic/ec_states.csv --save electrochromic-glass
 build/fit/vr-spectro chromogenic $g/photochromic/pc_states.csv --save photochromic-glass
 build/fit/vr-spectro metrics electrochromic-glass --state 1 | tee out/electrochromic_dark.txt
