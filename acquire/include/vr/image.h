@@ -1,0 +1,107 @@
+/* Photographs as plain arrays of floats: reading and writing PNG, TIFF, JPEG
+ * (through OpenCV, behind a C shim) and OpenEXR (through the OpenEXR 3 core C
+ * API), and the means over rectangles and labelled regions that turn a photo
+ * into numbers.  No OpenCV or OpenEXR type appears here.
+ *
+ * Pixel values: integer files are scaled to [0,1] (v/255 or v/65535, nothing
+ * else: no gamma is removed, no white balance applied); float files (EXR,
+ * 32-bit float TIFF) are kept as stored.  Images are always RGB: grey files are
+ * expanded, alpha is dropped, OpenCV's BGR order is turned into RGB.  EXIF
+ * orientation is not applied: pixels are used as stored in the file.
+ *
+ * Coordinates: x to the right, y down, (0,0) the top-left corner of the image.
+ * Pixel (i, j) covers [i, i+1) x [j, j+1), so its centre is (i+0.5, j+0.5).
+ *
+ * Every function is thread-safe on distinct images. */
+#ifndef VR_IMAGE_H
+#define VR_IMAGE_H
+
+#include "vr/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vr_image {
+  int width, height;
+  int channels;  /* always 3 */
+  float *data;   /* row-major RGB: pixel (x,y) channel c at data[(y*width + x)*3 + c] */
+  int bit_depth; /* of the file read: 8, 16, or 32 (float); vr_image_alloc sets 32 */
+} vr_image;
+
+/* Allocates a w x h RGB image set to zero (bit_depth 32).  w, h >= 1. */
+vr_status vr_image_alloc(vr_image *img, int w, int h, vr_error *err);
+/* Frees the pixels and zeroes the struct; safe on a zeroed or freed image. */
+void vr_image_free(vr_image *img);
+
+/* Reads PNG, TIFF or JPEG (8 or 16 bit, grey, RGB or with alpha; TIFF may
+ * also be 32-bit float) and OpenEXR (scanline, R,G,B or else Y channels,
+ * half or float; the first part of a multi-part file; the image is its data
+ * window).  The format is told by the file's first bytes, not its name.
+ * Errors name the path: VR_E_IO when it cannot be opened or read, VR_E_PARSE
+ * when it is not an image of a supported kind, or is truncated or corrupt.
+ * Truncation is checked before decoding where the format allows: a PNG must
+ * hold its closing IEND chunk, a JPEG an end-of-image marker after its last
+ * scan (libjpeg would otherwise fill the missing rows with grey and
+ * succeed).  A 2 GiB file limit applies to PNG, TIFF and JPEG. */
+vr_status vr_image_read(const char *path, vr_image *out, vr_error *err);
+
+/* Writes an RGB PNG of 8 or 16 bits per channel: values clamped to [0,1],
+ * then v*255 (or v*65535) rounded to nearest.  A NaN is refused (VR_E_RANGE)
+ * rather than written as some colour.  The file appears whole or not at all
+ * (temporary file in the same directory, then rename). */
+vr_status vr_image_write_png(const char *path, const vr_image *img, int bits, vr_error *err);
+
+/* Writes a 32-bit float RGB OpenEXR (ZIP compression, lossless), values as
+ * they are; atomically like vr_image_write_png. */
+vr_status vr_image_write_exr(const char *path, const vr_image *img, vr_error *err);
+
+/* Writes by the file name's extension (case-insensitive):
+ *   .png          bits 8 or 16, as vr_image_write_png
+ *   .tif / .tiff  bits 8 or 16, same quantisation, LZW (lossless)
+ *   .jpg / .jpeg  bits 8 only, baseline JPEG at quality 95 (lossy: 8-bit
+ *                 values come back within a few units, see the tests)
+ *   .exr          bits 32 (float) or 16 (half: 11 significant bits)
+ * Any other extension or bit depth is VR_E_ARG. */
+vr_status vr_image_write(const char *path, const vr_image *img, int bits, vr_error *err);
+
+/* Mean and sample standard deviation (divisor n-1; 0 for one pixel) of each
+ * channel over the w x h pixels whose top-left pixel is (x, y); *clipped gets
+ * the number of those pixels with at least one channel >= clip_level.  sd and
+ * clipped may be NULL.  A rectangle that is empty or leaves the image is
+ * VR_E_RANGE, naming the rectangle and the image size. */
+vr_status vr_image_rect_mean(const vr_image *img, int x, int y, int w, int h, double rgb[3],
+                             double sd[3], int *clipped, double clip_level, vr_error *err);
+
+/* One region of a label image: all pixels carrying the same label. */
+typedef struct vr_label_region {
+  int label;     /* 1 ... 65535 */
+  long pixels;   /* number of pixels with this label */
+  long clipped;  /* of which with at least one channel >= clip_level */
+  double rgb[3]; /* mean of the photo's values over the region */
+  double sd[3];  /* sample standard deviation (divisor n-1; 0 for one pixel) */
+} vr_label_region;
+
+typedef struct vr_label_means {
+  int count;                /* regions found */
+  vr_label_region *regions; /* sorted by label; labels absent from the image are left out */
+} vr_label_means;
+
+/* Per-region statistics of img for a label image: an 8- or 16-bit image
+ * (grey, or RGB with R = G = B) whose integer pixel value is a region id;
+ * label 0 is background and ignored.  labels must have img's size.  A float
+ * label image, a non-grey pixel or a size mismatch is an error naming
+ * labels_name (used in messages only; NULL reads "label image").
+ * Free the result with vr_label_means_free. */
+vr_status vr_image_label_means(const vr_image *img, const vr_image *labels,
+                               const char *labels_name, double clip_level,
+                               vr_label_means *out, vr_error *err);
+/* The same with the label image read from a file (PNG or TIFF). */
+vr_status vr_image_label_means_file(const vr_image *img, const char *labels_path,
+                                    double clip_level, vr_label_means *out, vr_error *err);
+void vr_label_means_free(vr_label_means *m);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,91 @@
+/* The capture manifest of vr-rgb2spec: which photos were taken under which
+ * light, how their pixel values relate to light, the camera, and the
+ * regions that name materials.  A text file next to the photos, one
+ * statement per line, '#' comments:
+ *
+ *   camera  cie1931-srgb | db:NAME | file:PATH.csv
+ *   grid    FROM TO STEP                  recovery wavelengths, nm (400 700 10)
+ *   photo   FILE light=LIGHT [scale=S] [encoding=srgb|linear] [clip=C]
+ *   labels  FILE.png                      a label image (grey level = id)
+ *   region  NAME rect=X,Y,W,H [reference=REF]
+ *   region  NAME label=ID [reference=REF]
+ *   chart   auto | grid=X0,Y0,X1,Y1       a ColorChecker: 24 regions
+ *                                         "patch-01".."patch-24" with the
+ *                                         BabelColor reference spectra
+ *
+ * LIGHT is a CIE illuminant known to the core (D65, A, F2, LED-B3, D5000,
+ * BB3000, ...; vr_illuminant), db:NAME (an illuminant in the material
+ * database) or file:PATH (a CSV table, first spectrum column).  scale
+ * multiplies the light (exposure; default 1: a white reflector under the
+ * light gives Y = 1).  encoding: srgb (default for PNG/JPEG/TIFF: values are
+ * sRGB-encoded and are decoded first) or linear (default for EXR).  clip:
+ * values at or above it (before decoding) count as clipped (default 0.999).
+ * REF: db:NAME or file:PATH, a reference reflectance for the report.
+ * Camera file:PATH is a CSV with columns r, g, b (spectral sensitivities);
+ * db:NAME a camera material (roles r, g, b).  Paths are relative to the
+ * manifest.  Errors are "manifest:line:col: message". */
+#ifndef VR_MANIFEST_H
+#define VR_MANIFEST_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "vr/error.h"
+#include "vr/spectrum.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vr_matdb vr_matdb;
+
+typedef struct vr_capture_photo {
+  char *path;            /* resolved against the manifest's folder */
+  char *light_name;      /* as written */
+  vr_spectrum *light;    /* the SPD */
+  double scale;
+  int encoding;          /* 0 default (by file type), 1 srgb, 2 linear */
+  double clip;
+  long line;
+} vr_capture_photo;
+
+typedef enum vr_region_kind { VR_REGION_RECT = 0, VR_REGION_LABEL, VR_REGION_CHART } vr_region_kind;
+
+typedef struct vr_capture_region {
+  char *name;
+  vr_region_kind kind;
+  int x, y, w, h;        /* rect; for a chart grid: x0, y0, x1, y1 */
+  int label;
+  bool chart_auto;
+  char *reference_name;  /* as written, NULL if none */
+  vr_spectrum *reference;
+  long line;
+} vr_capture_region;
+
+typedef enum vr_capture_camera { VR_CAPTURE_CAMERA_SRGB = 0, VR_CAPTURE_CAMERA_MEASURED } vr_capture_camera;
+
+typedef struct vr_capture {
+  char *path, *dir;
+  vr_capture_camera camera;
+  char *camera_name;
+  vr_spectrum *sens[3]; /* r, g, b sensitivities for VR_CAPTURE_CAMERA_MEASURED */
+  double grid[3];       /* from, to, step */
+  size_t nphotos;
+  vr_capture_photo *photos;
+  size_t nregions;
+  vr_capture_region *regions;
+  char *labels_path;
+} vr_capture;
+
+/* db may be NULL (then db: names are an error naming the line). */
+vr_status vr_capture_read(const char *path, vr_matdb *db, vr_capture **out, vr_error *err);
+vr_status vr_capture_parse(const char *text, size_t len, const char *path, vr_matdb *db,
+                           vr_capture **out, vr_error *err);
+void vr_capture_destroy(vr_capture *c);
+
+/* The photo entry whose file name (or resolved path) matches, or NULL. */
+const vr_capture_photo *vr_capture_find_photo(const vr_capture *c, const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,244 @@
+/* The file side of vr/image.h: an image's memory, reading a whole file and
+ * telling its format by its first bytes (never by its name, so that a text
+ * file called .png gets a clear message instead of a codec's), choosing the
+ * writer by extension, and writing every output atomically. */
+#include "vr/image.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "image_internal.h"
+#include "vr/atomic_file.h"
+
+vr_status vr_image_alloc(vr_image *img, int w, int h, vr_error *err) {
+  if (!img) return vr_error_set(err, VR_E_ARG, "vr_image_alloc: image is NULL");
+  memset(img, 0, sizeof *img);
+  if (w < 1 || h < 1)
+    return vr_error_set(err, VR_E_ARG, "image size %d x %d: both sides must be at least 1", w, h);
+  if ((size_t)w > SIZE_MAX / 3 / sizeof(float) / (size_t)h)
+    return vr_error_set(err, VR_E_NOMEM, "image size %d x %d is too large", w, h);
+  img->data = calloc((size_t)w * (size_t)h * 3, sizeof(float));
+  if (!img->data)
+    return vr_error_set(err, VR_E_NOMEM, "out of memory for a %d x %d image", w, h);
+  img->width = w;
+  img->height = h;
+  img->channels = 3;
+  img->bit_depth = 32;
+  return VR_OK;
+}
+
+void vr_image_free(vr_image *img) {
+  if (!img) return;
+  free(img->data);
+  memset(img, 0, sizeof *img);
+}
+
+vr_status vr_image_check(const vr_image *img, const char *what, vr_error *err) {
+  if (!img || !img->data)
+    return vr_error_set(err, VR_E_ARG, "%s: no image (NULL or without pixels)", what);
+  if (img->width < 1 || img->height < 1 || img->channels != 3)
+    return vr_error_set(err, VR_E_ARG, "%s: bad image shape %d x %d x %d (need RGB, 3 channels)",
+                        what, img->width, img->height, img->channels);
+  return VR_OK;
+}
+
+/* Whole file in memory: images are read once and decoded from the buffer,
+ * so the format is known before any codec sees the bytes. */
+static vr_status read_whole_file(const char *path, unsigned char **buf, size_t *len,
+                                 vr_error *err) {
+  *buf = NULL;
+  *len = 0;
+  FILE *fp = fopen(path, "rb");
+  if (!fp) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+  struct stat st;
+  if (fstat(fileno(fp), &st) != 0 || !S_ISREG(st.st_mode)) {
+    fclose(fp);
+    return vr_error_at(err, VR_E_IO, path, 0, 0, "not a regular file");
+  }
+  if (st.st_size == 0) {
+    fclose(fp);
+    return vr_error_at(err, VR_E_PARSE, path, 0, 0, "empty file, not an image");
+  }
+  size_t size = (size_t)st.st_size;
+  unsigned char *b = malloc(size);
+  if (!b) {
+    fclose(fp);
+    return vr_error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory for %zu bytes", size);
+  }
+  size_t got = fread(b, 1, size, fp);
+  int failed = ferror(fp);
+  fclose(fp);
+  if (got != size || failed) {
+    free(b);
+    return vr_error_at(err, VR_E_IO, path, 0, 0, "read %zu of %zu bytes", got, size);
+  }
+  *buf = b;
+  *len = size;
+  return VR_OK;
+}
+
+static int contains(const unsigned char *b, size_t len, const unsigned char *what, size_t n) {
+  for (size_t i = 0; i + n <= len; i++)
+    if (b[i] == what[0] && memcmp(b + i, what, n) == 0) return 1;
+  return 0;
+}
+
+/* In a JPEG's entropy-coded data 0xFF is always followed by 0x00 or a
+ * restart marker, so an end-of-image marker (FF D9) after the last
+ * start-of-scan (FF DA) tells a complete last scan from a cut one.  Data
+ * that some cameras append after the image does not disturb this. */
+static int jpeg_is_complete(const unsigned char *b, size_t len) {
+  size_t last_sos = 0;
+  int have_sos = 0;
+  for (size_t i = 0; i + 1 < len; i++)
+    if (b[i] == 0xFF && b[i + 1] == 0xDA) {
+      last_sos = i;
+      have_sos = 1;
+    }
+  if (!have_sos) return 0;
+  for (size_t i = last_sos + 2; i + 1 < len; i++)
+    if (b[i] == 0xFF && b[i + 1] == 0xD9) return 1;
+  return 0;
+}
+
+vr_status vr_image_read(const char *path, vr_image *out, vr_error *err) {
+  if (!out) return vr_error_set(err, VR_E_ARG, "vr_image_read: output image is NULL");
+  memset(out, 0, sizeof *out);
+  if (!path) return vr_error_set(err, VR_E_ARG, "vr_image_read: path is NULL");
+  unsigned char *buf;
+  size_t len;
+  vr_status st = read_whole_file(path, &buf, &len, err);
+  if (st != VR_OK) return st;
+  static const unsigned char png[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  /* The IEND chunk that closes every PNG: its type and its fixed CRC. */
+  static const unsigned char png_end[8] = {'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+  static const unsigned char exr[4] = {0x76, 0x2F, 0x31, 0x01};
+  if (len >= 8 && memcmp(buf, png, 8) == 0) {
+    if (!contains(buf, len, png_end, sizeof png_end))
+      st = vr_error_at(err, VR_E_PARSE, path, 0, 0, "truncated PNG: no IEND chunk at its end");
+    else
+      st = vr_image_decode_cv(buf, len, path, "PNG", out, err);
+  } else if (len >= 3 && buf[0] == 0xFF && buf[1] == 0xD8 && buf[2] == 0xFF) {
+    if (!jpeg_is_complete(buf, len))
+      st = vr_error_at(err, VR_E_PARSE, path, 0, 0,
+                       "truncated JPEG: no end-of-image marker after its last scan");
+    else
+      st = vr_image_decode_cv(buf, len, path, "JPEG", out, err);
+  } else if (len >= 4 && ((buf[0] == 'I' && buf[1] == 'I' && (buf[2] == 42 || buf[2] == 43) &&
+                           buf[3] == 0) ||
+                          (buf[0] == 'M' && buf[1] == 'M' && buf[2] == 0 &&
+                           (buf[3] == 42 || buf[3] == 43)))) {
+    st = vr_image_decode_cv(buf, len, path, "TIFF", out, err);
+  } else if (len >= 4 && memcmp(buf, exr, 4) == 0) {
+    st = vr_image_decode_exr(buf, len, path, out, err);
+  } else {
+    char shown[48] = "";
+    for (size_t i = 0; i < len && i < 8; i++)
+      snprintf(shown + strlen(shown), sizeof shown - strlen(shown), "%s%02x", i ? " " : "",
+               buf[i]);
+    st = vr_error_at(err, VR_E_PARSE, path, 0, 0,
+                     "not a PNG, TIFF, JPEG or OpenEXR file (it starts with bytes %s)", shown);
+  }
+  free(buf);
+  if (st != VR_OK) vr_image_free(out);
+  return st;
+}
+
+static vr_status write_bytes_atomic(const char *path, const unsigned char *bytes, size_t len,
+                                    vr_error *err) {
+  vr_atomic_file f;
+  vr_status st = vr_atomic_file_open(&f, path, err);
+  if (st != VR_OK) return st;
+  if (fwrite(bytes, 1, len, f.fp) != len) {
+    int saved = errno;
+    vr_atomic_file_abort(&f);
+    return vr_error_at(err, VR_E_IO, path, 0, 0, "write failed: %s", strerror(saved));
+  }
+  return vr_atomic_file_commit(&f, err);
+}
+
+/* Quantised formats have no code for NaN; refusing it names the pixel
+ * instead of writing a colour nobody measured. */
+static vr_status check_no_nan(const vr_image *img, const char *path, vr_error *err) {
+  size_t n = (size_t)img->width * (size_t)img->height * 3;
+  for (size_t i = 0; i < n; i++)
+    if (isnan(img->data[i])) {
+      size_t p = i / 3;
+      return vr_error_at(err, VR_E_RANGE, path, 0, 0,
+                         "pixel (%zu, %zu) channel %zu is NaN; PNG, TIFF and JPEG cannot "
+                         "store it",
+                         p % (size_t)img->width, p / (size_t)img->width, i % 3);
+    }
+  return VR_OK;
+}
+
+static vr_status write_cv(const char *path, const vr_image *img, const char *ext, int bits,
+                          vr_error *err) {
+  vr_status st = vr_image_check(img, path, err);
+  if (st != VR_OK) return st;
+  if ((st = check_no_nan(img, path, err)) != VR_OK) return st;
+  unsigned char *bytes = NULL;
+  size_t len = 0;
+  st = vr_image_encode_cv(img, path, ext, bits, &bytes, &len, err);
+  if (st == VR_OK) st = write_bytes_atomic(path, bytes, len, err);
+  free(bytes);
+  return st;
+}
+
+vr_status vr_image_write_png(const char *path, const vr_image *img, int bits, vr_error *err) {
+  if (!path) return vr_error_set(err, VR_E_ARG, "vr_image_write_png: path is NULL");
+  if (bits != 8 && bits != 16)
+    return vr_error_at(err, VR_E_ARG, path, 0, 0, "PNG bit depth %d: must be 8 or 16", bits);
+  return write_cv(path, img, ".png", bits, err);
+}
+
+vr_status vr_image_write_exr(const char *path, const vr_image *img, vr_error *err) {
+  if (!path) return vr_error_set(err, VR_E_ARG, "vr_image_write_exr: path is NULL");
+  vr_status st = vr_image_check(img, path, err);
+  if (st != VR_OK) return st;
+  return vr_image_write_exr_as(path, img, 0, err);
+}
+
+/* Lower-case extension including the dot ("" when there is none). */
+static void extension_of(const char *path, char *ext, size_t size) {
+  ext[0] = '\0';
+  const char *slash = strrchr(path, '/');
+  const char *dot = strrchr(slash ? slash + 1 : path, '.');
+  if (!dot || strlen(dot) >= size) return;
+  size_t i = 0;
+  for (; dot[i]; i++) ext[i] = (char)tolower((unsigned char)dot[i]);
+  ext[i] = '\0';
+}
+
+vr_status vr_image_write(const char *path, const vr_image *img, int bits, vr_error *err) {
+  if (!path) return vr_error_set(err, VR_E_ARG, "vr_image_write: path is NULL");
+  char ext[8];
+  extension_of(path, ext, sizeof ext);
+  if (strcmp(ext, ".png") == 0) return vr_image_write_png(path, img, bits, err);
+  if (strcmp(ext, ".tif") == 0 || strcmp(ext, ".tiff") == 0) {
+    if (bits != 8 && bits != 16)
+      return vr_error_at(err, VR_E_ARG, path, 0, 0, "TIFF bit depth %d: must be 8 or 16", bits);
+    return write_cv(path, img, ".tif", bits, err);
+  }
+  if (strcmp(ext, ".jpg") == 0 || strcmp(ext, ".jpeg") == 0) {
+    if (bits != 8)
+      return vr_error_at(err, VR_E_ARG, path, 0, 0, "JPEG bit depth %d: must be 8", bits);
+    return write_cv(path, img, ".jpg", bits, err);
+  }
+  if (strcmp(ext, ".exr") == 0) {
+    if (bits != 16 && bits != 32)
+      return vr_error_at(err, VR_E_ARG, path, 0, 0,
+                         "OpenEXR bit depth %d: must be 16 (half) or 32 (float)", bits);
+    vr_status st = vr_image_check(img, path, err);
+    if (st != VR_OK) return st;
+    return vr_image_write_exr_as(path, img, bits == 16, err);
+  }
+  return vr_error_at(err, VR_E_ARG, path, 0, 0,
+                     "unknown image extension '%s': use .png, .tif, .tiff, .jpg, .jpeg or .exr",
+                     ext);
+}

@@ -1,0 +1,159 @@
+/* The OpenCV side of vr/image.h: PNG, TIFF and JPEG decoded from and encoded
+ * to memory with cv::imdecode / cv::imencode.  image.c does the file I/O, so
+ * OpenCV never opens a path and every message can name it.  Nothing thrown
+ * in here (cv::Exception, std::bad_alloc, ...) reaches the C caller. */
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <limits>
+#include <new>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "image_internal.h"
+
+namespace {
+
+/* Turns whatever escaped into a status naming the file; called from every
+ * catch (...) of this file. */
+vr_status fail_exception(vr_error *err, const char *path, const char *what, vr_status status) {
+  try {
+    throw;
+  } catch (const std::bad_alloc &) {
+    return vr_error_at(err, VR_E_NOMEM, path, 0, 0, "%s: out of memory", what);
+  } catch (const cv::Exception &e) {
+    return vr_error_at(err, status, path, 0, 0, "%s: OpenCV: %s", what, e.err.c_str());
+  } catch (const std::exception &e) {
+    return vr_error_at(err, status, path, 0, 0, "%s: %s", what, e.what());
+  } catch (...) {
+    return vr_error_at(err, status, path, 0, 0, "%s: unknown C++ exception", what);
+  }
+}
+
+const char *depth_name(int depth) {
+  switch (depth) {
+    case CV_8S: return "signed 8-bit";
+    case CV_16S: return "signed 16-bit";
+    case CV_32S: return "32-bit integer";
+    case CV_64F: return "64-bit float";
+    case CV_16F: return "16-bit float";
+    default: return "unknown";
+  }
+}
+
+/* Copies one decoded row (any of 1-4 channels, BGR order) into RGB floats.
+ * A true division, not a product with 1/top: code k becomes exactly the
+ * float nearest k/top, the value a caller computes for the same code. */
+template <typename T>
+void convert_row(const T *src, int width, int nc, float top, float *dst) {
+  for (int x = 0; x < width; ++x, src += nc, dst += 3) {
+    if (nc <= 2) { /* grey, or grey + alpha */
+      dst[0] = dst[1] = dst[2] = (float)src[0] / top;
+    } else {       /* BGR or BGRA */
+      dst[0] = (float)src[2] / top;
+      dst[1] = (float)src[1] / top;
+      dst[2] = (float)src[0] / top;
+    }
+  }
+}
+
+/* Clamp to [0,1] and round to nearest: the one quantisation of every
+ * integer file this project writes. */
+template <typename T>
+T quantise(float v, double top) {
+  if (!(v > 0.0f)) return 0;
+  if (v >= 1.0f) return (T)top;
+  return (T)std::floor((double)v * top + 0.5);
+}
+
+template <typename T>
+void fill_bgr(const vr_image *img, cv::Mat &m, double top) {
+  for (int y = 0; y < img->height; ++y) {
+    const float *src = img->data + (size_t)y * (size_t)img->width * 3;
+    T *dst = m.ptr<T>(y);
+    for (int x = 0; x < img->width; ++x, src += 3, dst += 3) {
+      dst[0] = quantise<T>(src[2], top);
+      dst[1] = quantise<T>(src[1], top);
+      dst[2] = quantise<T>(src[0], top);
+    }
+  }
+}
+
+}  // namespace
+
+extern "C" vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, const char *path,
+                                        const char *format, vr_image *out, vr_error *err) {
+  std::memset(out, 0, sizeof *out);
+  if (len > (size_t)std::numeric_limits<int>::max())
+    return vr_error_at(err, VR_E_PARSE, path, 0, 0, "%s file of %zu bytes is too large (2 GiB "
+                       "at most)", format, len);
+  try {
+    const cv::Mat raw(1, (int)len, CV_8U, const_cast<unsigned char *>(buf));
+    /* IMREAD_UNCHANGED: keep 16 bits and the channel count, ignore EXIF
+     * orientation (pixels as stored). */
+    cv::Mat m = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
+    if (m.empty())
+      return vr_error_at(err, VR_E_PARSE, path, 0, 0,
+                         "cannot decode this %s file (truncated, corrupt, or a variant "
+                         "OpenCV does not read)", format);
+    const int depth = m.depth(), nc = m.channels();
+    if (depth != CV_8U && depth != CV_16U && depth != CV_32F)
+      return vr_error_at(err, VR_E_PARSE, path, 0, 0,
+                         "%s with %s samples is not supported (8- or 16-bit integer or "
+                         "32-bit float only)", format, depth_name(depth));
+    if (nc < 1 || nc > 4)
+      return vr_error_at(err, VR_E_PARSE, path, 0, 0, "%s with %d channels is not supported",
+                         format, nc);
+    vr_status st = vr_image_alloc(out, m.cols, m.rows, err);
+    if (st != VR_OK) {
+      vr_error_prefix(err, "%s: ", path);
+      return st;
+    }
+    for (int y = 0; y < m.rows; ++y) {
+      float *dst = out->data + (size_t)y * (size_t)m.cols * 3;
+      if (depth == CV_8U)
+        convert_row(m.ptr<unsigned char>(y), m.cols, nc, 255.0f, dst);
+      else if (depth == CV_16U)
+        convert_row(m.ptr<unsigned short>(y), m.cols, nc, 65535.0f, dst);
+      else
+        convert_row(m.ptr<float>(y), m.cols, nc, 1.0f, dst);
+    }
+    out->bit_depth = depth == CV_8U ? 8 : depth == CV_16U ? 16 : 32;
+    return VR_OK;
+  } catch (...) {
+    vr_image_free(out);
+    return fail_exception(err, path, "decoding", VR_E_PARSE);
+  }
+}
+
+extern "C" vr_status vr_image_encode_cv(const vr_image *img, const char *path, const char *ext,
+                                        int bits, unsigned char **bytes, size_t *len,
+                                        vr_error *err) {
+  *bytes = nullptr;
+  *len = 0;
+  try {
+    cv::Mat m(img->height, img->width, bits == 16 ? CV_16UC3 : CV_8UC3);
+    if (bits == 16)
+      fill_bgr<unsigned short>(img, m, 65535.0);
+    else
+      fill_bgr<unsigned char>(img, m, 255.0);
+    std::vector<int> params;
+    if (std::strcmp(ext, ".jpg") == 0) params = {cv::IMWRITE_JPEG_QUALITY, 95};
+    std::vector<unsigned char> encoded;
+    if (!cv::imencode(ext, m, encoded, params) || encoded.empty())
+      return vr_error_at(err, VR_E_IO, path, 0, 0, "OpenCV could not encode a %d-bit %s image",
+                         bits, ext + 1);
+    *bytes = static_cast<unsigned char *>(std::malloc(encoded.size()));
+    if (!*bytes) return vr_error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory");
+    std::memcpy(*bytes, encoded.data(), encoded.size());
+    *len = encoded.size();
+    return VR_OK;
+  } catch (...) {
+    std::free(*bytes);
+    *bytes = nullptr;
+    return fail_exception(err, path, "encoding", VR_E_IO);
+  }
+}

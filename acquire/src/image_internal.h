@@ -1,0 +1,50 @@
+/* What the files of acquire/src share and nobody else sees: the codec entry
+ * points (OpenCV in image_cv.cpp, OpenEXR in image_exr.c), the file helpers
+ * of image.c, and region statistics over convex quadrilaterals (region.c). */
+#ifndef VR_IMAGE_INTERNAL_H
+#define VR_IMAGE_INTERNAL_H
+
+#include <stddef.h>
+
+#include "vr/image.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Decodes a PNG, TIFF or JPEG held in memory (format names it in messages). */
+vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, const char *path,
+                             const char *format, vr_image *out, vr_error *err);
+
+/* Encodes img for ext (".png", ".tif", ".jpg") at 8 or 16 bits, values
+ * clamped to [0,1] and rounded; *bytes is malloc'ed and owned by the caller. */
+vr_status vr_image_encode_cv(const vr_image *img, const char *path, const char *ext, int bits,
+                             unsigned char **bytes, size_t *len, vr_error *err);
+
+/* Decodes an OpenEXR file held in memory with the OpenEXR core C API. */
+vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *path,
+                              vr_image *out, vr_error *err);
+
+/* Writes an RGB OpenEXR of float (half = 0) or half (half = 1) channels. */
+vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half, vr_error *err);
+
+/* Checks that img is a usable RGB image (what names it in messages). */
+vr_status vr_image_check(const vr_image *img, const char *what, vr_error *err);
+
+/* Statistics of the pixels whose centres lie inside a convex quadrilateral
+ * (corners in order, either orientation; image coordinates, pixel centres at
+ * +0.5).  pixels may come back 0: the caller decides whether that is an error. */
+typedef struct vr_region_stats {
+  long pixels;
+  double mean[3];
+  double sd[3];
+  double max; /* largest channel value; -inf when pixels == 0 */
+} vr_region_stats;
+
+vr_status vr_region_quad_stats(const vr_image *img, const double quad[4][2],
+                               vr_region_stats *out, vr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,339 @@
+/* vr-rgb2spec: reflectance spectra from RGB photos of the same scene under
+ * several known lights (Cohen-Kappauf Matrix R), with round-trip accuracy
+ * reports.  This file reads the photos, measures the regions and recovers
+ * their spectra; rgb2spec_output.c prints and saves, rgb2spec_simulate.c
+ * makes synthetic captures. */
+#include "rgb2spec.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "vr/chart.h"
+#include "vr/colour.h"
+
+static const vr_option OPTIONS[] = {
+    {"manifest", 'm', "FILE", "capture manifest (default: manifest.txt beside the first photo)"},
+    {"method", 0, "NAME", "matrix-r, bounded, regularised or auto (default: regularised for 8-bit photos, else bounded)"},
+    {"save-prefix", 's', "P", "save each region's spectrum as material P<region>"},
+    {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
+    {"report", 'r', "FILE.html", "HTML report with plots and a swatch image"},
+    {"json", 'j', NULL, "JSON output"},
+    {"noise", 0, "SIGMA", "simulate: Gaussian noise on linear values (default 0.002)"},
+    {"seed", 0, "N", "simulate: random seed (default 1)"},
+    {"size", 0, "WxH", "simulate: photo size (default 640x480)"},
+};
+#define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
+
+static const char USAGE[] =
+    "PHOTOS... [--manifest FILE] [--method matrix-r|bounded|regularised] [--save-prefix P]\n"
+    "                  [--db FILE] [--report FILE.html] [--json]\n"
+    "       vr-rgb2spec simulate --manifest FILE [--noise SIGMA] [--seed N] [--size WxH]";
+static const char ABOUT[] =
+    "Recovers reflectance spectra of the regions named in a capture manifest from photos\n"
+    "taken under several known lights (docs/vr-rgb2spec.md).  matrix-r: the fundamental\n"
+    "metamer of the stacked system (exact round trip, may leave [0, 1]); bounded: the\n"
+    "smoothest spectrum in [0, 1] with the recorded responses; regularised: smooth least\n"
+    "squares with its weight from generalised cross-validation, for noisy 8-bit photos.\n"
+    "Reports per region and light the photo's and the re-rendered RGB and CIEDE2000, the\n"
+    "spectral RMSE and held-out-light CIEDE2000 where a reference is known, and the\n"
+    "condition number of the system.  simulate renders the manifest's regions from their\n"
+    "reference spectra into 8-bit photos (noise, then sRGB quantisation).";
+
+static int fail(const vr_error *e) {
+  fprintf(stderr, "vr-rgb2spec: %s\n", e->message);
+  return 1;
+}
+
+double rg_delta_e(const rg_run *run, size_t l, const double a[3], const double b[3]) {
+  /* White: the responses to a perfect reflector under that light. */
+  const double *A = vr_recovery_system_matrix(run->sys);
+  double w[3] = {0, 0, 0}, xa[3], xb[3], xw[3], la[3], lb[3];
+  for (int ch = 0; ch < 3; ch++)
+    for (size_t j = 0; j < run->n; j++) w[ch] += A[(3 * l + ch) * run->n + j];
+  vr_srgb_linear_to_xyz(a, xa);
+  vr_srgb_linear_to_xyz(b, xb);
+  vr_srgb_linear_to_xyz(w, xw);
+  vr_xyz_to_lab(xa, xw, la);
+  vr_xyz_to_lab(xb, xw, lb);
+  return vr_delta_e2000(la, lb);
+}
+
+/* A channel counts as clipped high when its mean is within two standard
+ * deviations of the clip level (some of its pixels reached it), and clipped
+ * low when it is within two standard deviations of 0 and below one 8-bit
+ * step (a response the file could not store as negative, as the sRGB-
+ * primaries camera gives for saturated colours). */
+static void clip_marks(const double rgb[3], const double sd[3], long clipped_pixels, double clip,
+                       unsigned char *marks) {
+  for (int ch = 0; ch < 3; ch++) {
+    marks[ch] = VR_CLIP_NONE;
+    if ((clipped_pixels > 0 && rgb[ch] + 2 * sd[ch] >= clip) || rgb[ch] >= clip) marks[ch] = VR_CLIP_HIGH;
+    else if (rgb[ch] < 1.0 / 255 && rgb[ch] - 2 * sd[ch] <= 0) marks[ch] = VR_CLIP_LOW;
+  }
+}
+
+static bool srgb_encoded(const vr_capture_photo *p, const vr_image *img) {
+  if (p->encoding) return p->encoding == 1;
+  return img->bit_depth != 32; /* integer files are display-referred unless said otherwise */
+}
+
+/* Measures every region in photo l. */
+static vr_status measure(rg_run *run, size_t l, const vr_image *img, double corners[4][2],
+                         bool *have_corners, vr_error *err) {
+  const vr_capture_photo *p = run->photo[l];
+  vr_chart chart;
+  bool chart_read = false;
+  vr_label_means labels = {0};
+  vr_status st = VR_OK;
+  for (size_t i = 0; i < run->nregions && !st; i++) {
+    rg_region *g = &run->regions[i];
+    const vr_capture_region *d = g->def;
+    double rgb[3], sd[3] = {0, 0, 0};
+    long clipped = 0;
+    if (d->kind == VR_REGION_RECT) {
+      int cl = 0;
+      st = vr_image_rect_mean(img, d->x, d->y, d->w, d->h, rgb, sd, &cl, p->clip, err);
+      clipped = cl;
+    } else if (d->kind == VR_REGION_CHART) {
+      if (!chart_read) {
+        if (!*have_corners && d->chart_auto) {
+          st = vr_chart_detect(img, !srgb_encoded(p, img), &chart, err);
+          if (!st) memcpy(corners, chart.corners, sizeof chart.corners), *have_corners = true;
+        } else if (!*have_corners) {
+          double q[4][2] = {{d->x, d->y}, {d->w, d->y}, {d->w, d->h}, {d->x, d->h}};
+          memcpy(corners, q, sizeof q);
+          *have_corners = true;
+        }
+        if (!st) st = vr_chart_from_grid(img, (const double(*)[2])corners, 0, &chart, err);
+        chart_read = !st;
+      }
+      if (st) break;
+      int k = d->label;
+      memcpy(rgb, chart.rgb[k], sizeof rgb);
+      memcpy(sd, chart.sd[k], sizeof sd);
+      clipped = chart.max[k] >= p->clip;
+    } else {
+      if (!labels.regions) st = vr_image_label_means_file(img, run->cap->labels_path, p->clip, &labels, err);
+      const vr_label_region *lr = NULL;
+      for (int k = 0; !st && k < labels.count; k++)
+        if (labels.regions[k].label == d->label) lr = &labels.regions[k];
+      if (!st && !lr) {
+        st = vr_error_at(err, VR_E_NOT_FOUND, run->cap->path, d->line, 0,
+                         "region %s: label %d does not occur in %s", d->name, d->label,
+                         run->cap->labels_path);
+        break;
+      }
+      if (st) break;
+      memcpy(rgb, lr->rgb, sizeof rgb);
+      memcpy(sd, lr->sd, sizeof sd);
+      clipped = lr->clipped;
+    }
+    if (st) {
+      vr_error_prefix(err, "%s: region %s: ", p->path, d->name);
+      break;
+    }
+    memcpy(g->encoded[l], rgb, sizeof rgb);
+    clip_marks(rgb, sd, clipped, p->clip, &g->clipped[3 * l]);
+    bool enc = srgb_encoded(p, img);
+    for (int ch = 0; ch < 3; ch++) g->c[3 * l + ch] = enc ? vr_srgb_decode(rgb[ch]) : rgb[ch];
+  }
+  vr_label_means_free(&labels);
+  return st;
+}
+
+/* Reference spectrum on the grid: RMSE, and CIEDE2000 under held-out lights. */
+static void compare_reference(rg_run *run, rg_region *g) {
+  const vr_spectrum *ref = g->def->reference;
+  g->rmse = NAN;
+  g->nheldout = 0;
+  if (!ref) return;
+  double se = 0;
+  for (size_t j = 0; j < run->n; j++) {
+    double d = g->r[j] - vr_spectrum_eval(ref, run->grid[j], VR_INTERP_LINEAR);
+    se += d * d;
+  }
+  g->rmse = sqrt(se / (double)run->n);
+  vr_spectrum *rec = vr_spectrum_create(run->n, run->grid, g->r, NULL);
+  for (size_t h = 0; rec && h < run->nheldout; h++) {
+    vr_spectrum *L = vr_illuminant(run->heldout_name[h], NULL);
+    if (!L) continue;
+    double x1[3], x2[3], w[3], l1[3], l2[3];
+    vr_xyz_reflectance(ref, L, VR_CIE1931_2DEG, x1);
+    vr_xyz_reflectance(rec, L, VR_CIE1931_2DEG, x2);
+    vr_xyz_white(L, VR_CIE1931_2DEG, w);
+    vr_xyz_to_lab(x1, w, l1);
+    vr_xyz_to_lab(x2, w, l2);
+    g->heldout_de[g->nheldout++] = vr_delta_e2000(l1, l2);
+    vr_spectrum_destroy(L);
+  }
+  vr_spectrum_destroy(rec);
+}
+
+/* auto: decided once the photos are read (m = -1 until then). */
+static vr_status parse_method(const char *s, vr_recover_method *m, vr_error *err) {
+  if (!s || !strcasecmp(s, "auto")) *m = (vr_recover_method)-1;
+  else if (!strcasecmp(s, "bounded")) *m = VR_RECOVER_BOUNDED;
+  else if (!strcasecmp(s, "matrix-r")) *m = VR_RECOVER_MATRIX_R;
+  else if (!strcasecmp(s, "regularised") || !strcasecmp(s, "regularized")) *m = VR_RECOVER_REGULARISED;
+  else return vr_error_set(err, VR_E_ARG, "--method '%s': expected matrix-r, bounded or regularised", s);
+  return VR_OK;
+}
+
+static char *default_manifest(const char *photo) {
+  const char *slash = strrchr(photo, '/');
+  size_t n = slash ? (size_t)(slash - photo) + 1 : 0;
+  char *s = malloc(n + 16);
+  if (s) {
+    memcpy(s, photo, n);
+    strcpy(s + n, "manifest.txt");
+  }
+  return s;
+}
+
+static int cmd_recover(vr_args *a) {
+  vr_error err = {0};
+  vr_matdb *db = NULL;
+  vr_capture *cap = NULL;
+  vr_camera *cam = NULL;
+  rg_run run = {0};
+  vr_image img[RGB2SPEC_MAX_LIGHTS] = {0};
+  char *mpath = NULL;
+  int rc = 1;
+  const char *manifest = vr_args_get(a, "manifest"), *prefix = vr_args_get(a, "save-prefix");
+  if (parse_method(vr_args_get(a, "method"), &run.method, &err)) goto out;
+  if (!manifest && a->noperands == 0) {
+    vr_error_set(&err, VR_E_ARG, "give photos or --manifest FILE");
+    goto out;
+  }
+  mpath = manifest ? strdup(manifest) : default_manifest(a->operands[0]);
+  if (vr_matdb_open(vr_args_get(a, "db"), 0, &db, &err) ||
+      vr_capture_read(mpath, db, &cap, &err))
+    goto out;
+  run.cap = cap;
+  /* The photos: those given, each of which the manifest must list; or all. */
+  if (a->noperands == 0) {
+    for (size_t i = 0; i < cap->nphotos && i < RGB2SPEC_MAX_LIGHTS; i++) run.photo[run.nphotos++] = &cap->photos[i];
+  } else {
+    for (size_t i = 0; i < a->noperands; i++) {
+      const vr_capture_photo *p = vr_capture_find_photo(cap, a->operands[i]);
+      if (!p) {
+        vr_error_set(&err, VR_E_NOT_FOUND, "photo %s is not listed in the manifest %s (add a "
+                                           "'photo FILE light=...' line)", a->operands[i], mpath);
+        goto out;
+      }
+      if (run.nphotos == RGB2SPEC_MAX_LIGHTS) {
+        vr_error_set(&err, VR_E_ARG, "at most %d photos", RGB2SPEC_MAX_LIGHTS);
+        goto out;
+      }
+      run.photo[run.nphotos++] = p;
+    }
+  }
+  /* The photos themselves, all of one size. */
+  bool all8 = true;
+  for (size_t l = 0; l < run.nphotos; l++) {
+    if (vr_image_read(run.photo[l]->path, &img[l], &err)) goto out;
+    if (l && (img[l].width != img[0].width || img[l].height != img[0].height)) {
+      vr_error_set(&err, VR_E_ARG, "%s is %dx%d but %s is %dx%d: the regions are pixel positions, "
+                                   "so every photo must have the same size", run.photo[l]->path,
+                   img[l].width, img[l].height, run.photo[0]->path, img[0].width, img[0].height);
+      goto out;
+    }
+    all8 = all8 && img[l].bit_depth == 8 && srgb_encoded(run.photo[l], &img[l]);
+  }
+  /* 8-bit sRGB data: quantisation noise of up to half a step, which the
+   * bounded method's exact equalities would chase; the regularised method
+   * weighs it (bench_rgb2spec, docs/vr-rgb2spec.md). */
+  if ((int)run.method == -1) run.method = all8 ? VR_RECOVER_REGULARISED : VR_RECOVER_BOUNDED;
+  run.method_name = run.method == VR_RECOVER_MATRIX_R ? "matrix-r"
+                    : run.method == VR_RECOVER_BOUNDED ? "bounded" : "regularised";
+  /* Camera and recovery system. */
+  double grid[1024];
+  size_t n;
+  if (vr_camera_grid_uniform(cap->grid[0], cap->grid[1], cap->grid[2], grid, 1024, &n, &err)) goto out;
+  cam = cap->camera == VR_CAPTURE_CAMERA_SRGB
+            ? vr_camera_create_srgb(n, grid, &err)
+            : vr_camera_create_measured((const vr_spectrum *const *)cap->sens, n, grid, &err);
+  if (!cam) goto out;
+  const vr_spectrum *lights[RGB2SPEC_MAX_LIGHTS];
+  double scale[RGB2SPEC_MAX_LIGHTS];
+  for (size_t l = 0; l < run.nphotos; l++) lights[l] = run.photo[l]->light, scale[l] = run.photo[l]->scale;
+  vr_recovery_options opt;
+  vr_recovery_options_default(&opt);
+  if (all8) opt.noise = VR_NOISE_SRGB8;
+  if (!(run.sys = vr_recovery_system_create(cam, run.nphotos, lights, scale, &opt, &err))) goto out;
+  run.n = vr_recovery_system_samples(run.sys);
+  run.grid = vr_recovery_system_grid(run.sys);
+  run.condition = vr_recovery_system_condition(run.sys);
+  static const char *const HELD[] = {"A", "D50", "D65", "F2", "F11", "LED-B3"};
+  for (size_t h = 0; h < 6; h++) {
+    bool used = false;
+    for (size_t l = 0; l < run.nphotos; l++) used |= !strcasecmp(run.photo[l]->light_name, HELD[h]);
+    if (!used) run.heldout_name[run.nheldout++] = HELD[h];
+  }
+  /* Regions, measured in every photo. */
+  run.nregions = cap->nregions;
+  if (run.nregions == 0) {
+    vr_error_set(&err, VR_E_ARG, "%s names no region (region, chart lines)", mpath);
+    goto out;
+  }
+  run.regions = calloc(run.nregions, sizeof *run.regions);
+  if (!run.regions) goto out;
+  for (size_t i = 0; i < run.nregions; i++) run.regions[i].def = &cap->regions[i];
+  double corners[4][2];
+  bool have_corners = false;
+  for (size_t l = 0; l < run.nphotos; l++)
+    if (measure(&run, l, &img[l], corners, &have_corners, &err)) goto out;
+  /* Recovery and the round trip. */
+  for (size_t i = 0; i < run.nregions; i++) {
+    rg_region *g = &run.regions[i];
+    if (!(g->r = malloc(run.n * sizeof *g->r))) goto out;
+    if (vr_recover(run.sys, run.method, g->c, g->clipped, g->r, &g->info, &err)) {
+      vr_error_prefix(&err, "region %s: ", g->def->name);
+      goto out;
+    }
+    vr_render_rgb(run.sys, g->r, g->rendered);
+    g->de_mean = 0;
+    g->de_max = 0;
+    for (size_t l = 0; l < run.nphotos; l++) {
+      g->de[l] = rg_delta_e(&run, l, &g->c[3 * l], &g->rendered[3 * l]);
+      g->de_mean += g->de[l] / (double)run.nphotos;
+      g->de_max = fmax(g->de_max, g->de[l]);
+    }
+    compare_reference(&run, g);
+  }
+  if (vr_args_flag(a, "json")) rg_print_json(&run);
+  else rg_print_text(&run);
+  const char *report = vr_args_get(a, "report");
+  if (report && rg_write_report(report, &run, &err)) goto out;
+  if (prefix && rg_save(db, prefix, &run, &err)) goto out;
+  rc = 0;
+out:
+  if (rc) fail(&err);
+  for (size_t i = 0; i < run.nregions && run.regions; i++) free(run.regions[i].r);
+  free(run.regions);
+  for (size_t l = 0; l < RGB2SPEC_MAX_LIGHTS; l++) vr_image_free(&img[l]);
+  vr_recovery_system_destroy(run.sys);
+  vr_camera_destroy(cam);
+  vr_capture_destroy(cap);
+  vr_matdb_close(db);
+  free(mpath);
+  return rc;
+}
+
+int main(int argc, char **argv) {
+  vr_args a;
+  vr_args_outcome o = vr_args_parse(&a, "vr-rgb2spec", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
+  if (o == VR_ARGS_EXIT_OK) return 0;
+  if (o == VR_ARGS_EXIT_USAGE) return 2;
+  int rc;
+  if (a.noperands >= 1 && !strcmp(a.operands[0], "simulate")) {
+    rc = rg_cmd_simulate(&a);
+  } else {
+    rc = cmd_recover(&a);
+  }
+  vr_args_free(&a);
+  return rc;
+}
