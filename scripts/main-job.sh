@@ -40,7 +40,10 @@ build/fit/vr-spectro chromogenic $g/photochromic/pc_states.csv --save photochrom
 build/fit/vr-spectro metrics electrochromic-glass --state 1 | tee out/electrochromic_dark.txt
 build/fit/vr-spectro state photochromic-glass --uv 40 --temperature 25C > out/photochromic_40Wm2.csv
 
+echo "== reflectance spectra from photos under four lights (vr-rgb2spec)"
+build/acquire/vr-rgb2spec samples/photos/*.png --save-prefix photo- --report out/photos.html | tee out/photos.txt
+
 echo "== colour of the ColorChecker under D65 and under A (vr-colour)"
 build/core/vr-colour samples/spectra/colorchecker_babelcolor.csv | tee out/colorchecker_D65.txt
 build/core/vr-colour --illuminant A --json samples/spectra/colorchecker_babelcolor.csv > out/colorchecker_A.json
-echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/colorchecker_D65.txt, out/colorchecker_A.json"
+echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json"

@@ -11,6 +11,7 @@
 #include "vr/colorchecker.h"
 #include "vr/colour.h"
 #include "vr/csv.h"
+#include "vr/file.h"
 #include "vr/matdb.h"
 
 typedef struct parser {
@@ -135,6 +136,7 @@ static vr_status photo(parser *p, char **tok, size_t n) {
     const char *v = eq + 1;
     vr_status st = VR_OK;
     if (!strncmp(tok[i], "light=", 6)) {
+      if (ph->light_name) return FAIL(p, tok[i], VR_E_PARSE, "light= is given twice");
       if (!(ph->light_name = strdup(v))) return vr_error_set(p->err, VR_E_NOMEM, "out of memory");
       st = spectrum_ref(p, tok[i], v, "value", true, &ph->light);
     } else if (!strncmp(tok[i], "scale=", 6)) {
@@ -194,6 +196,7 @@ static vr_status region(parser *p, char **tok, size_t n) {
       r->kind = VR_REGION_LABEL;
       placed = true;
     } else if (!strncmp(tok[i], "reference=", 10)) {
+      if (r->reference_name) return FAIL(p, tok[i], VR_E_PARSE, "reference= is given twice");
       r->reference_name = strdup(tok[i] + 10);
       st = spectrum_ref(p, tok[i], tok[i] + 10, "value", false, &r->reference);
     } else {
@@ -238,7 +241,7 @@ static vr_status chart(parser *p, char **tok, size_t n) {
 static vr_status camera(parser *p, char **tok, size_t n) {
   vr_capture *c = p->c;
   if (n != 2) return FAIL(p, tok[0], VR_E_PARSE, "'camera' takes one name");
-  free(c->camera_name);
+  if (c->camera_name) return FAIL(p, tok[0], VR_E_PARSE, "a second 'camera' line");
   c->camera_name = strdup(tok[1]);
   if (!strcasecmp(tok[1], "cie1931-srgb")) {
     c->camera = VR_CAPTURE_CAMERA_SRGB;
@@ -279,7 +282,7 @@ static vr_status statement(parser *p, char **tok, size_t n) {
   if (!strcmp(kw, "camera")) return camera(p, tok, n);
   if (!strcmp(kw, "labels")) {
     if (n != 2) return FAIL(p, tok[0], VR_E_PARSE, "'labels' takes one file");
-    free(p->c->labels_path);
+    if (p->c->labels_path) return FAIL(p, tok[0], VR_E_PARSE, "a second 'labels' line");
     p->c->labels_path = resolve(p, tok[1]);
     return VR_OK;
   }
@@ -351,15 +354,11 @@ vr_status vr_capture_parse(const char *text, size_t len, const char *path, vr_ma
 
 vr_status vr_capture_read(const char *path, vr_matdb *db, vr_capture **out, vr_error *err) {
   *out = NULL;
-  FILE *f = fopen(path, "rb");
-  if (!f) return vr_error_set(err, VR_E_IO, "%s: cannot open the manifest", path);
-  char *buf = malloc(1 << 20);
-  size_t n = buf ? fread(buf, 1, 1 << 20, f) : 0;
-  bool too_big = buf && n == (1 << 20);
-  fclose(f);
-  if (!buf) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  vr_status st = too_big ? vr_error_set(err, VR_E_PARSE, "%s: manifest larger than 1 MiB", path)
-                         : vr_capture_parse(buf, n, path, db, out, err);
+  char *buf;
+  size_t n;
+  vr_status st = vr_read_file(path, 1 << 20, &buf, &n, err);
+  if (st) return st;
+  st = vr_capture_parse(buf, n, path, db, out, err);
   free(buf);
   return st;
 }

@@ -61,10 +61,9 @@ int rg_cmd_simulate(vr_args *a) {
   int rc = 1;
   if (!rng) goto out;
   gsl_rng_set(rng, (unsigned long)seed);
-  if (vr_matdb_open(vr_args_get(a, "db"), VR_MATDB_READONLY, &db, &err)) {
-    db = NULL; /* no database: db: names in the manifest will say so */
-    vr_error_clear(&err);
-  }
+  /* The database only when the manifest names db: materials. */
+  if (rg_manifest_needs_db(manifest) && vr_matdb_open(vr_args_get(a, "db"), VR_MATDB_READONLY, &db, &err))
+    goto out;
   if (vr_capture_read(manifest, db, &cap, &err)) goto out;
   if (cap->nphotos > RGB2SPEC_MAX_LIGHTS) {
     vr_error_set(&err, VR_E_ARG, "at most %d photos", RGB2SPEC_MAX_LIGHTS);

@@ -249,3 +249,20 @@ long vr_csv_find_column(const vr_csv *csv, size_t header_row, const char *name) 
     if (strcasecmp(vr_csv_field(csv, header_row, c), name) == 0) return (long)c;
   return -1;
 }
+
+int vr_parse_doubles(const char *s, double *out, size_t max, size_t *n) {
+  *n = 0;
+  const char *p = s;
+  char field[128];
+  for (;;) {
+    const char *comma = strchr(p, ',');
+    size_t len = comma ? (size_t)(comma - p) : strlen(p);
+    if (len >= sizeof field || *n == max) return -1;
+    memcpy(field, p, len);
+    field[len] = '\0';
+    if (vr_parse_double(field, &out[*n])) return -1;
+    (*n)++;
+    if (!comma) return 0;
+    p = comma + 1;
+  }
+}

@@ -3,7 +3,6 @@
 #include "vr/optical_standard.h"
 
 #include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +11,7 @@
 
 #include "vr/colour.h"
 #include "vr/csv.h"
+#include "vr/file.h"
 
 typedef struct vr_embedded_file {
   const char *name;
@@ -61,35 +61,7 @@ static vr_status load_text(const loader *ld, const char *name, char **text, size
     return vr_error_set(err, VR_E_NOT_FOUND, "built-in standard file \"%s\" does not exist", name);
   }
   snprintf(shown, shown_size, "%s%s", ld->dir, name);
-  FILE *f = fopen(shown, "rb");
-  if (!f)
-    return vr_error_set(err, VR_E_IO, "%s: cannot open: %s", shown, strerror(errno));
-  size_t cap = 1 << 16, n = 0;
-  char *buf = malloc(cap + 1);
-  while (buf) {
-    size_t got = fread(buf + n, 1, cap - n, f);
-    n += got;
-    if (n < cap) break;
-    char *grown = realloc(buf, 2 * cap + 1);
-    if (!grown) {
-      free(buf);
-      buf = NULL;
-      break;
-    }
-    buf = grown;
-    cap *= 2;
-  }
-  int bad = ferror(f);
-  fclose(f);
-  if (!buf) return vr_error_set(err, VR_E_NOMEM, "out of memory reading %s", shown);
-  if (bad) {
-    free(buf);
-    return vr_error_set(err, VR_E_IO, "%s: read error", shown);
-  }
-  buf[n] = '\0';
-  *text = buf;
-  *len = n;
-  return VR_OK;
+  return vr_read_file(shown, 0, text, len, err);
 }
 
 /* Next line of text as a NUL-terminated, right-trimmed copy in line[]. */
@@ -161,7 +133,6 @@ static vr_status read_table(const loader *ld, const char *name, bool values, vr_
     for (char *c = line; *c; c++)
       if (*c == ',' || *c == '\t') *c = ' ';
     char *q = (char *)s, *stop;
-    errno = 0;
     double x = strtod(q, &stop), y = 1;
     if (stop == q || !isfinite(x)) {
       st = vr_error_at(err, VR_E_PARSE, shown, lineno, 1, "wavelength is not a number");

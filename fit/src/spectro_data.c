@@ -9,6 +9,7 @@
 #include <strings.h>
 
 #include "vr/csv.h"
+#include "vr/file.h"
 #include "vr/material_io.h"
 #include "vr/spectrum.h"
 
@@ -274,27 +275,11 @@ vr_status vr_spectro_read(const char *path, vr_spectro_data **out, vr_error *err
     }
     return st;
   }
-  FILE *f = fopen(path, "rb");
-  if (!f) return vr_error_set(err, VR_E_IO, "%s: cannot open", path);
-  size_t cap = 1 << 16, n = 0;
-  char *buf = malloc(cap);
-  while (buf) {
-    n += fread(buf + n, 1, cap - n, f);
-    if (n < cap) break;
-    char *g = realloc(buf, cap * 2);
-    if (!g) {
-      free(buf);
-      buf = NULL;
-    } else {
-      buf = g;
-      cap *= 2;
-    }
-  }
-  bool bad = ferror(f) != 0;
-  fclose(f);
-  if (!buf) return vr_error_set(err, VR_E_NOMEM, "out of memory reading %s", path);
-  vr_status st = bad ? vr_error_set(err, VR_E_IO, "%s: read error", path)
-                     : vr_spectro_parse_csv(buf, n, path, out, err);
+  char *buf;
+  size_t n;
+  vr_status st = vr_read_file(path, 0, &buf, &n, err);
+  if (st) return st;
+  st = vr_spectro_parse_csv(buf, n, path, out, err);
   free(buf);
   return st;
 }

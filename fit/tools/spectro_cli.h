@@ -30,9 +30,6 @@ vr_status spectro_thickness(const vr_args *a, double *nm, vr_error *err);
 vr_status spectro_save(vr_matdb *db, vr_material *m, const char *cmd, const char *path,
                        vr_error *err);
 
-/* A comma-separated list of numbers (at most max). */
-int spectro_parse_list(const char *s, double *out, size_t max, size_t *n);
-
 int spectro_cmd_fit(vr_args *a);
 int spectro_cmd_metrics(vr_args *a);
 int spectro_cmd_btdf(vr_args *a);

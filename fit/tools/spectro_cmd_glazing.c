@@ -9,6 +9,7 @@
 
 #include "vr/atomic_file.h"
 #include "vr/btdf_table.h"
+#include "vr/csv.h"
 #include "vr/frosted.h"
 #include "vr/glazing.h"
 #include "vr/json.h"
@@ -240,7 +241,7 @@ int spectro_cmd_btdf(vr_args *a) {
   const char *item = a->noperands >= 2 ? a->operands[1] : NULL;
   if (parse_route(a, &route, &err) || spectro_thickness(a, &d_nm, &err)) goto out;
   if (ang) {
-    if (spectro_parse_list(ang, angles, 64, &na)) {
+    if (vr_parse_doubles(ang, angles, 64, &na)) {
       vr_error_set(&err, VR_E_ARG, "--angles '%s': expected up to 64 numbers, e.g. 0,30,60", ang);
       goto out;
     }

@@ -108,18 +108,6 @@ out:
   return rc;
 }
 
-static int parse_list(const char *s, double *out, size_t max, size_t *n) {
-  char buf[512];
-  snprintf(buf, sizeof buf, "%s", s);
-  *n = 0;
-  char *save = NULL;
-  for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-    if (*n == max || vr_parse_double(t, &out[*n])) return -1;
-    (*n)++;
-  }
-  return *n ? 0 : -1;
-}
-
 static int cmd_simulate(vr_args *a) {
   vr_error err = {0};
   const char *model_path = vr_args_get(a, "model"), *angles = vr_args_get(a, "angles"),
@@ -134,15 +122,15 @@ static int cmd_simulate(vr_args *a) {
   snprintf(wbuf, sizeof wbuf, "%s", wls);
   for (char *c = wbuf; *c; c++)
     if (*c == ':') *c = ',';
-  if (parse_list(angles, ang, 32, &na)) {
+  if (vr_parse_doubles(angles, ang, 32, &na)) {
     fprintf(stderr, "vr-ellipso: --angles '%s': expected numbers separated by commas\n", angles);
     return 2;
   }
-  if (parse_list(wbuf, w, 3, &nw) || nw != 3 || !(w[2] > 0) || !(w[1] >= w[0]) || !(w[0] > 0)) {
+  if (vr_parse_doubles(wbuf, w, 3, &nw) || nw != 3 || !(w[2] > 0) || !(w[1] >= w[0]) || !(w[0] > 0)) {
     fprintf(stderr, "vr-ellipso: --wavelengths '%s': expected FROM:TO:STEP in nm with STEP > 0\n", wls);
     return 2;
   }
-  if (noise && (parse_list(noise, sig, 2, &ns) || ns != 2 || sig[0] < 0 || sig[1] < 0)) {
+  if (noise && (vr_parse_doubles(noise, sig, 2, &ns) || ns != 2 || sig[0] < 0 || sig[1] < 0)) {
     fprintf(stderr, "vr-ellipso: --noise '%s': expected SPSI,SDELTA in degrees\n", noise);
     return 2;
   }

@@ -83,18 +83,6 @@ vr_status spectro_thickness(const vr_args *a, double *nm, vr_error *err) {
   return VR_OK;
 }
 
-int spectro_parse_list(const char *s, double *out, size_t max, size_t *n) {
-  char buf[1024];
-  snprintf(buf, sizeof buf, "%s", s);
-  *n = 0;
-  char *save = NULL;
-  for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-    if (*n == max || vr_parse_double(t, &out[*n])) return -1;
-    (*n)++;
-  }
-  return *n ? 0 : -1;
-}
-
 vr_status spectro_state_of(const vr_args *a, const vr_material *m, double *s, vr_error *err) {
   const char *st = vr_args_get(a, "state"), *q = vr_args_get(a, "charge"),
              *uv = vr_args_get(a, "uv"), *temp = vr_args_get(a, "temperature");

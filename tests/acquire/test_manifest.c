@@ -52,6 +52,10 @@ static void errors(void **state) {
   assert_contains(err.message, "unknown statement");
   assert_int_not_equal(parse("camera cie1931-srgb\n", &c, &err), VR_OK);
   assert_contains(err.message, "no 'photo' lines");
+  /* Found by fuzz_manifest: a repeated key leaked the first value. */
+  assert_int_not_equal(parse("photo a.png light=A light=D65\n", &c, &err), VR_OK);
+  assert_contains(err.message, "capture.txt:1:21");
+  assert_contains(err.message, "twice");
   assert_int_not_equal(parse("photo a.png light=A scale=-1\n", &c, &err), VR_OK);
   assert_contains(err.message, "scale=-1");
   assert_null(c);

@@ -1,6 +1,7 @@
 /* The delimited-text reader: fields, positions, and the wording of errors. */
 #include "vr_test.h"
 #include "vr/csv.h"
+#include "vr/file.h"
 
 static void splits_fields_and_keeps_positions(void **state) {
   (void)state;
@@ -84,6 +85,30 @@ static void missing_file_names_itself(void **state) {
   assert_contains(err.message, "/nonexistent/dir/x.csv: cannot open");
 }
 
+static void number_lists_and_whole_files(void **state) {
+  (void)state;
+  double v[3];
+  size_t n;
+  assert_int_equal(vr_parse_doubles("65, 70,75.5", v, 3, &n), 0);
+  assert_int_equal(n, 3);
+  assert_near(v[2], 75.5, 0);
+  assert_int_not_equal(vr_parse_doubles("65,,70", v, 3, &n), 0);
+  assert_int_not_equal(vr_parse_doubles("1,2,3,4", v, 3, &n), 0);
+  assert_int_not_equal(vr_parse_doubles("", v, 3, &n), 0);
+  const char *path = vr_test_file("abc\n");
+  char *text;
+  size_t len;
+  vr_error err = {0};
+  assert_int_equal(vr_read_file(path, 0, &text, &len, &err), VR_OK);
+  assert_int_equal(len, 4);
+  assert_string_equal(text, "abc\n");
+  free(text);
+  assert_int_equal(vr_read_file(path, 2, &text, &len, &err), VR_E_RANGE);
+  assert_int_equal(vr_read_file("/nonexistent/x", 0, &text, &len, &err), VR_E_IO);
+  assert_contains(err.message, "/nonexistent/x");
+  unlink(path);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(splits_fields_and_keeps_positions),
@@ -91,6 +116,7 @@ int main(void) {
       cmocka_unit_test(numbers_report_file_line_column_and_field),
       cmocka_unit_test(malformed_quotes_and_binary_are_refused),
       cmocka_unit_test(missing_file_names_itself),
+      cmocka_unit_test(number_lists_and_whole_files),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -46,6 +46,10 @@ long vr_csv_find_column(const vr_csv *csv, size_t header_row, const char *name);
 /* Parses a whole string as a finite double (leading/trailing blanks allowed).
  * Returns 0 on success. */
 int vr_parse_double(const char *s, double *out);
+/* A comma-separated list of such numbers ("65,70,75"), at most max of
+ * them; *n receives the count.  Returns 0 on success, non-zero for an empty
+ * list, a bad number or more than max. */
+int vr_parse_doubles(const char *s, double *out, size_t max, size_t *n);
 
 #ifdef __cplusplus
 }
