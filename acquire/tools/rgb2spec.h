@@ -54,9 +54,6 @@ vr_status rg_save(vr_matdb *db, const char *prefix, const rg_run *run, vr_error 
  * (through XYZ with the light's white). */
 double rg_delta_e(const rg_run *run, size_t light, const double a[3], const double b[3]);
 
-/* Does the manifest name db: materials? */
-bool rg_manifest_needs_db(const char *path);
-
 /* vr-rgb2spec simulate (rgb2spec_simulate.c). */
 int rg_cmd_simulate(vr_args *a);
 

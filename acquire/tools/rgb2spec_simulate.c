@@ -62,7 +62,7 @@ int rg_cmd_simulate(vr_args *a) {
   if (!rng) goto out;
   gsl_rng_set(rng, (unsigned long)seed);
   /* The database only when the manifest names db: materials. */
-  if (rg_manifest_needs_db(manifest) && vr_matdb_open(vr_args_get(a, "db"), VR_MATDB_READONLY, &db, &err))
+  if (vr_matdb_named_in(manifest) && vr_matdb_open(vr_args_get(a, "db"), VR_MATDB_READONLY, &db, &err))
     goto out;
   if (vr_capture_read(manifest, db, &cap, &err)) goto out;
   if (cap->nphotos > RGB2SPEC_MAX_LIGHTS) {

@@ -182,22 +182,6 @@ static vr_status parse_method(const char *s, vr_recover_method *m, vr_error *err
   return VR_OK;
 }
 
-/* Does the manifest name db: materials?  Only then (or to save) is the
- * database opened, so a run leaves no database file behind otherwise. */
-bool rg_manifest_needs_db(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return false;
-  char line[2048];
-  bool need = false;
-  while (!need && fgets(line, sizeof line, f)) {
-    char *hash = strchr(line, '#');
-    if (hash) *hash = '\0';
-    need = strstr(line, "db:") != NULL;
-  }
-  fclose(f);
-  return need;
-}
-
 static char *default_manifest(const char *photo) {
   const char *slash = strrchr(photo, '/');
   size_t n = slash ? (size_t)(slash - photo) + 1 : 0;
@@ -225,7 +209,7 @@ static int cmd_recover(vr_args *a) {
     goto out;
   }
   mpath = manifest ? strdup(manifest) : default_manifest(a->operands[0]);
-  if ((prefix || rg_manifest_needs_db(mpath)) && vr_matdb_open(vr_args_get(a, "db"), 0, &db, &err)) goto out;
+  if ((prefix || vr_matdb_named_in(mpath)) && vr_matdb_open(vr_args_get(a, "db"), 0, &db, &err)) goto out;
   if (vr_capture_read(mpath, db, &cap, &err)) goto out;
   run.cap = cap;
   /* The photos: those given, each of which the manifest must list; or all. */

@@ -51,21 +51,6 @@ static vr_status open_db(const vr_args *a, int flags, vr_matdb **db, vr_error *e
   return vr_matdb_open(vr_args_get(a, "db"), flags, db, err);
 }
 
-/* Does the model file name db: materials?  Then the database is opened. */
-static int model_needs_db(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return 0;
-  char line[512];
-  int need = 0;
-  while (!need && fgets(line, sizeof line, f)) {
-    char *hash = strchr(line, '#');
-    if (hash) *hash = '\0';
-    need = strstr(line, "db:") != NULL;
-  }
-  fclose(f);
-  return need;
-}
-
 static int cmd_fit(vr_args *a) {
   vr_error err = {0};
   vr_ellipso_data d;
@@ -80,7 +65,7 @@ static int cmd_fit(vr_args *a) {
   if (vr_ellipso_read(data_path, vr_args_get(a, "units"), &d, &err)) return fail(&err);
   vr_fit_options opt = vr_fit_default_options();
   opt.global_search = !vr_args_flag(a, "no-global");
-  if ((save || (model_path && model_needs_db(model_path))) && open_db(a, 0, &db, &err)) goto out;
+  if ((save || (model_path && vr_matdb_named_in(model_path))) && open_db(a, 0, &db, &err)) goto out;
   if (model_path) {
     if (vr_model_read(model_path, db, &m, &err)) goto out;
     if (vr_ellipso_fit(m, &d, &opt, &r, &err)) goto out;
@@ -137,7 +122,7 @@ static int cmd_simulate(vr_args *a) {
   if (vr_args_double(a, "seed", 1, &seed, &err)) return fail(&err);
   vr_matdb *db = NULL;
   vr_sample_model *m = NULL;
-  if (model_needs_db(model_path) && open_db(a, 0, &db, &err)) return fail(&err);
+  if (vr_matdb_named_in(model_path) && open_db(a, 0, &db, &err)) return fail(&err);
   int rc = 1;
   if (vr_model_read(model_path, db, &m, &err)) goto out;
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);

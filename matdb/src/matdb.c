@@ -385,3 +385,17 @@ vr_status vr_matdb_save(vr_matdb *db, vr_material *m, vr_error *err) {
   }
   return st;
 }
+
+bool vr_matdb_named_in(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return false;
+  char line[2048];
+  bool need = false;
+  while (!need && fgets(line, sizeof line, f)) {
+    char *hash = strchr(line, '#');
+    if (hash) *hash = '\0';
+    need = strstr(line, "db:") != NULL;
+  }
+  fclose(f);
+  return need;
+}

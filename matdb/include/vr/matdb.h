@@ -37,6 +37,11 @@ void vr_matdb_close(vr_matdb *db);
 const char *vr_matdb_path(const vr_matdb *db);
 /* The path vr_matdb_open(NULL, ...) would use. */
 const char *vr_matdb_default_path(void);
+/* Does the text file at path (a model file, a capture manifest) name a
+ * database material ("db:NAME" outside '#' comments)?  Tools open the
+ * database only then, so a run that needs none leaves no file behind.
+ * false when the file cannot be read (its reader reports that). */
+bool vr_matdb_named_in(const char *path);
 
 /* Saves m as a new version of m->name; sets m->version and
  * m->prov.created_at.  Validates first: a name, data fitting the kind (n for
