@@ -4,13 +4,7 @@
 set -u
 bin="$VR_BIN/vr-colour"
 src="$VR_SOURCE_DIR"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-check() { # name, condition...
-  local name=$1; shift
-  if "$@"; then echo "ok - $name"; else echo "not ok - $name"; fails=$((fails+1)); fi
-}
+source "$(dirname "$0")/harness.sh"
 
 "$bin" --help > "$tmp/help" 2>&1; rc=$?
 check "--help exits 0" test $rc -eq 0
@@ -48,5 +42,4 @@ check "no operand is a usage error (2)" test $rc -eq 2
 "$bin" --bogus x > /dev/null 2> "$tmp/err"; rc=$?
 check "unknown option is a usage error (2)" test $rc -eq 2
 
-echo "$((12 + 3 - fails)) checks passed, $fails failed"
-test $fails -eq 0
+finish

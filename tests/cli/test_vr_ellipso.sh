@@ -5,14 +5,7 @@ set -u
 bin="$VR_BIN/vr-ellipso"
 src="$VR_SOURCE_DIR"
 s="$src/samples/ellipsometry"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-export VR_MATDB="$tmp/materials.db"
-pass=0 fails=0
-check() {
-  local name=$1; shift
-  if "$@"; then echo "ok - $name"; pass=$((pass+1)); else echo "not ok - $name"; fails=$((fails+1)); fi
-}
+source "$(dirname "$0")/harness.sh"
 
 "$bin" --help | grep -q "^Usage: vr-ellipso fit DATA"; check "--help" test $? -eq 0
 
@@ -68,5 +61,4 @@ check "unwritable report fails cleanly" test $rc -eq 1
 "$bin" simulate --model "$s/thermal_oxide.model" --angles 70 --wavelengths 600:500:1 > /dev/null 2>&1; rc=$?
 check "bad --wavelengths is a usage error" test $rc -eq 2
 
-echo "$pass passed, $fails failed"
-test $fails -eq 0
+finish

@@ -5,14 +5,7 @@
 set -u
 bin="$VR_BIN/vr-matdb"
 src="$VR_SOURCE_DIR"
-tmp=$(mktemp -d)
-trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$tmp"' EXIT
-export VR_MATDB="$tmp/materials.db"
-pass=0 fails=0
-check() {
-  local name=$1; shift
-  if "$@"; then echo "ok - $name"; pass=$((pass+1)); else echo "not ok - $name"; fails=$((fails+1)); fi
-}
+source "$(dirname "$0")/harness.sh"
 
 # --- the built-in library with its sources ---------------------------------
 "$bin" list > "$tmp/list" 2> "$tmp/list.err"; rc=$?
@@ -146,5 +139,4 @@ check "the writer committed" test $wrc -eq 0
 "$bin" eval big 300.0005 --role value > /dev/null; rc=$?
 check "the large material is readable" test $rc -eq 0
 
-echo "$pass passed, $fails failed"
-test $fails -eq 0
+finish

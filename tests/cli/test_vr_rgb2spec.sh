@@ -7,14 +7,7 @@ set -u
 bin="$VR_BIN/vr-rgb2spec"
 matdb="$VR_BIN/../matdb/vr-matdb"
 src="$VR_SOURCE_DIR"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-export VR_MATDB="$tmp/materials.db"
-pass=0 fails=0
-check() {
-  local name=$1; shift
-  if "$@"; then echo "ok - $name"; pass=$((pass+1)); else echo "not ok - $name"; fails=$((fails+1)); fi
-}
+source "$(dirname "$0")/harness.sh"
 
 "$bin" --help | grep -q "^Usage: vr-rgb2spec PHOTOS"; check "--help" test $? -eq 0
 
@@ -98,5 +91,4 @@ check "an unreadable photo names the file" test $rc -eq 1 -a -n "$(grep 'led.png
 "$bin" "$tmp/cap/d65.png" --method best 2> /dev/null > /dev/null; rc=$?
 check "unknown method" test $rc -eq 1
 
-echo "$pass passed, $fails failed"
-test $fails -eq 0
+finish

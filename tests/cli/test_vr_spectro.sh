@@ -8,14 +8,7 @@ bin="$VR_BIN/vr-spectro"
 matdb="$VR_BIN/../matdb/vr-matdb"
 src="$VR_SOURCE_DIR"
 g="$src/samples/glazing"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-export VR_MATDB="$tmp/materials.db"
-pass=0 fails=0
-check() {
-  local name=$1; shift
-  if "$@"; then echo "ok - $name"; pass=$((pass+1)); else echo "not ok - $name"; fails=$((fails+1)); fi
-}
+source "$(dirname "$0")/harness.sh"
 
 "$bin" --help | grep -q "^Usage: vr-spectro fit FILE"; check "--help" test $? -eq 0
 
@@ -116,5 +109,4 @@ check "a failed fit saves nothing" test "$("$matdb" list | wc -l)" -eq "$before"
 "$bin" fit "$g/clear_float/CLEAR_3.DAT" --table /nonexistent/x.csv > /dev/null 2>&1; rc=$?
 check "unwritable table fails cleanly" test $rc -eq 1
 
-echo "$pass passed, $fails failed"
-test $fails -eq 0
+finish
