@@ -15,7 +15,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/mcc.hpp>
 
-#include "image_internal.h"
+#include "vr/image.h"
 #include "vr/chart.h"
 #include "vr/colorchecker.h"
 #include "vr/colour.h"

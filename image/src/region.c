@@ -8,7 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "image_internal.h"
 #include "vr/image.h"
 
 static const float *pixel(const vr_image *img, long x, long y) {

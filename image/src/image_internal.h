@@ -1,6 +1,5 @@
-/* What the files of acquire/src share and nobody else sees: the codec entry
- * points (OpenCV in image_cv.cpp, OpenEXR in image_exr.c), the file helpers
- * of image.c, and region statistics over convex quadrilaterals (region.c). */
+/* What the files of image/src share and nobody else sees: the codec entry
+ * points (OpenCV in image_cv.cpp, OpenEXR in image_exr.c). */
 #ifndef VR_IMAGE_INTERNAL_H
 #define VR_IMAGE_INTERNAL_H
 
@@ -27,22 +26,6 @@ vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *
 
 /* Writes an RGB OpenEXR of float (half = 0) or half (half = 1) channels. */
 vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half, vr_error *err);
-
-/* Checks that img is a usable RGB image (what names it in messages). */
-vr_status vr_image_check(const vr_image *img, const char *what, vr_error *err);
-
-/* Statistics of the pixels whose centres lie inside a convex quadrilateral
- * (corners in order, either orientation; image coordinates, pixel centres at
- * +0.5).  pixels may come back 0: the caller decides whether that is an error. */
-typedef struct vr_region_stats {
-  long pixels;
-  double mean[3];
-  double sd[3];
-  double max; /* largest channel value; -inf when pixels == 0 */
-} vr_region_stats;
-
-vr_status vr_region_quad_stats(const vr_image *img, const double quad[4][2],
-                               vr_region_stats *out, vr_error *err);
 
 #ifdef __cplusplus
 }

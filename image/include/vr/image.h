@@ -101,6 +101,23 @@ vr_status vr_image_label_means_file(const vr_image *img, const char *labels_path
                                     double clip_level, vr_label_means *out, vr_error *err);
 void vr_label_means_free(vr_label_means *m);
 
+/* Checks that img is a usable RGB image (what names it in messages):
+ * VR_E_ARG for a NULL or empty image or a channel count other than 3. */
+vr_status vr_image_check(const vr_image *img, const char *what, vr_error *err);
+
+/* Statistics of the pixels whose centres lie inside a convex quadrilateral
+ * (corners in order, either orientation; image coordinates, pixel centres at
+ * +0.5).  pixels may come back 0: the caller decides whether that is an error. */
+typedef struct vr_region_stats {
+  long pixels;
+  double mean[3];
+  double sd[3];
+  double max; /* largest channel value; -inf when pixels == 0 */
+} vr_region_stats;
+
+vr_status vr_region_quad_stats(const vr_image *img, const double quad[4][2],
+                               vr_region_stats *out, vr_error *err);
+
 #ifdef __cplusplus
 }
 #endif
