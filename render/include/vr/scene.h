@@ -1,0 +1,237 @@
+/* A scene as the user wrote it in a .scn file: camera, objects, materials by
+ * database name, lights, skies, illuminance sensors and render settings.
+ * This is plain data, parsed and checked but not yet resolved: material
+ * names are not looked up in the database and mesh files are not read here
+ * (geometry.h and material resolution do that), so the parser can be tested
+ * and fuzzed on its own.  The grammar is documented in docs/scene-format.md
+ * and in vr_scene_parse below.
+ *
+ * Units inside: lengths in metres, angles in degrees as written (converted
+ * where used), wavelengths in nm.  Light quantities keep the unit the user
+ * gave (vr_light_unit) and are converted by the light code, which knows the
+ * spectrum and the geometry needed to do so. */
+#ifndef VR_SCENE_H
+#define VR_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "vr/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* An affine transform: p' = M p + t, row-major 3x4 (m[r][3] is t[r]). */
+typedef struct vr_xform {
+  double m[3][4];
+} vr_xform;
+
+void vr_xform_identity(vr_xform *x);
+/* a then b: p -> b(a(p)). */
+void vr_xform_then(const vr_xform *a, const vr_xform *b, vr_xform *out);
+void vr_xform_point(const vr_xform *x, const double p[3], double out[3]);
+void vr_xform_vector(const vr_xform *x, const double v[3], double out[3]);
+/* Normals go through the inverse transpose; false if the matrix is singular. */
+bool vr_xform_normal(const vr_xform *x, const double n[3], double out[3]);
+
+/* Where a scene element was written, for messages. */
+typedef struct vr_scene_loc {
+  long line, col;
+} vr_scene_loc;
+
+typedef enum vr_camera_model { VR_CAM_PINHOLE = 0, VR_CAM_THINLENS } vr_camera_model;
+
+typedef struct vr_scene_camera {
+  vr_camera_model model;
+  double from[3], to[3], up[3]; /* defaults: (0,0,0) looking at (0,1,0), up (0,0,1) */
+  double fov_deg;               /* horizontal field of view, default 60 */
+  int width, height;            /* default 320 x 240 */
+  double aperture_m;            /* thin lens: lens radius, metres */
+  double focus_m;               /* thin lens: focus distance, default |to - from| */
+  double exposure_ev;           /* multiplies the image by 2^exposure_ev, default 0 */
+  bool given;
+  vr_scene_loc loc;
+} vr_scene_camera;
+
+/* A material alias: a scene name for a database material plus per-object
+ * settings.  Constant spectra (for analytic test scenes) are allowed for
+ * Lambertian reflectors: "material grey lambert reflectance=0.5". */
+typedef enum vr_mat_source { VR_MATSRC_DB = 0, VR_MATSRC_LAMBERT_CONST, VR_MATSRC_BLACK } vr_mat_source;
+
+typedef enum vr_pane_model {
+  VR_PANE_DEFAULT = 0, /* a thin element when the object is a pane-like sheet */
+  VR_PANE_THIN,        /* one element, exact multiple internal reflections */
+  VR_PANE_INTERFACES   /* two real interfaces (refraction at each) */
+} vr_pane_model;
+
+typedef struct vr_scene_material {
+  char *name;            /* scene alias */
+  vr_mat_source source;
+  char *db_name;         /* VR_MATSRC_DB: the database name (after "db:") */
+  double reflectance;    /* VR_MATSRC_LAMBERT_CONST: in [0,1] */
+  double roughness;      /* GGX alpha; NAN when not given (smooth) */
+  double thickness_m;    /* pane thickness; NAN when not given */
+  vr_pane_model pane;
+  double state;          /* chromogenic tint state in [0,1]; NAN when not given */
+  double charge_mC_cm2;  /* electrochromic charge instead of a state; NAN when not given */
+  double temperature_K;  /* photochromic glass temperature; NAN -> 298.15 */
+  char *coating_db;      /* thin-film coating (layered material) name, NULL if none */
+  vr_scene_loc loc;
+} vr_scene_material;
+
+typedef enum vr_shape_kind {
+  VR_SHAPE_SPHERE = 0, /* center, radius */
+  VR_SHAPE_RECT,       /* a finite rectangle: center, normal, size (w along u, h along v), up hint */
+  VR_SHAPE_BOX,        /* axis-aligned before the transform: min, max */
+  VR_SHAPE_MESH        /* OBJ, PLY or glTF through Assimp */
+} vr_shape_kind;
+
+/* Luminous or radiant units a light quantity may be given in. */
+typedef enum vr_light_unit {
+  VR_UNIT_NONE = 0,
+  VR_UNIT_W,       /* radiant power, W */
+  VR_UNIT_LM,      /* luminous flux, lm */
+  VR_UNIT_CD,      /* luminous intensity, cd */
+  VR_UNIT_W_SR,    /* radiant intensity, W/sr */
+  VR_UNIT_LX,      /* illuminance, lx */
+  VR_UNIT_W_M2,    /* irradiance, W/m2 */
+  VR_UNIT_CD_M2,   /* luminance, cd/m2 */
+  VR_UNIT_W_M2_SR  /* radiance, W/(m2 sr) */
+} vr_light_unit;
+
+/* A quantity as written, e.g. "1000cd" -> {1000, VR_UNIT_CD}. */
+typedef struct vr_quantity {
+  double value;
+  vr_light_unit unit;
+} vr_quantity;
+
+/* A spectrum reference: "db:NAME" (an illuminant or reflectance in the
+ * database), a CIE illuminant name known to the core (D65, A, ...), or
+ * "bb:T" for a blackbody; NULL for the default of the element. */
+typedef char *vr_spectrum_ref;
+
+typedef struct vr_scene_object {
+  char *name;             /* optional name=..., else NULL */
+  vr_shape_kind shape;
+  double center[3], radius;       /* sphere; rect center */
+  double normal[3], up[3];        /* rect: its normal and in-plane up hint */
+  double size[2];                 /* rect: width, height */
+  double bmin[3], bmax[3];        /* box */
+  char *mesh_path;                /* mesh: resolved against the scene file's folder */
+  vr_xform xform;                 /* translate/rotate/scale options, in the order written */
+  int material;                   /* index into vr_scene.materials */
+  vr_quantity emission;           /* emissive surface: cd/m2 or W/(m2 sr); value 0 if none */
+  vr_spectrum_ref emission_spectrum;
+  int texels[2];                  /* photochromic state map resolution, default 16 x 16 */
+  vr_scene_loc loc;
+} vr_scene_object;
+
+typedef enum vr_light_kind {
+  VR_LIGHT_POINT = 0,
+  VR_LIGHT_SPOT,
+  VR_LIGHT_SUN
+} vr_light_kind;
+
+typedef enum vr_distribution {
+  VR_DIST_ISOTROPIC = 0,
+  VR_DIST_LAMBERTIAN,  /* I(theta) = I0 cos(theta) about `normal`, 0 behind */
+  VR_DIST_GONIOMETRIC  /* an IES LM-63 file */
+} vr_distribution;
+
+typedef struct vr_scene_light {
+  vr_light_kind kind;
+  double position[3];      /* point, spot */
+  double direction[3];     /* spot: axis; sun: direction FROM the scene TO the sun (unit) */
+  double normal[3];        /* Lambertian point light: axis of the cosine lobe */
+  vr_distribution distribution;
+  char *ies_path;          /* goniometric: resolved against the scene's folder */
+  double cone_deg;         /* spot: full-power half angle */
+  double falloff_deg;      /* spot: extra half angle over which it falls to 0 */
+  vr_quantity amount;      /* point/spot: W, lm, cd or W/sr (cd = I0, on-axis for
+                              Lambertian); sun: lx or W/m2 normal to the beam */
+  vr_spectrum_ref spectrum;/* default: D65 for lamps, ASTM-G173-AM1.5D for the sun */
+  double sun_radius_deg;   /* apparent radius, default 0.2665 */
+  vr_scene_loc loc;
+} vr_scene_light;
+
+/* The sky: one of the 15 CIE standard general skies (ISO 15469:2004 /
+ * CIE S 011/E:2003, type 1..15) or the traditional CIE overcast sky
+ * (Moon & Spencer 1942; type 0 here).  Its absolute level is given as the
+ * diffuse horizontal illuminance (lx) or the zenith luminance (cd/m2). */
+typedef struct vr_scene_sky {
+  bool present;
+  int cie_type;              /* 0 = traditional overcast, 1..15 = CIE standard general sky */
+  double sun_direction[3];   /* unit, towards the sun (from the sun line if any, else zenith) */
+  vr_quantity level;         /* lx (diffuse horizontal) or cd/m2 (zenith) */
+  vr_spectrum_ref spectrum;  /* default CIE D65 */
+  double ground_reflectance; /* below the horizon: a uniform ground, default 0.2 */
+  vr_scene_loc loc;
+} vr_scene_sky;
+
+typedef struct vr_scene_sensor {
+  char *name;
+  bool grid;
+  double position[3];        /* point; grid: origin corner */
+  double normal[3];          /* unit */
+  double u[3], v[3];         /* grid: edge vectors */
+  int nu, nv;                /* grid: points along u and v (>= 1) */
+  vr_scene_loc loc;
+} vr_scene_sensor;
+
+typedef enum vr_integrator {
+  VR_INT_PATH = 0,       /* reference path tracer */
+  VR_INT_WHITTED,        /* the paper's local illumination: shadow rays + specular */
+  VR_INT_PHOTON,         /* Jensen: global + caustic photon maps */
+  VR_INT_PROGRESSIVE     /* progressive photon mapping, shrinking radius */
+} vr_integrator;
+
+typedef enum vr_spectral_mode { VR_SPECTRAL_HERO = 0, VR_SPECTRAL_BINS } vr_spectral_mode;
+
+typedef struct vr_scene_settings {
+  vr_integrator integrator;   /* default photon */
+  int spp;                    /* samples per pixel, default 16 */
+  int max_depth;              /* default 8 */
+  vr_spectral_mode spectral;  /* default hero */
+  int wavelengths;            /* per path, default 4 (1..16) */
+  double lambda_min, lambda_max; /* sampled range, default 360..830 nm */
+  long photons;               /* global photons per pass, default 200000 */
+  long caustic_photons;       /* default 200000 */
+  int knn;                    /* photons per estimate, default 50 */
+  double radius_m;            /* fixed radius; NAN -> k-nearest */
+  bool final_gather;          /* default false */
+  int gather_rays;            /* default 32 */
+  int passes;                 /* progressive: photon passes, default 16 */
+  double alpha;               /* progressive radius reduction, default 2/3 */
+  int sensor_samples;         /* paths per sensor point, default 4096 */
+  unsigned long long seed;    /* default 1 */
+  /* Spectral film: bins of the spectral EXR. */
+  double film_min_nm, film_max_nm, film_step_nm; /* default 400, 700, 10 */
+  vr_scene_loc loc;
+} vr_scene_settings;
+
+typedef struct vr_scene {
+  char *path, *dir;           /* the file and its folder */
+  vr_scene_camera camera;
+  size_t nmaterials;
+  vr_scene_material *materials;
+  size_t nobjects;
+  vr_scene_object *objects;
+  size_t nlights;
+  vr_scene_light *lights;
+  vr_scene_sky sky;
+  size_t nsensors;
+  vr_scene_sensor *sensors;
+  vr_scene_settings settings;
+} vr_scene;
+
+/* Parses a scene from text (name is used in messages and to resolve
+ * relative paths).  Errors are VR_E_PARSE "name:line:col: message". */
+vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scene **out,
+                         vr_error *err);
+vr_status vr_scene_read(const char *path, vr_scene **out, vr_error *err);
+void vr_scene_destroy(vr_scene *s);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
