@@ -8,6 +8,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "vr/calibrate.h"
 #include "vr/colorchecker.h"
 #include "vr/colour.h"
 #include "vr/csv.h"
@@ -49,51 +50,72 @@ void vr_capture_destroy(vr_capture *c) {
   free(c);
 }
 
-static char *resolve(const parser *p, const char *rel) {
-  if (rel[0] == '/' || !p->c->dir[0]) return strdup(rel);
-  size_t n = strlen(p->c->dir) + strlen(rel) + 2;
+/* rel against the folder dir, unless rel is absolute or dir empty. */
+static char *join(const char *dir, const char *rel) {
+  if (rel[0] == '/' || !dir || !dir[0]) return strdup(rel);
+  size_t n = strlen(dir) + strlen(rel) + 2;
   char *s = malloc(n);
-  if (s) snprintf(s, n, "%s/%s", p->c->dir, rel);
+  if (s) snprintf(s, n, "%s/%s", dir, rel);
   return s;
 }
 
-/* A spectrum from db:NAME (role), file:PATH (first column) or, when
- * allow_cie, a core illuminant name. */
-static vr_status spectrum_ref(parser *p, const char *tok, const char *ref, const char *role,
-                              bool allow_cie, vr_spectrum **out) {
+vr_status vr_capture_spectrum(const char *ref, const char *dir, vr_matdb *db, const char *role,
+                              bool allow_cie, vr_spectrum **out, vr_error *err) {
   *out = NULL;
-  vr_error local = {0};
   if (!strncmp(ref, "db:", 3)) {
-    if (!p->db) return FAIL(p, tok, VR_E_ARG, "\"%s\" needs the material database (--db)", ref);
+    if (!db) return vr_error_set(err, VR_E_ARG, "\"%s\" needs the material database (--db)", ref);
     vr_material *m;
-    if (vr_matdb_load(p->db, ref + 3, 0, &m, &local))
-      return FAIL(p, tok, local.status, "%s", local.message);
+    vr_status st = vr_matdb_load(db, ref + 3, 0, &m, err);
+    if (st) return st;
     const vr_spectrum *s = vr_material_spectrum(m, role);
     if (!s) s = vr_material_spectrum(m, "value");
-    *out = s ? vr_spectrum_copy(s, &local) : NULL;
+    *out = s ? vr_spectrum_copy(s, err) : NULL;
     vr_material_destroy(m);
     if (!*out)
-      return FAIL(p, tok, VR_E_NOT_FOUND, "material %s has no '%s' spectrum", ref + 3, role);
+      return vr_error_set(err, VR_E_NOT_FOUND, "material %s has no '%s' spectrum", ref + 3, role);
     return VR_OK;
   }
   if (!strncmp(ref, "file:", 5)) {
-    char *path = resolve(p, ref + 5);
+    char *path = join(dir, ref + 5);
     vr_spectrum_table t = {0};
-    vr_status st = path ? vr_spectrum_table_read(path, &t, &local) : VR_E_NOMEM;
+    vr_status st = path ? vr_spectrum_table_read(path, &t, err)
+                        : vr_error_set(err, VR_E_NOMEM, "out of memory");
     free(path);
-    if (st) return FAIL(p, tok, st, "%s", local.message);
-    *out = t.count ? vr_spectrum_copy(t.spectra[0], &local) : NULL;
+    if (st) return st;
+    *out = t.count ? vr_spectrum_copy(t.spectra[0], err) : NULL;
     vr_spectrum_table_free(&t);
-    return *out ? VR_OK : FAIL(p, tok, VR_E_PARSE, "%s holds no spectrum", ref + 5);
+    return *out ? VR_OK : vr_error_set(err, VR_E_PARSE, "%s holds no spectrum", ref + 5);
   }
   if (allow_cie) {
-    *out = vr_illuminant(ref, &local);
+    *out = vr_illuminant(ref, NULL);
     if (*out) return VR_OK;
-    return FAIL(p, tok, VR_E_NOT_FOUND,
-                "unknown light \"%s\" (a CIE illuminant such as D65, A, F2, LED-B3, or db:NAME, "
-                "file:PATH)", ref);
+    return vr_error_set(err, VR_E_NOT_FOUND,
+                        "unknown light \"%s\" (a CIE illuminant such as D65, A, F2, LED-B3, or "
+                        "db:NAME, file:PATH)", ref);
   }
-  return FAIL(p, tok, VR_E_PARSE, "\"%s\": expected db:NAME or file:PATH", ref);
+  return vr_error_set(err, VR_E_PARSE, "\"%s\": expected db:NAME or file:PATH", ref);
+}
+
+/* vr_capture_spectrum with the error placed at the token. */
+static vr_status spectrum_ref(parser *p, const char *tok, const char *ref, const char *role,
+                              bool allow_cie, vr_spectrum **out) {
+  vr_error local = {0};
+  vr_status st = vr_capture_spectrum(ref, p->c->dir, p->db, role, allow_cie, out, &local);
+  return st ? FAIL(p, tok, st, "%s", local.message) : VR_OK;
+}
+
+double vr_capture_decode(const vr_capture *c, const vr_capture_photo *p, int channel, double v,
+                         bool srgb) {
+  if (p->encoding == 0 && srgb && c->has_tone)
+    return vr_tone_decode(c->tone[channel], c->gamma[channel], v);
+  return srgb ? vr_srgb_decode(v) : v;
+}
+
+double vr_capture_encode(const vr_capture *c, const vr_capture_photo *p, int channel,
+                         double linear, bool srgb) {
+  if (p->encoding == 0 && srgb && c->has_tone)
+    return vr_tone_encode(c->tone[channel], c->gamma[channel], linear);
+  return srgb ? vr_srgb_encode(linear) : linear;
 }
 
 static vr_status number(parser *p, const char *tok, const char *v, double *out, double lo,
@@ -129,7 +151,8 @@ static vr_status photo(parser *p, char **tok, size_t n) {
   ph->scale = 1;
   ph->clip = 0.999;
   ph->line = p->line;
-  if (!(ph->path = resolve(p, tok[1]))) return vr_error_set(p->err, VR_E_NOMEM, "out of memory");
+  if (!(ph->path = join(p->c->dir, tok[1])))
+    return vr_error_set(p->err, VR_E_NOMEM, "out of memory");
   for (size_t i = 2; i < n; i++) {
     char *eq = strchr(tok[i], '=');
     if (!eq) return FAIL(p, tok[i], VR_E_PARSE, "unexpected \"%s\" (key=value)", tok[i]);
@@ -250,7 +273,7 @@ static vr_status camera(parser *p, char **tok, size_t n) {
   c->camera = VR_CAPTURE_CAMERA_MEASURED;
   static const char *const ROLES[3] = {"r", "g", "b"};
   if (!strncmp(tok[1], "file:", 5)) {
-    char *path = resolve(p, tok[1] + 5);
+    char *path = join(c->dir, tok[1] + 5);
     vr_spectrum_table t = {0};
     vr_error local = {0};
     vr_status st = path ? vr_spectrum_table_read(path, &t, &local) : VR_E_NOMEM;
@@ -269,7 +292,15 @@ static vr_status camera(parser *p, char **tok, size_t n) {
       vr_status st = spectrum_ref(p, tok[1], tok[1], ROLES[k], false, &c->sens[k]);
       if (st) return st;
     }
-    return VR_OK;
+    /* A calibrated camera (vr-rgb2spec calibrate) carries its tone curves. */
+    vr_material *m = NULL;
+    vr_error local = {0};
+    vr_status st = vr_matdb_load(p->db, tok[1] + 3, 0, &m, &local);
+    if (!st) {
+      st = vr_calibration_tone_of(m, c->tone, c->gamma, &c->has_tone, &local);
+      vr_material_destroy(m);
+    }
+    return st ? FAIL(p, tok[1], st, "%s", local.message) : VR_OK;
   }
   return FAIL(p, tok[1], VR_E_PARSE, "unknown camera \"%s\" (cie1931-srgb, db:NAME, file:PATH)", tok[1]);
 }
@@ -283,7 +314,7 @@ static vr_status statement(parser *p, char **tok, size_t n) {
   if (!strcmp(kw, "labels")) {
     if (n != 2) return FAIL(p, tok[0], VR_E_PARSE, "'labels' takes one file");
     if (p->c->labels_path) return FAIL(p, tok[0], VR_E_PARSE, "a second 'labels' line");
-    p->c->labels_path = resolve(p, tok[1]);
+    p->c->labels_path = join(p->c->dir, tok[1]);
     return VR_OK;
   }
   if (!strcmp(kw, "grid")) {

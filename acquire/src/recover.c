@@ -102,6 +102,39 @@ static void second_differences(size_t n, const double *g, double *d2) {
   }
 }
 
+/* D2 = U S V^T (full V): D2^+ = V_p S^-1 U^T, null space = the last two
+ * rows of V^T (the linear functions on the grid). */
+int vr_recover_smoothness(size_t n, const double *grid, double *d2, double *lpinv, double *nl) {
+  second_differences(n, grid, d2);
+  size_t p = n - 2;
+  double *u = malloc(p * p * sizeof *u), *sd = malloc(p * sizeof *sd),
+         *vt = malloc(n * n * sizeof *vt), *copy = malloc(p * n * sizeof *copy),
+         *superb = malloc((p > 1 ? p : 2) * sizeof *superb);
+  int info = -1000;
+  if (u && sd && vt && copy && superb) {
+    memcpy(copy, d2, p * n * sizeof *copy);
+    info = LAPACKE_dgesvd(LAPACK_ROW_MAJOR, 'A', 'A', (lapack_int)p, (lapack_int)n, copy,
+                          (lapack_int)n, sd, u, (lapack_int)p, vt, (lapack_int)n, superb);
+  }
+  if (info == 0) {
+    memset(lpinv, 0, n * p * sizeof *lpinv);
+    for (size_t i = 0; i < p; i++)
+      for (size_t row = 0; row < n; row++)
+        for (size_t col = 0; col < p; col++)
+          lpinv[row * p + col] += vt[i * n + row] / sd[i] * u[col * p + i];
+    for (size_t row = 0; row < n; row++) {
+      nl[row * 2] = vt[(n - 2) * n + row];
+      nl[row * 2 + 1] = vt[(n - 1) * n + row];
+    }
+  }
+  free(u);
+  free(sd);
+  free(vt);
+  free(copy);
+  free(superb);
+  return info;
+}
+
 void vr_recovery_system_destroy(vr_recovery_system *s) {
   if (!s) return;
   free(s->grid);
@@ -203,35 +236,7 @@ vr_recovery_system *vr_recovery_system_create(const vr_camera *cam, size_t light
   for (size_t j = 0; j < n; j++)
     for (size_t i = 0; i < m; i++) s->p[j * m + i] /= s->rowscale[i];
 
-  /* D2 = U S V^T (full V): D2^+ = V_p S^-1 U^T, null space = the last two
-   * rows of V^T (the linear functions on the grid). */
-  second_differences(n, s->grid, s->d2);
-  size_t p = n - 2;
-  double *u = malloc(p * p * sizeof *u), *sd = malloc(p * sizeof *sd),
-         *vt = malloc(n * n * sizeof *vt), *copy = malloc(p * n * sizeof *copy),
-         *superb = malloc((p > 1 ? p : 2) * sizeof *superb);
-  info = -1000;
-  if (u && sd && vt && copy && superb) {
-    memcpy(copy, s->d2, p * n * sizeof *copy);
-    info = LAPACKE_dgesvd(LAPACK_ROW_MAJOR, 'A', 'A', (lapack_int)p, (lapack_int)n, copy,
-                          (lapack_int)n, sd, u, (lapack_int)p, vt, (lapack_int)n, superb);
-  }
-  if (info == 0) {
-    memset(s->lpinv, 0, n * p * sizeof *s->lpinv);
-    for (size_t i = 0; i < p; i++)
-      for (size_t row = 0; row < n; row++)
-        for (size_t col = 0; col < p; col++)
-          s->lpinv[row * p + col] += vt[i * n + row] / sd[i] * u[col * p + i];
-    for (size_t row = 0; row < n; row++) {
-      s->nl[row * 2] = vt[(n - 2) * n + row];
-      s->nl[row * 2 + 1] = vt[(n - 1) * n + row];
-    }
-  }
-  free(u);
-  free(sd);
-  free(vt);
-  free(copy);
-  free(superb);
+  info = vr_recover_smoothness(n, s->grid, s->d2, s->lpinv, s->nl);
   if (info != 0) {
     lapack_failed(err, "recovery system: SVD of the second differences", info);
     vr_recovery_system_destroy(s);

@@ -37,6 +37,41 @@ int vr_recover_svd(size_t m, size_t n, const double *a, double *u, double *s, do
 int vr_recover_pinv(size_t m, size_t n, const double *a, double tol, double ref, double *pinv,
                     size_t *rank);
 
+/* The smoothness operator on a strictly increasing grid of n >= 3
+ * wavelengths: d2 ((n-2) x n) the second differences (scaled by the mean
+ * step squared, so (1, -2, 1) on a uniform grid), lpinv (n x (n-2)) its
+ * pseudo-inverse and nl (n x 2) an orthonormal basis of its null space (the
+ * straight lines).  Same returns as vr_recover_svd. */
+int vr_recover_smoothness(size_t n, const double *grid, double *d2, double *lpinv, double *nl);
+
+/* Least squares with a second-difference penalty, its weight from
+ * generalised cross-validation (the standard-form method described in
+ * recover_regularised.c):
+ *
+ *     minimise ||A x - c||^2 + lambda ||D2 x||^2,
+ *
+ * A (m x n) and c already weighted, no bounds.  lambda >= 0 fixes the weight;
+ * < 0 chooses it by GCV with weight rho on trace H ((m - rho tr H)^2 in the
+ * denominator; 1 classical, 1.4 Kim and Gu).  what names the caller in
+ * messages. */
+typedef struct vr_gcv_problem {
+  size_t m, n;
+  const double *a, *c;
+  const double *lpinv, *nl; /* from vr_recover_smoothness */
+  double rank_tol, rho, lambda;
+  const char *what;
+} vr_gcv_problem;
+
+typedef struct vr_gcv_result {
+  double lambda; /* the weight used */
+  double gcv;    /* the GCV score at lambda */
+  double dof;    /* trace of the influence matrix at lambda */
+  int flat;      /* GCV could not choose (fewer than two observations beyond the lines) */
+} vr_gcv_result;
+
+vr_status vr_recover_gcv_solve(const vr_gcv_problem *q, double *x, vr_gcv_result *res,
+                               vr_error *err);
+
 /* The bounded least-squares problem solved by an active set:
  *
  *     minimise ||G x - h||^2  subject to  E x = e,  lo <= x <= hi

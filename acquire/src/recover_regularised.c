@@ -123,12 +123,10 @@ static double noise_weight(vr_noise_model model, double c) {
 }
 
 typedef struct reg_work {
-  double *au, *cu, *e, *t, *ut, *st, *vtt, *abar, *cbar, *ua, *sa, *vta, *beta, *y, *z;
+  double *e, *t, *ut, *st, *vtt, *abar, *cbar, *ua, *sa, *vta, *beta, *y, *z;
 } reg_work;
 
 static void reg_free(reg_work *w) {
-  free(w->au);
-  free(w->cu);
   free(w->e);
   free(w->t);
   free(w->ut);
@@ -144,14 +142,12 @@ static void reg_free(reg_work *w) {
   free(w->z);
 }
 
-/* The unconstrained regularised solution on the mu unclipped rows. */
-static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
-                                 const unsigned char *clipped, size_t mu, double *r,
-                                 double *lambda_out, vr_recover_info *info, vr_error *err) {
-  size_t n = s->n, m = s->m, p = n - 2, qa = mu < p ? mu : p, qt = mu < 2 ? mu : 2;
+vr_status vr_recover_gcv_solve(const vr_gcv_problem *q, double *r, vr_gcv_result *res,
+                               vr_error *err) {
+  size_t n = q->n, mu = q->m, p = n - 2, qa = mu < p ? mu : p, qt = mu < 2 ? mu : 2;
+  const double *au = q->a, *cu = q->c;
+  res->flat = 0;
   reg_work w = {0};
-  w.au = malloc(mu * n * sizeof(double));
-  w.cu = malloc(mu * sizeof(double));
   w.e = malloc(mu * p * sizeof(double));
   w.t = malloc(mu * 2 * sizeof(double));
   w.ut = malloc(mu * 2 * sizeof(double));
@@ -165,28 +161,21 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
   w.beta = malloc(qa * sizeof(double));
   w.y = malloc(p * sizeof(double));
   w.z = malloc((mu > n ? mu : n) * sizeof(double));
-  if (!w.au || !w.cu || !w.e || !w.t || !w.ut || !w.st || !w.vtt || !w.abar || !w.cbar || !w.ua ||
-      !w.sa || !w.vta || !w.beta || !w.y || !w.z) {
+  if (!w.e || !w.t || !w.ut || !w.st || !w.vtt || !w.abar || !w.cbar || !w.ua || !w.sa ||
+      !w.vta || !w.beta || !w.y || !w.z) {
     reg_free(&w);
-    return vr_error_set(err, VR_E_NOMEM, "regularised recovery: out of memory");
-  }
-  size_t k = 0;
-  for (size_t i = 0; i < m; i++) {
-    if (clipped && clipped[i] != VR_CLIP_NONE) continue;
-    double wt = noise_weight(s->opt.noise, c[i]);
-    for (size_t j = 0; j < n; j++) w.au[k * n + j] = wt * s->a[i * n + j];
-    w.cu[k++] = wt * c[i];
+    return vr_error_set(err, VR_E_NOMEM, "%s: out of memory", q->what);
   }
   /* E = A' L^+, T = A' N_L. */
   for (size_t i = 0; i < mu; i++) {
     for (size_t col = 0; col < p; col++) {
       double v = 0.0;
-      for (size_t j = 0; j < n; j++) v += w.au[i * n + j] * s->lpinv[j * p + col];
+      for (size_t j = 0; j < n; j++) v += au[i * n + j] * q->lpinv[j * p + col];
       w.e[i * p + col] = v;
     }
     for (size_t col = 0; col < 2; col++) {
       double v = 0.0;
-      for (size_t j = 0; j < n; j++) v += w.au[i * n + j] * s->nl[j * 2 + col];
+      for (size_t j = 0; j < n; j++) v += au[i * n + j] * q->nl[j * 2 + col];
       w.t[i * 2 + col] = v;
     }
   }
@@ -196,7 +185,7 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
   double scale2 = 0.0;
   for (size_t i = 0; i < mu * p; i++) scale2 += w.e[i] * w.e[i];
   for (size_t i = 0; i < mu * 2; i++) scale2 += w.t[i] * w.t[i];
-  double cut = s->opt.rank_tol * sqrt(scale2);
+  double cut = q->rank_tol * sqrt(scale2);
   vr_status st = VR_OK;
   int info_l = vr_recover_svd(mu, 2, w.t, w.ut, w.st, w.vtt);
   size_t n0 = 0;
@@ -205,10 +194,10 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
   /* Abar = (I - Q Q^T) E, cbar = (I - Q Q^T) c', Q the first n0 columns of U_T. */
   if (info_l == 0) {
     memcpy(w.abar, w.e, mu * p * sizeof(double));
-    memcpy(w.cbar, w.cu, mu * sizeof(double));
+    memcpy(w.cbar, cu, mu * sizeof(double));
     for (size_t a = 0; a < n0; a++) {
       double qc = 0.0;
-      for (size_t i = 0; i < mu; i++) qc += w.ut[i * qt + a] * w.cu[i];
+      for (size_t i = 0; i < mu; i++) qc += w.ut[i * qt + a] * cu[i];
       for (size_t i = 0; i < mu; i++) w.cbar[i] -= w.ut[i * qt + a] * qc;
       for (size_t col = 0; col < p; col++) {
         double qe = 0.0;
@@ -219,9 +208,9 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
     info_l = vr_recover_svd(mu, p, w.abar, w.ua, w.sa, w.vta);
   }
   if (info_l != 0) {
-    st = info_l == -1000 ? vr_error_set(err, VR_E_NOMEM, "regularised recovery: out of memory")
-                         : vr_error_set(err, VR_E_NUMERIC,
-                                        "regularised recovery: LAPACK failed (info %d)", info_l);
+    st = info_l == -1000 ? vr_error_set(err, VR_E_NOMEM, "%s: out of memory", q->what)
+                         : vr_error_set(err, VR_E_NUMERIC, "%s: LAPACK failed (info %d)",
+                                        q->what, info_l);
     reg_free(&w);
     return st;
   }
@@ -236,16 +225,16 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
     b2 += v * v;
   }
   gcv_data g = {.k = kq, .m = mu, .dof0 = (double)(mu - n0),
-                .rperp2 = kq + n0 >= mu ? 0.0 : fmax(0.0, cb2 - b2), .rho = s->opt.gcv_rho,
+                .rperp2 = kq + n0 >= mu ? 0.0 : fmax(0.0, cb2 - b2), .rho = q->rho,
                 .s = w.sa, .beta = w.beta};
   double lambda = 0.0, gcv = 0.0;
-  if (s->opt.lambda >= 0.0) {
-    lambda = s->opt.lambda;
+  if (q->lambda >= 0.0) {
+    lambda = q->lambda;
     gcv = kq ? gcv_eval(&g, lambda) : 0.0;
   } else if (kq > 0 && mu - n0 <= 1) {
     lambda = w.sa[kq - 1] * w.sa[kq - 1] * 1e-6;
     gcv = gcv_eval(&g, lambda);
-    info->flags |= VR_RECOVER_FLAG_GCV_FLAT;
+    res->flat = 1;
   } else if (kq > 0) {
     lambda = gcv_minimise(&g, &gcv);
   } else {
@@ -254,8 +243,11 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
      * bounds bite.  Keep it as small relative to the data as in the flat
      * case. */
     lambda = 1e-6 * scale2;
-    info->flags |= VR_RECOVER_FLAG_GCV_FLAT;
+    res->flat = 1;
   }
+  /* Effective degrees of freedom: trace H = n0 + sum f_i. */
+  double dof = (double)n0;
+  for (size_t a = 0; a < kq; a++) dof += w.sa[a] * w.sa[a] / (w.sa[a] * w.sa[a] + lambda);
   /* y = sum f_i beta_i / s_i v_i, r = L^+ y + N_L T^+ (c' - E y). */
   memset(w.y, 0, p * sizeof(double));
   for (size_t a = 0; a < kq; a++) {
@@ -264,11 +256,11 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
   }
   for (size_t j = 0; j < n; j++) {
     double v = 0.0;
-    for (size_t col = 0; col < p; col++) v += s->lpinv[j * p + col] * w.y[col];
+    for (size_t col = 0; col < p; col++) v += q->lpinv[j * p + col] * w.y[col];
     r[j] = v;
   }
   for (size_t i = 0; i < mu; i++) {
-    double v = w.cu[i];
+    double v = cu[i];
     for (size_t col = 0; col < p; col++) v -= w.e[i * p + col] * w.y[col];
     w.z[i] = v;
   }
@@ -279,10 +271,43 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
     v /= w.st[a];
     for (size_t col = 0; col < 2; col++) zt[col] += w.vtt[a * 2 + col] * v;
   }
-  for (size_t j = 0; j < n; j++) r[j] += s->nl[j * 2] * zt[0] + s->nl[j * 2 + 1] * zt[1];
-  *lambda_out = lambda;
-  info->gcv = gcv;
+  for (size_t j = 0; j < n; j++) r[j] += q->nl[j * 2] * zt[0] + q->nl[j * 2 + 1] * zt[1];
+  res->lambda = lambda;
+  res->gcv = gcv;
+  res->dof = dof;
   reg_free(&w);
+  return VR_OK;
+}
+
+/* The unconstrained regularised solution on the mu unclipped rows. */
+static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
+                                 const unsigned char *clipped, size_t mu, double *r,
+                                 double *lambda_out, vr_recover_info *info, vr_error *err) {
+  size_t n = s->n, m = s->m;
+  double *au = malloc(mu * n * sizeof *au), *cu = malloc(mu * sizeof *cu);
+  if (!au || !cu) {
+    free(au);
+    free(cu);
+    return vr_error_set(err, VR_E_NOMEM, "regularised recovery: out of memory");
+  }
+  size_t k = 0;
+  for (size_t i = 0; i < m; i++) {
+    if (clipped && clipped[i] != VR_CLIP_NONE) continue;
+    double wt = noise_weight(s->opt.noise, c[i]);
+    for (size_t j = 0; j < n; j++) au[k * n + j] = wt * s->a[i * n + j];
+    cu[k++] = wt * c[i];
+  }
+  vr_gcv_problem q = {.m = mu, .n = n, .a = au, .c = cu, .lpinv = s->lpinv, .nl = s->nl,
+                      .rank_tol = s->opt.rank_tol, .rho = s->opt.gcv_rho,
+                      .lambda = s->opt.lambda, .what = "regularised recovery"};
+  vr_gcv_result res;
+  vr_status st = vr_recover_gcv_solve(&q, r, &res, err);
+  free(au);
+  free(cu);
+  if (st != VR_OK) return st;
+  if (res.flat) info->flags |= VR_RECOVER_FLAG_GCV_FLAT;
+  *lambda_out = res.lambda;
+  info->gcv = res.gcv;
   return VR_OK;
 }
 

@@ -57,4 +57,8 @@ double rg_delta_e(const rg_run *run, size_t light, const double a[3], const doub
 /* vr-rgb2spec simulate (rgb2spec_simulate.c). */
 int rg_cmd_simulate(vr_args *a);
 
+/* vr-rgb2spec calibrate (rgb2spec_calibrate.c): parses its own options;
+ * argv[0] is "calibrate". */
+int rg_cmd_calibrate(int argc, char **argv);
+
 #endif

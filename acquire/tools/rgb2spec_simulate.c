@@ -1,7 +1,8 @@
 /* vr-rgb2spec simulate: the photos a manifest describes, rendered from the
  * regions' reference spectra through the manifest's camera and lights, with
  * Gaussian noise on the linear values, then encoded and quantised as the
- * photo's file says (8-bit sRGB PNG by default).  Used to make
+ * photo's file says (8-bit sRGB PNG by default; a calibrated db: camera's
+ * own tone curves, vr_capture_encode).  Used to make
  * samples/photos and the tests' captures. */
 #include "rgb2spec.h"
 
@@ -123,7 +124,7 @@ int rg_cmd_simulate(vr_args *a) {
     for (size_t k = 0; k < (size_t)W * H * 3; k++) {
       double v = img.data[k] + (sigma > 0 ? gsl_ran_gaussian(rng, sigma) : 0);
       v = fmin(fmax(v, 0), 1);
-      img.data[k] = (float)(srgb ? vr_srgb_encode(v) : v);
+      img.data[k] = (float)vr_capture_encode(cap, p, (int)(k % 3), v, srgb);
     }
     if (vr_image_write(p->path, &img, 8, &err)) goto out;
     fprintf(stderr, "vr-rgb2spec: wrote %s (%s)\n", p->path, p->light_name);

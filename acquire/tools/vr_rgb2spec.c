@@ -30,7 +30,8 @@ static const vr_option OPTIONS[] = {
 static const char USAGE[] =
     "PHOTOS... [--manifest FILE] [--method matrix-r|bounded|regularised] [--save-prefix P]\n"
     "                  [--db FILE] [--report FILE.html] [--json]\n"
-    "       vr-rgb2spec simulate --manifest FILE [--noise SIGMA] [--seed N] [--size WxH]";
+    "       vr-rgb2spec simulate --manifest FILE [--noise SIGMA] [--seed N] [--size WxH]\n"
+    "       vr-rgb2spec calibrate PHOTO --light NAME|FILE [options] (see calibrate --help)";
 static const char ABOUT[] =
     "Recovers reflectance spectra of the regions named in a capture manifest from photos\n"
     "taken under several known lights (docs/vr-rgb2spec.md).  matrix-r: the fundamental\n"
@@ -137,8 +138,8 @@ static vr_status measure(rg_run *run, size_t l, const vr_image *img, double corn
     }
     memcpy(g->encoded[l], rgb, sizeof rgb);
     clip_marks(rgb, sd, clipped, p->clip, &g->clipped[3 * l]);
-    bool enc = srgb_encoded(p, img);
-    for (int ch = 0; ch < 3; ch++) g->c[3 * l + ch] = enc ? vr_srgb_decode(rgb[ch]) : rgb[ch];
+    for (int ch = 0; ch < 3; ch++)
+      g->c[3 * l + ch] = vr_capture_decode(run->cap, p, ch, rgb[ch], srgb_encoded(p, img));
   }
   vr_label_means_free(&labels);
   return st;
@@ -323,6 +324,7 @@ out:
 }
 
 int main(int argc, char **argv) {
+  if (argc > 1 && !strcmp(argv[1], "calibrate")) return rg_cmd_calibrate(argc - 1, argv + 1);
   vr_args a;
   vr_args_outcome o = vr_args_parse(&a, "vr-rgb2spec", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
   if (o == VR_ARGS_EXIT_OK) return 0;

@@ -2,7 +2,9 @@
 # Command-line tests of vr-rgb2spec: a simulated capture of the ColorChecker
 # under four lights recovered by the three methods, the JSON shape, report,
 # saving, and bad captures (a photo missing from the manifest, an unknown
-# light, photos of different sizes, an unreadable photo).
+# light, photos of different sizes, an unreadable photo); camera calibration
+# from a simulated chart photo, saved and reused as "camera db:", and bad
+# calibrations.
 set -u
 bin="$VR_BIN/vr-rgb2spec"
 matdb="$VR_BIN/../matdb/vr-matdb"
@@ -90,5 +92,101 @@ echo "not a png" > "$tmp/cap/led.png"
 check "an unreadable photo names the file" test $rc -eq 1 -a -n "$(grep 'led.png' "$tmp/err")"
 "$bin" "$tmp/cap/d65.png" --method best 2> /dev/null > /dev/null; rc=$?
 check "unknown method" test $rc -eq 1
+
+# Camera calibration.  A real camera (the Nikon D5100 measured by Darrodi et
+# al., JOSA A 2015) photographs the chart under D65 and A; calibrate from the
+# D65 photo, save, and recover with "camera db:" as well as with the true
+# curves.
+mkdir -p "$tmp/cal"
+cat > "$tmp/cal/manifest.txt" <<MANIFEST
+camera file:$src/tests/data/camera_nikon_d5100_darrodi2015.csv
+photo d65.png light=D65 scale=0.9
+photo a.png light=A scale=0.5
+chart grid=20,20,410,278
+region brick rect=440,30,80,60 reference=file:$src/samples/photos/materials/brick_red.csv
+MANIFEST
+"$bin" simulate --manifest "$tmp/cal/manifest.txt" --seed 5 2> /dev/null
+"$bin" calibrate "$tmp/cal/d65.png" --light D65 --save nikon-cal --json > "$tmp/cal.json" 2> "$tmp/cal.err"; rc=$?
+check "calibrate finds the chart, fits and saves" test $rc -eq 0 -a -n "$(grep 'saved camera nikon-cal' "$tmp/cal.err")"
+python3 - "$tmp/cal.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["saved"] == "nikon-cal" and d["used_patches"] == 24 and d["clipped_patches"] == 0
+ch = d["channels"]
+assert [c["tone"] for c in ch] == ["srgb"] * 3, [c["tone"] for c in ch]
+# Darrodi et al.: peaks at 595, 530 and 460 nm; the 10 nm estimate within 20 nm.
+for c, peak in zip(ch, (595, 530, 460)):
+    assert abs(c["peak_nm"] - peak) <= 20, (c["channel"], c["peak_nm"])
+    assert c["lambda"] > 0 and 2 < c["dof"] < 24 and c["rms"] < 0.003
+s = d["sensitivities"]
+assert len(s) == 31 and s[0][0] == 400 and s[-1][0] == 700
+assert max(x[2] for x in s) == 1.0 and min(min(x[1:]) for x in s) >= 0
+PY
+check "calibration: sRGB curves, peaks within 20 nm, green peak 1" test $? -eq 0
+"$matdb" show nikon-cal > "$tmp/show"
+check "saved camera carries its linearisation and provenance" \
+  test -n "$(grep 'linearisation_g *srgb' "$tmp/show")" -a -n "$(grep 'vr-rgb2spec calibrate' "$tmp/show")"
+"$bin" calibrate "$tmp/cal/d65.png" --light "$src/core/data/cie_d65.csv" --chart grid=20,20,410,278 > "$tmp/cal.txt"; rc=$?
+check "calibrate with an SPD file and a placed chart; text table" \
+  test $rc -eq 0 -a -n "$(grep '^green  *srgb' "$tmp/cal.txt")" -a "$(grep -c '^ *[4-7][0-9]0 ' "$tmp/cal.txt")" -eq 31
+sed 's#^camera .*#camera db:nikon-cal#' "$tmp/cal/manifest.txt" > "$tmp/cal/db.txt"
+"$bin" --manifest "$tmp/cal/manifest.txt" --json > "$tmp/true.json" && "$bin" --manifest "$tmp/cal/db.txt" --json > "$tmp/db.json"; rc=$?
+python3 - "$tmp/true.json" "$tmp/db.json" <<'PY'
+import json, sys
+rm = [json.load(open(f))["regions"] for f in sys.argv[1:]]
+m = [sum(x["spectral_rmse"] for x in r) / len(r) for r in rm]
+# The calibrated camera recovers the spectra as well as the true one.
+assert abs(m[1] - m[0]) < 0.005, m
+PY
+check "recovery with camera db:NAME matches the true camera" test $rc -eq 0 -a $? -eq 0
+
+# A stored power-law curve is used both ways: simulate encodes with it, the
+# recovery decodes with it, and calibrate finds it again.
+"$bin" calibrate "$tmp/cal/d65.png" --light D65 --chart grid=20,20,410,278 --tone gamma=2.2 \
+  --save gamma-cam > /dev/null 2>&1
+mkdir -p "$tmp/gam"
+sed 's#^camera .*#camera db:gamma-cam#' "$tmp/cal/manifest.txt" > "$tmp/gam/manifest.txt"
+"$bin" simulate --manifest "$tmp/gam/manifest.txt" --seed 6 2> /dev/null
+"$bin" calibrate "$tmp/gam/d65.png" --light D65 --chart grid=20,20,410,278 --json > "$tmp/gam.json"; rc=$?
+python3 - "$tmp/gam.json" <<'PY'
+import json, sys
+for c in json.load(open(sys.argv[1]))["channels"]:
+    assert c["tone"].startswith("gamma "), c["tone"]
+    assert abs(float(c["tone"].split()[1]) - 2.2) < 0.05, c["tone"]
+PY
+check "a gamma-2.2 camera's photos: calibrate finds gamma 2.2 within 0.05" test $rc -eq 0 -a $? -eq 0
+"$bin" --manifest "$tmp/gam/manifest.txt" --json > "$tmp/gamrec.json"
+python3 - "$tmp/true.json" "$tmp/gamrec.json" <<'PY'
+import json, sys
+rm = [json.load(open(f))["regions"] for f in sys.argv[1:]]
+m = [sum(x["spectral_rmse"] for x in r) / len(r) for r in rm]
+de = [sum(x["deltaE00_mean"] for x in r) / len(r) for r in rm]
+assert abs(m[1] - m[0]) < 0.01, m
+# Round-trip CIEDE2000 is what the decoding shows in: measured 0.74 for the
+# sRGB photos, 0.78 for the gamma photos decoded with the stored curve, and
+# 1.30 when they are (wrongly) decoded as sRGB.
+assert abs(de[1] - de[0]) < 0.2, de
+PY
+check "the recovery decodes with the stored gamma" test $? -eq 0
+
+# Bad calibrations: a clear error naming the file, exit 1, no database row.
+echo "not a png" > "$tmp/cal/broken.png"
+"$bin" calibrate "$tmp/cal/broken.png" --light D65 --save bad-1 2> "$tmp/err" > /dev/null; rc=$?
+check "calibrate: an unreadable photo is named" test $rc -eq 1 -a -n "$(grep 'broken.png' "$tmp/err")"
+"$bin" calibrate "$tmp/cal/d65.png" --light D99X --save bad-2 2> "$tmp/err" > /dev/null; rc=$?
+check "calibrate: an unknown light is named" test $rc -eq 1 -a -n "$(grep 'light D99X' "$tmp/err")"
+mkdir -p "$tmp/nochart"
+printf 'photo blank.png light=D65\nregion brick rect=40,30,80,60 reference=file:%s\n' \
+  "$src/samples/photos/materials/brick_red.csv" > "$tmp/nochart/manifest.txt"
+"$bin" simulate --manifest "$tmp/nochart/manifest.txt" 2> /dev/null
+"$bin" calibrate "$tmp/nochart/blank.png" --light D65 --save bad-3 2> "$tmp/err" > /dev/null; rc=$?
+check "calibrate: no chart in the photo" test $rc -eq 1 -a -n "$(grep 'blank.png: no ColorChecker' "$tmp/err")"
+"$bin" calibrate "$tmp/cal/d65.png" --light D65 --chart grid=5,5 --save bad-4 2> "$tmp/err" > /dev/null; rc=$?
+check "calibrate: a malformed chart grid" test $rc -eq 1 -a -n "$(grep -- '--chart' "$tmp/err")"
+for n in 1 2 3 4; do "$matdb" show "bad-$n" > /dev/null 2>&1 && echo "bad-$n was saved"; done > "$tmp/rows"
+check "calibrate: no database row after a failure" test ! -s "$tmp/rows"
+"$bin" calibrate "$tmp/cal/d65.png" 2> /dev/null; rc=$?
+check "calibrate: --light is required" test $rc -eq 2
+"$bin" --help | grep -q "vr-rgb2spec calibrate PHOTO"; check "--help names calibrate" test $? -eq 0
 
 finish

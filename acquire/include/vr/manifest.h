@@ -22,13 +22,18 @@
  * values at or above it (before decoding) count as clipped (default 0.999).
  * REF: db:NAME or file:PATH, a reference reflectance for the report.
  * Camera file:PATH is a CSV with columns r, g, b (spectral sensitivities);
- * db:NAME a camera material (roles r, g, b).  Paths are relative to the
- * manifest.  Errors are "manifest:line:col: message". */
+ * db:NAME a camera material (roles r, g, b).  A camera material made by
+ * vr-rgb2spec calibrate also carries its tone curves (properties
+ * linearisation_r/_g/_b, vr/calibrate.h): photos without encoding= whose
+ * values would be taken as sRGB (integer files) are then decoded with those
+ * curves instead (vr_capture_decode).  Paths are relative to the manifest.
+ * Errors are "manifest:line:col: message". */
 #ifndef VR_MANIFEST_H
 #define VR_MANIFEST_H
 
 #include <stdbool.h>
 #include <stddef.h>
+#include "vr/calibrate.h"
 #include "vr/error.h"
 #include "vr/spectrum.h"
 
@@ -68,6 +73,9 @@ typedef struct vr_capture {
   vr_capture_camera camera;
   char *camera_name;
   vr_spectrum *sens[3]; /* r, g, b sensitivities for VR_CAPTURE_CAMERA_MEASURED */
+  bool has_tone;        /* a db: camera with stored tone curves */
+  vr_tone tone[3];      /* ... per channel, with their exponents */
+  double gamma[3];
   double grid[3];       /* from, to, step */
   size_t nphotos;
   vr_capture_photo *photos;
@@ -81,6 +89,23 @@ vr_status vr_capture_read(const char *path, vr_matdb *db, vr_capture **out, vr_e
 vr_status vr_capture_parse(const char *text, size_t len, const char *path, vr_matdb *db,
                            vr_capture **out, vr_error *err);
 void vr_capture_destroy(vr_capture *c);
+
+/* A spectrum named as the manifest names lights and references: db:NAME
+ * (the material's `role` spectrum, else its "value"), file:PATH (the first
+ * spectrum column of a CSV, PATH relative to dir unless absolute) or, when
+ * allow_cie, a CIE illuminant known to the core.  db may be NULL (then db:
+ * is an error).  Messages carry no file:line prefix. */
+vr_status vr_capture_spectrum(const char *ref, const char *dir, vr_matdb *db, const char *role,
+                              bool allow_cie, vr_spectrum **out, vr_error *err);
+
+/* The linear value of encoded v (channel 0-2) of photo p: the camera's
+ * stored tone curve when it has one, the photo has no encoding= and srgb
+ * (the default by file type) is true; otherwise the sRGB decoding when srgb,
+ * else v itself.  vr_capture_encode is its inverse (for simulated photos). */
+double vr_capture_decode(const vr_capture *c, const vr_capture_photo *p, int channel, double v,
+                         bool srgb);
+double vr_capture_encode(const vr_capture *c, const vr_capture_photo *p, int channel,
+                         double linear, bool srgb);
 
 /* The photo entry whose file name (or resolved path) matches, or NULL. */
 const vr_capture_photo *vr_capture_find_photo(const vr_capture *c, const char *path);

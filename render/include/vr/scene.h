@@ -43,10 +43,12 @@ typedef enum vr_camera_model { VR_CAM_PINHOLE = 0, VR_CAM_THINLENS } vr_camera_m
 
 typedef struct vr_scene_camera {
   vr_camera_model model;
-  double from[3], to[3], up[3]; /* defaults: (0,0,0) looking at (0,1,0), up (0,0,1) */
+  double from[3], to[3], up[3]; /* from= and to= are required in a camera line; these
+                                   defaults (0,0,0) looking at (0,1,0) only fill a
+                                   sensor-only scene.  up: unit, default (0,0,1) */
   double fov_deg;               /* horizontal field of view, default 60 */
   int width, height;            /* default 320 x 240 */
-  double aperture_m;            /* thin lens: lens radius, metres */
+  double aperture_m;            /* thin lens: lens radius, metres, default 0 (a pinhole) */
   double focus_m;               /* thin lens: focus distance, default |to - from| */
   double exposure_ev;           /* multiplies the image by 2^exposure_ev, default 0 */
   bool given;
@@ -68,7 +70,7 @@ typedef struct vr_scene_material {
   char *name;            /* scene alias */
   vr_mat_source source;
   char *db_name;         /* VR_MATSRC_DB: the database name (after "db:") */
-  double reflectance;    /* VR_MATSRC_LAMBERT_CONST: in [0,1] */
+  double reflectance;    /* VR_MATSRC_LAMBERT_CONST: in [0,1]; 0 for the others */
   double roughness;      /* GGX alpha; NAN when not given (smooth) */
   double thickness_m;    /* pane thickness; NAN when not given */
   vr_pane_model pane;
@@ -114,7 +116,9 @@ typedef struct vr_scene_object {
   char *name;             /* optional name=..., else NULL */
   vr_shape_kind shape;
   double center[3], radius;       /* sphere; rect center */
-  double normal[3], up[3];        /* rect: its normal and in-plane up hint */
+  double normal[3], up[3];        /* rect: unit normal; unit up, the hint made perpendicular
+                                     to the normal (the v axis); default hint +z, or +y
+                                     when the normal is within ~2.6 deg of vertical */
   double size[2];                 /* rect: width, height */
   double bmin[3], bmax[3];        /* box */
   char *mesh_path;                /* mesh: resolved against the scene file's folder */
@@ -142,15 +146,18 @@ typedef struct vr_scene_light {
   vr_light_kind kind;
   double position[3];      /* point, spot */
   double direction[3];     /* spot: axis; sun: direction FROM the scene TO the sun (unit) */
-  double normal[3];        /* Lambertian point light: axis of the cosine lobe */
+  double normal[3];        /* point light: axis of the Lambertian cosine lobe or of the
+                              goniometric file's photometric axis; unit, default (0,0,-1) */
   vr_distribution distribution;
   char *ies_path;          /* goniometric: resolved against the scene's folder */
   double cone_deg;         /* spot: full-power half angle */
   double falloff_deg;      /* spot: extra half angle over which it falls to 0 */
   vr_quantity amount;      /* point/spot: W, lm, cd or W/sr (cd = I0, on-axis for
-                              Lambertian); sun: lx or W/m2 normal to the beam */
+                              Lambertian); sun: lx or W/m2 normal to the beam.
+                              Goniometric without intensity=: {0, VR_UNIT_NONE},
+                              the IES file's own candelas */
   vr_spectrum_ref spectrum;/* default: D65 for lamps, ASTM-G173-AM1.5D for the sun */
-  double sun_radius_deg;   /* apparent radius, default 0.2665 */
+  double sun_radius_deg;   /* apparent radius, default 0.2665; 0 is a parallel beam */
   vr_scene_loc loc;
 } vr_scene_light;
 
@@ -210,7 +217,7 @@ typedef struct vr_scene_settings {
 } vr_scene_settings;
 
 typedef struct vr_scene {
-  char *path, *dir;           /* the file and its folder */
+  char *path, *dir;           /* the file and its folder ("." when the name has none) */
   vr_scene_camera camera;
   size_t nmaterials;
   vr_scene_material *materials;
@@ -225,7 +232,12 @@ typedef struct vr_scene {
 } vr_scene;
 
 /* Parses a scene from text (name is used in messages and to resolve
- * relative paths).  Errors are VR_E_PARSE "name:line:col: message". */
+ * relative paths; text may hold any bytes, CRLF line ends, no final
+ * newline).  Errors are VR_E_PARSE "name:line:col: message", the column
+ * that of the word at fault; a scene with neither a camera nor a sensor is
+ * refused without a line ("name: no camera and no sensor: ...").  Every
+ * object's material index is resolved (materials may come in any order);
+ * the sky's sun_direction is the sun light's wherever it is written. */
 vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scene **out,
                          vr_error *err);
 vr_status vr_scene_read(const char *path, vr_scene **out, vr_error *err);

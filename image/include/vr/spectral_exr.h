@@ -1,0 +1,102 @@
+/* Spectral images as OpenEXR files in the layout of Fichet, Pacanowski and
+ * Wilkie, "An OpenEXR Layout for Spectral Images", JCGT 10(3), 2021, as their
+ * reference code (github.com/afichet/spectral-exr) writes and reads it: one
+ * float channel per wavelength, named S0.<λ>nm for emitted radiance (the
+ * Stokes S0 component) or T.<λ>nm for reflectance / transmittance, the
+ * wavelength with a decimal comma ("S0.550,000000nm"), optional R, G, B
+ * channels beside them for ordinary viewers, and the string attributes
+ * spectralLayoutVersion ("1.0") and emissiveUnits.  The film of vr-render
+ * and any measured spectral picture go through here.
+ *
+ * Polarisation (S1..S3) and bi-spectral re-radiation (T.<λ>nm.<λ'>nm)
+ * channels of the layout are not represented: the reader checks their names
+ * and skips them, the writer never makes them.
+ *
+ * Every function is thread-safe on distinct images; there is no global
+ * state. */
+#ifndef VR_SPECTRAL_EXR_H
+#define VR_SPECTRAL_EXR_H
+
+#include <stddef.h>
+
+#include "vr/error.h"
+#include "vr/image.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+  VR_SPECTRAL_EMISSIVE,  /* channels S0.<λ>nm: radiance-like quantities */
+  VR_SPECTRAL_REFLECTIVE /* channels T.<λ>nm: reflectance or transmittance */
+} vr_spectral_kind;
+
+typedef struct vr_spectral_image {
+  int width, height;
+  size_t nbands;
+  double *wavelengths_nm; /* nbands, strictly increasing */
+  float *data;            /* pixel (x,y) band b at data[(y*width + x)*nbands + b] */
+  vr_spectral_kind kind;
+} vr_spectral_image;
+
+/* Allocates a w x h image of nbands bands set to zero, copying the
+ * wavelengths (finite, > 0, strictly increasing).  VR_E_ARG naming the
+ * parameter at fault; VR_E_NOMEM when it does not fit in memory. */
+vr_status vr_spectral_image_alloc(vr_spectral_image *img, int w, int h, size_t nbands,
+                                  const double *wavelengths_nm, vr_spectral_kind kind,
+                                  vr_error *err);
+/* Frees the arrays and zeroes the struct; safe on a zeroed or freed image. */
+void vr_spectral_image_free(vr_spectral_image *img);
+
+/* Writes img as a scanline OpenEXR of 32-bit float channels, ZIP compressed
+ * (lossless), data window (0,0)-(w-1,h-1).  Channel names carry the
+ * wavelength in nanometres with 6 decimals: a wavelength is stored to
+ * 1e-6 nm, and two wavelengths that would share a name are VR_E_ARG.
+ * Wavelengths must lie in (0, 1e9] nm.
+ *
+ * rgb, when not NULL, must have img's size and adds R, G, B channels (a
+ * preview for viewers that know no spectra; the caller computes it).
+ * emissive_units (for example "W.m^-2.sr^-1.nm^-1") goes into the
+ * emissiveUnits attribute; NULL writes none.  It is VR_E_ARG on a
+ * reflective image, where the layout gives it no meaning.
+ *
+ * A NaN or -infinity in img or rgb is VR_E_RANGE naming the pixel and band
+ * (or channel) and nothing is written; +infinity is kept.  The file appears
+ * whole or not at all (temporary file beside it, then rename). */
+vr_status vr_spectral_exr_write(const char *path, const vr_spectral_image *img,
+                                const vr_image *rgb, const char *emissive_units, vr_error *err);
+
+/* Reads a file in that layout: the first part, scanline storage, half or
+ * float channels in any order; the image is the data window; bands come out
+ * sorted by wavelength.  Channel names are parsed as the reference code's
+ * regular expression allows: S0..S3 or T, a dot, a number with an optional
+ * decimal comma and exponent, an optional SI prefix, and m or Hz (a
+ * frequency is turned into a wavelength in vacuum).  A name that starts
+ * like a spectral channel (S0. to S3. or T. and a digit or comma) but does
+ * not parse is an error; other channels (A, Y, layer.R, ...) are skipped.
+ *
+ * rgb_or_null, when not NULL, receives the R, G, B channels if the file
+ * has all three, and is left zeroed (data NULL) if it has not.
+ *
+ * Errors name the path (and the channel when one is at fault), all
+ * VR_E_PARSE except VR_E_IO (cannot read) and VR_E_NOMEM: not an OpenEXR
+ * file, truncated or corrupt, tiled or deep, no spectral channel, both S0
+ * and T channels (the struct holds one kind), a malformed spectral name,
+ * two channels of the same wavelength, integer or subsampled spectral
+ * channels, a spectralLayoutVersion other than 1.x.  On error *out (and
+ * *rgb_or_null) are zeroed. */
+vr_status vr_spectral_exr_read(const char *path, vr_spectral_image *out, vr_image *rgb_or_null,
+                               vr_error *err);
+
+/* The same from a file already in memory; name stands for the file in
+ * messages (NULL reads "memory").  A header that claims far more pixels
+ * than len bytes can hold (over 4096 times len, beyond any OpenEXR
+ * compression's ratio, and over 64 MiB) is refused before allocating. */
+vr_status vr_spectral_exr_read_memory(const void *buf, size_t len, const char *name,
+                                      vr_spectral_image *out, vr_image *rgb_or_null,
+                                      vr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,77 @@
+/* The files a render leaves behind: what vr-render writes from a
+ * vr_render_result, kept apart from the engine so that it can be tested
+ * (and reused) on a result built by hand.
+ *
+ * vr_film_write(r, "out/room", ...) writes, all or nothing:
+ *   out/room.exr           R, G, B float: linear sRGB (IEC 61966-2-1 primaries,
+ *                          D65 white) of the film's XYZ, unscaled, so that
+ *                          Y = 0.2126 R + 0.7152 G + 0.0722 B is the
+ *                          luminance in cd/m²;
+ *   out/room.spectral.exr  the film bins as S0.<λ>nm channels in the layout of
+ *                          Fichet, Pacanowski and Wilkie (JCGT 2021), spectral
+ *                          radiance in W.m^-2.sr^-1.nm^-1, with the same R, G, B;
+ *   out/room.png           8-bit sRGB for the eye: linear sRGB times
+ *                          2^exposure_ev / 100 (100 cd/m² of the white maps to
+ *                          1 at EV 0), tone mapped, sRGB encoded;
+ *   out/room.sensors.csv   one row per sensor point, when there are readings.
+ * The images are left out when the film is empty (width or height 0: a
+ * sensors-only render), the spectral EXR when the film has no bins.
+ *
+ * All or nothing: every file is written under a staging name beside its
+ * target, and only when all have been written are they renamed into place.
+ * If anything fails, no staging file is left, the files of this call that
+ * were already renamed are removed, and earlier files of the same names that
+ * were not reached keep their old contents.
+ *
+ * Both functions are thread-safe on distinct paths. */
+#ifndef VR_FILM_H
+#define VR_FILM_H
+
+#include "vr/error.h"
+#include "vr/render.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum vr_tonemap {
+  VR_TONEMAP_CLIP = 0, /* channels clamped to [0, 1] */
+  VR_TONEMAP_REINHARD  /* luminance L -> L / (1 + L), chromaticity kept, then clamped */
+} vr_tonemap;
+
+/* "clip" or "reinhard" (case-insensitive); NULL gives clip.  VR_E_ARG
+ * naming the text and the choices otherwise. */
+vr_status vr_tonemap_parse(const char *text, vr_tonemap *out, vr_error *err);
+
+/* The display value (linear, before the sRGB transfer curve, in [0, 1]) of
+ * a film pixel of linear sRGB `rgb` and luminance `Y` (cd/m²) at
+ * exposure_ev.  Shared by the PNG writer and its tests. */
+void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonemap tm,
+                     double out[3]);
+
+/* Writes the files above for prefix (a path without extension; its folder
+ * must exist).  tonemap: "clip", "reinhard" or NULL (clip).  A NaN or
+ * -infinity in the film's XYZ or spectral bins, or in the sensors' values,
+ * is VR_E_RANGE naming the pixel (x, y from the top-left) or the sensor, and
+ * nothing is written.  Errors on files name the path. */
+vr_status vr_film_write(const vr_render_result *r, const char *prefix, const char *tonemap,
+                        vr_error *err);
+
+/* The sensor table alone (what vr_film_write writes as PREFIX.sensors.csv),
+ * atomically: header "sensor,i,j,x,y,z,illuminance_lx,stderr_lx,E_<nm>..."
+ * with one E column per film bin (spectral irradiance in W/(m² nm)). */
+vr_status vr_sensors_write_csv(const vr_render_result *r, const char *path, vr_error *err);
+
+/* Statistics as JSON, atomically (see docs/vr-render.md for the keys):
+ * passes with their decisions and times, ray and photon counts, sensor
+ * readings, the photochromic state range, the peak resident memory of the
+ * process so far (getrusage) and the total time. */
+vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_error *err);
+
+/* Peak resident set size of this process so far, in bytes (0 if unknown). */
+long long vr_peak_rss_bytes(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,94 @@
+/* The domain-decomposed ray flow (DESIGN §6.4): every ray, whatever made it
+ * (camera, photon, shadow, sensor, UV pass), waits in the queue of the
+ * sub-domain that holds it; P worker threads each take the cell with the
+ * most pending rays, trace a batch of its rays inside that cell only, and
+ * either hand a result to the integrator (a hit, an escape, an unoccluded
+ * shadow ray) or pass the ray to the next cell along its path, with every
+ * property unchanged and its parameter interval starting at the interface.
+ *
+ * The integrator is a set of callbacks: it never traces a ray itself, so it
+ * does not know how many cells or threads there are, or in which process a
+ * cell lives.  Work enters as numbered units (a tile of pixels, a batch of
+ * photons) that workers generate when the queues run low, which bounds the
+ * rays held in memory.
+ *
+ * Termination is counted, not guessed: a ray is in flight from its push
+ * until its callback returns (after any rays it spawned were pushed), so
+ * when every unit has been generated and nothing is in flight, the run is
+ * over.  Rays created equals rays finished at the end, and both are in the
+ * statistics.
+ *
+ * Extension points kept in the interface: a cell's queue and its scene are
+ * reached only through the cell index, so loading cells on demand under a
+ * memory budget, or sending a ray to the rank owning its cell, replaces
+ * flow.c's queue push and the domains' scene lookup without touching the
+ * integrators. */
+#ifndef VR_FLOW_H
+#define VR_FLOW_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include "vr/domains.h"
+#include "vr/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VR_RAY_PAYLOAD 232 /* bytes of integrator state carried by each ray */
+
+typedef enum vr_ray_kind {
+  VR_RAY_CLOSEST = 0, /* wants its closest hit (camera, bounce, photon, sensor) */
+  VR_RAY_SHADOW = 1   /* wants to know whether it reaches tmax; may pass thin elements */
+} vr_ray_kind;
+
+typedef struct vr_ray {
+  double org[3], dir[3];
+  double tnear, tmax;      /* tnear moves to the interface on hand-over; tmax stays */
+  int32_t cell;            /* set by the flow */
+  uint8_t kind;            /* vr_ray_kind */
+  uint8_t purpose;         /* integrator's own tag (camera, photon, ...) */
+  uint16_t crossings;      /* interfaces crossed so far */
+  _Alignas(8) unsigned char payload[VR_RAY_PAYLOAD];
+} vr_ray;
+
+typedef struct vr_flow_worker vr_flow_worker;
+
+typedef struct vr_flow_ops {
+  /* A closest-hit ray found hit (or escaped the scene: hit == NULL). */
+  void (*closest)(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit);
+  /* A shadow ray met hit before tmax: return true to go on past it (a thin
+   * element it crosses; the callback may change the payload, e.g. multiply
+   * a transmittance), false if it is blocked. */
+  bool (*shadow_hit)(void *ctx, vr_flow_worker *w, vr_ray *r, const vr_hit *hit);
+  /* A shadow ray ended: reached tmax unblocked (reached) or was blocked. */
+  void (*shadow_done)(void *ctx, vr_flow_worker *w, const vr_ray *r, bool reached);
+  /* Creates the rays of work unit `unit` (0 .. units-1) by vr_flow_push. */
+  void (*generate)(void *ctx, vr_flow_worker *w, long unit);
+} vr_flow_ops;
+
+typedef struct vr_flow_stats {
+  uint64_t created, finished, crossings;
+  uint64_t closest, shadow;           /* rays created of each kind */
+  uint64_t traversals;                /* cell intersection queries */
+  uint64_t by_purpose[8];             /* rays created per purpose tag (0..7) */
+} vr_flow_stats;
+
+/* Runs units 0..units-1 through the cells of d on `threads` worker threads
+ * (>= 1; the calling thread is one of them).  progress, if given, is called
+ * from one thread at a time with the units done so far. */
+vr_status vr_flow_run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
+                      int threads, void (*progress)(void *pctx, long done, long units),
+                      void *pctx, vr_flow_stats *stats, vr_error *err);
+
+/* Queues a new ray (from a callback or generate).  tnear is where it
+ * starts (usually 0, with the origin already offset from any surface). */
+void vr_flow_push(vr_flow_worker *w, const vr_ray *r);
+
+/* Index of the calling worker (0 .. threads-1), for per-thread scratch. */
+int vr_flow_worker_index(const vr_flow_worker *w);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,89 @@
+/* Rendering a parsed scene: what vr-render and the tests call.
+ *
+ * vr_render_scene resolves the scene's materials in the material database,
+ * builds the geometry and the sub-domains, analyses which passes the scene
+ * calls for (printing each decision with its reason through `log`), runs
+ * them through the domain-decomposed ray flow and returns the film, the
+ * sensor readings and the statistics.
+ *
+ * Radiometry: the film holds spectral radiance in W/(m² sr nm), binned as
+ * the scene's `film=` says, and CIE 1931 XYZ with Y in cd/m² (683 lm/W
+ * times the integral against the CMFs).  Sensors hold spectral irradiance
+ * in W/(m² nm) and illuminance in lx. */
+#ifndef VR_RENDER_H
+#define VR_RENDER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include "vr/error.h"
+#include "vr/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vr_matdb vr_matdb;
+
+typedef struct vr_render_options {
+  int subdomains;     /* S >= 1, default 1 */
+  int threads;        /* P >= 1, default 1 */
+  bool image_space;   /* tiles over a replicated scene (one cell) instead of the ray flow */
+  int spp;            /* > 0 overrides the scene's samples per pixel */
+  long photons;       /* > 0 overrides the scene's photon counts */
+  bool no_camera;     /* sensors only */
+  void (*log)(void *user, const char *line); /* decisions and timings; may be NULL */
+  void (*progress)(void *user, const char *pass, long done, long total); /* may be NULL */
+  void *user;
+} vr_render_options;
+
+void vr_render_options_default(vr_render_options *o);
+
+#define VR_MAX_PASSES 16
+
+typedef struct vr_pass_record {
+  char name[32];
+  bool ran;
+  char reason[160];
+  double seconds;
+} vr_pass_record;
+
+typedef struct vr_sensor_reading {
+  const char *sensor;     /* name in the scene */
+  int i, j;               /* grid indices (0,0 for a point) */
+  double position[3];
+  double illuminance_lx;
+  double stderr_lx;       /* standard error of the estimate */
+} vr_sensor_reading;
+
+typedef struct vr_render_result {
+  int width, height;
+  double *xyz;            /* width*height*3, Y in cd/m² */
+  size_t nbins;
+  double *bin_nm;         /* centre wavelength of each film bin */
+  double bin_width_nm;
+  double *spectral;       /* width*height*nbins, W/(m² sr nm) */
+  double exposure_ev;
+  size_t nreadings;
+  vr_sensor_reading *readings;
+  double *sensor_spectral; /* nreadings*nbins, W/(m² nm) */
+  size_t npasses;
+  vr_pass_record passes[VR_MAX_PASSES];
+  uint64_t rays_camera, rays_shadow, rays_photon, rays_other, crossings;
+  uint64_t rays_created, rays_finished;
+  size_t photons_global, photons_caustic, photons_direct;
+  size_t photochromic_texels;
+  double *photochromic_state; /* per texel, in object order then v then u */
+  double photochromic_state_min, photochromic_state_max;
+  size_t degenerate_triangles;
+  double seconds_total;
+} vr_render_result;
+
+vr_status vr_render_scene(const vr_scene *scene, vr_matdb *db, const vr_render_options *opt,
+                          vr_render_result **out, vr_error *err);
+void vr_render_result_destroy(vr_render_result *r);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

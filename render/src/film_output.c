@@ -1,0 +1,406 @@
+/* The files of a render (vr/film.h): RGB and spectral OpenEXR, the PNG for
+ * the eye, the sensor table and the statistics.  Nothing here knows how the
+ * result was computed, so the tests build results by hand.
+ *
+ * All or nothing across files: each output is first written whole (by the
+ * image library's own atomic writers) under a staging name reserved with
+ * mkstemp beside its target, and the staging files are renamed into place
+ * only once every one of them exists.  A failure before that point leaves the
+ * previous outputs untouched; a failed rename (rare: the folder became
+ * unwritable) removes the outputs of this call already renamed. */
+#include "vr/film.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "vr/atomic_file.h"
+#include "vr/colour.h"
+#include "vr/image.h"
+#include "vr/json.h"
+#include "vr/spectral_exr.h"
+#include "vr/version.h"
+
+/* The unit the spectral EXR declares (the layout's own spelling). */
+static const char EMISSIVE_UNITS[] = "W.m^-2.sr^-1.nm^-1";
+
+vr_status vr_tonemap_parse(const char *text, vr_tonemap *out, vr_error *err) {
+  if (!text || !strcasecmp(text, "clip")) *out = VR_TONEMAP_CLIP;
+  else if (!strcasecmp(text, "reinhard")) *out = VR_TONEMAP_REINHARD;
+  else return vr_error_set(err, VR_E_ARG, "tone mapping '%s': expected clip or reinhard", text);
+  return VR_OK;
+}
+
+static double clamp01(double v) { return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0; }
+
+void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonemap tm,
+                     double out[3]) {
+  /* At EV 0, 100 cd/m² (a white wall under a few hundred lux) is display
+   * white: the convention of docs/vr-render.md. */
+  double k = exp2(exposure_ev) / 100.0;
+  double s = k;
+  if (tm == VR_TONEMAP_REINHARD) {
+    double L = Y * k;
+    if (isinf(L) && L > 0) {
+      out[0] = out[1] = out[2] = 1.0;
+      return;
+    }
+    /* Scaling all three channels by L'/L keeps the chromaticity; channels
+     * of saturated colours may still pass 1 and are clamped below. */
+    if (L > 0) s = k / (1.0 + L);
+  }
+  for (int c = 0; c < 3; c++) out[c] = clamp01(rgb[c] * s);
+}
+
+/* ---- checks before anything is written ---- */
+
+static vr_status check_film(const vr_render_result *r, vr_error *err) {
+  static const char XYZ[] = "XYZ";
+  size_t npix = (size_t)r->width * (size_t)r->height;
+  for (size_t p = 0; p < npix; p++)
+    for (int c = 0; c < 3; c++) {
+      double v = r->xyz[3 * p + (size_t)c];
+      if (isnan(v) || (isinf(v) && v < 0))
+        return vr_error_set(err, VR_E_RANGE, "film pixel (%zu, %zu): %c is %s", p % (size_t)r->width,
+                            p / (size_t)r->width, XYZ[c], isnan(v) ? "NaN" : "-infinity");
+    }
+  if (r->spectral)
+    for (size_t p = 0; p < npix; p++)
+      for (size_t b = 0; b < r->nbins; b++) {
+        double v = r->spectral[p * r->nbins + b];
+        if (isnan(v) || (isinf(v) && v < 0))
+          return vr_error_set(err, VR_E_RANGE, "film pixel (%zu, %zu): the %g nm bin is %s",
+                              p % (size_t)r->width, p / (size_t)r->width, r->bin_nm[b],
+                              isnan(v) ? "NaN" : "-infinity");
+      }
+  return VR_OK;
+}
+
+static const char *sensor_name(const vr_sensor_reading *s) { return s->sensor ? s->sensor : ""; }
+
+static vr_status check_sensors(const vr_render_result *r, vr_error *err) {
+  for (size_t k = 0; k < r->nreadings; k++) {
+    const vr_sensor_reading *s = &r->readings[k];
+    const char *bad = isnan(s->illuminance_lx) ? "illuminance" : isnan(s->stderr_lx) ? "standard error" : NULL;
+    for (size_t b = 0; !bad && r->sensor_spectral && b < r->nbins; b++)
+      if (isnan(r->sensor_spectral[k * r->nbins + b])) bad = "spectral irradiance";
+    if (bad)
+      return vr_error_set(err, VR_E_RANGE, "sensor %s (%d, %d): the %s is NaN", sensor_name(s), s->i,
+                          s->j, bad);
+  }
+  return VR_OK;
+}
+
+static vr_status check_result(const vr_render_result *r, vr_error *err) {
+  if (!r) return vr_error_set(err, VR_E_ARG, "film: no render result");
+  if (r->width < 0 || r->height < 0 || (r->width > 0 && r->height > 0 && !r->xyz))
+    return vr_error_set(err, VR_E_ARG, "film: a %dx%d film without pixels", r->width, r->height);
+  if (r->nbins && !r->bin_nm && (r->spectral || r->sensor_spectral))
+    return vr_error_set(err, VR_E_ARG, "film: %zu bins without their wavelengths", r->nbins);
+  if (r->nreadings && !r->readings)
+    return vr_error_set(err, VR_E_ARG, "film: %zu sensor readings missing", r->nreadings);
+  return VR_OK;
+}
+
+/* ---- the sensor table ---- */
+
+/* RFC 4180: a field with a comma, quote or line break goes in quotes. */
+static void csv_field(FILE *f, const char *s) {
+  if (!strpbrk(s, ",\"\r\n")) {
+    fputs(s, f);
+    return;
+  }
+  fputc('"', f);
+  for (; *s; s++) {
+    if (*s == '"') fputc('"', f);
+    fputc(*s, f);
+  }
+  fputc('"', f);
+}
+
+static vr_status write_csv_to(const vr_render_result *r, const char *path, vr_error *err) {
+  vr_atomic_file af;
+  vr_status st = vr_atomic_file_open(&af, path, err);
+  if (st) return st;
+  FILE *f = af.fp;
+  bool spectral = r->sensor_spectral && r->nbins;
+  fputs("sensor,i,j,x,y,z,illuminance_lx,stderr_lx", f);
+  for (size_t b = 0; spectral && b < r->nbins; b++) fprintf(f, ",E_%g", r->bin_nm[b]);
+  fputc('\n', f);
+  for (size_t k = 0; k < r->nreadings; k++) {
+    const vr_sensor_reading *s = &r->readings[k];
+    csv_field(f, sensor_name(s));
+    fprintf(f, ",%d,%d,%.9g,%.9g,%.9g,%.9g,%.9g", s->i, s->j, s->position[0], s->position[1],
+            s->position[2], s->illuminance_lx, s->stderr_lx);
+    for (size_t b = 0; spectral && b < r->nbins; b++)
+      fprintf(f, ",%.9g", r->sensor_spectral[k * r->nbins + b]);
+    fputc('\n', f);
+  }
+  return vr_atomic_file_commit(&af, err);
+}
+
+vr_status vr_sensors_write_csv(const vr_render_result *r, const char *path, vr_error *err) {
+  vr_status st = check_result(r, err);
+  if (!st) st = check_sensors(r, err);
+  if (!st) st = write_csv_to(r, path, err);
+  return st;
+}
+
+/* ---- staging ---- */
+
+#define MAX_OUTPUTS 4
+
+typedef struct staged {
+  char *target, *stage;
+  bool renamed;
+} staged;
+
+typedef struct stage_set {
+  staged f[MAX_OUTPUTS];
+  int n;
+} stage_set;
+
+/* Reserves a staging name beside prefix+suffix. */
+static vr_status stage_add(stage_set *s, const char *prefix, const char *suffix, staged **out,
+                           vr_error *err) {
+  size_t n = strlen(prefix) + strlen(suffix);
+  staged *g = &s->f[s->n];
+  g->target = malloc(n + 1);
+  g->stage = malloc(n + 16);
+  if (!g->target || !g->stage) {
+    free(g->target), free(g->stage);
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  }
+  snprintf(g->target, n + 1, "%s%s", prefix, suffix);
+  snprintf(g->stage, n + 16, "%s.stage-XXXXXX", g->target);
+  int fd = mkstemp(g->stage);
+  if (fd < 0) {
+    vr_status st = vr_error_set(err, VR_E_IO, "%s: cannot create a file beside it: %s", g->target,
+                                strerror(errno));
+    free(g->target), free(g->stage);
+    return st;
+  }
+  close(fd);
+  g->renamed = false;
+  s->n++;
+  *out = g;
+  return VR_OK;
+}
+
+/* Gives up: no staging file stays, and outputs of this call already in
+ * place are removed. */
+static void stage_abort(stage_set *s) {
+  for (int i = 0; i < s->n; i++) {
+    unlink(s->f[i].renamed ? s->f[i].target : s->f[i].stage);
+    free(s->f[i].target), free(s->f[i].stage);
+  }
+  s->n = 0;
+}
+
+static vr_status stage_commit(stage_set *s, vr_error *err) {
+  for (int i = 0; i < s->n; i++) {
+    if (rename(s->f[i].stage, s->f[i].target) != 0) {
+      vr_status st = vr_error_set(err, VR_E_IO, "%s: cannot move into place: %s", s->f[i].target,
+                                  strerror(errno));
+      stage_abort(s);
+      return st;
+    }
+    s->f[i].renamed = true;
+  }
+  for (int i = 0; i < s->n; i++) free(s->f[i].target), free(s->f[i].stage);
+  s->n = 0;
+  return VR_OK;
+}
+
+/* An error from a writer names the staging file: name the target instead. */
+static void rename_in_message(vr_error *err, const staged *g) {
+  if (!err) return;
+  char *at = strstr(err->message, g->stage);
+  if (!at) return;
+  char buf[VR_ERROR_MESSAGE_MAX];
+  snprintf(buf, sizeof buf, "%.*s%s%s", (int)(at - err->message), err->message, g->target,
+           at + strlen(g->stage));
+  strcpy(err->message, buf);
+}
+
+/* ---- the images ---- */
+
+static vr_status make_images(const vr_render_result *r, vr_tonemap tm, vr_image *rgb,
+                             vr_image *png, vr_error *err) {
+  vr_status st = vr_image_alloc(rgb, r->width, r->height, err);
+  if (!st) st = vr_image_alloc(png, r->width, r->height, err);
+  if (st) return st;
+  size_t npix = (size_t)r->width * (size_t)r->height;
+  for (size_t p = 0; p < npix; p++) {
+    const double *xyz = &r->xyz[3 * p];
+    double lin[3], disp[3];
+    vr_xyz_to_srgb_linear(xyz, lin);
+    vr_film_display(lin, xyz[1], r->exposure_ev, tm, disp);
+    for (int c = 0; c < 3; c++) {
+      rgb->data[3 * p + (size_t)c] = (float)lin[c];
+      png->data[3 * p + (size_t)c] = (float)vr_srgb_encode(disp[c]);
+    }
+  }
+  return VR_OK;
+}
+
+static vr_status make_spectral(const vr_render_result *r, vr_spectral_image *sp, vr_error *err) {
+  vr_status st = vr_spectral_image_alloc(sp, r->width, r->height, r->nbins, r->bin_nm,
+                                         VR_SPECTRAL_EMISSIVE, err);
+  if (st) {
+    vr_error_prefix(err, "film bins: ");
+    return st;
+  }
+  size_t n = (size_t)r->width * (size_t)r->height * r->nbins;
+  for (size_t i = 0; i < n; i++) sp->data[i] = (float)r->spectral[i];
+  return VR_OK;
+}
+
+vr_status vr_film_write(const vr_render_result *r, const char *prefix, const char *tonemap,
+                        vr_error *err) {
+  vr_tonemap tm;
+  vr_status st = vr_tonemap_parse(tonemap, &tm, err);
+  if (st) return st;
+  if (!prefix || !*prefix) return vr_error_set(err, VR_E_ARG, "film: no output prefix");
+  if ((st = check_result(r, err)) || (st = check_sensors(r, err))) return st;
+  bool image = r->width > 0 && r->height > 0;
+  bool spectral = image && r->nbins > 0 && r->spectral;
+  if (image && (st = check_film(r, err))) return st;
+
+  vr_image rgb = {0}, png = {0};
+  vr_spectral_image sp = {0};
+  stage_set set = {.n = 0};
+  staged *g;
+  if (image) {
+    if ((st = make_images(r, tm, &rgb, &png, err))) goto out;
+    if ((st = stage_add(&set, prefix, ".exr", &g, err))) goto out;
+    if ((st = vr_image_write_exr(g->stage, &rgb, err))) goto fail;
+    if (spectral) {
+      if ((st = make_spectral(r, &sp, err))) goto out;
+      if ((st = stage_add(&set, prefix, ".spectral.exr", &g, err))) goto out;
+      if ((st = vr_spectral_exr_write(g->stage, &sp, &rgb, EMISSIVE_UNITS, err))) goto fail;
+    }
+    if ((st = stage_add(&set, prefix, ".png", &g, err))) goto out;
+    if ((st = vr_image_write_png(g->stage, &png, 8, err))) goto fail;
+  }
+  if (r->nreadings) {
+    if ((st = stage_add(&set, prefix, ".sensors.csv", &g, err))) goto out;
+    if ((st = write_csv_to(r, g->stage, err))) goto fail;
+  }
+  st = stage_commit(&set, err);
+  goto out;
+fail:
+  rename_in_message(err, g);
+out:
+  if (st) stage_abort(&set);
+  vr_image_free(&rgb);
+  vr_image_free(&png);
+  vr_spectral_image_free(&sp);
+  return st;
+}
+
+/* ---- statistics ---- */
+
+long long vr_peak_rss_bytes(void) {
+  struct rusage ru;
+  if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
+  return (long long)ru.ru_maxrss * 1024; /* Linux reports KiB */
+}
+
+static void json_key(FILE *f, const char *indent, const char *key) {
+  fprintf(f, "%s", indent);
+  vr_json_string(f, key);
+  fputs(": ", f);
+}
+
+vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_error *err) {
+  vr_status st = check_result(r, err);
+  if (st) return st;
+  if (!path) return vr_error_set(err, VR_E_ARG, "stats: no path");
+  vr_atomic_file af;
+  if ((st = vr_atomic_file_open(&af, path, err))) return st;
+  FILE *f = af.fp;
+  fputs("{\n", f);
+  json_key(f, "  ", "version");
+  vr_json_string(f, vr_version());
+  fputs(",\n", f);
+
+  json_key(f, "  ", "image");
+  fprintf(f, "{\"width\": %d, \"height\": %d, \"bins\": %zu, \"bin_first_nm\": ", r->width,
+          r->height, r->nbins);
+  vr_json_number(f, r->nbins && r->bin_nm ? r->bin_nm[0] : NAN);
+  fputs(", \"bin_last_nm\": ", f);
+  vr_json_number(f, r->nbins && r->bin_nm ? r->bin_nm[r->nbins - 1] : NAN);
+  fputs(", \"bin_width_nm\": ", f);
+  vr_json_number(f, r->nbins ? r->bin_width_nm : NAN);
+  fputs(", \"exposure_ev\": ", f);
+  vr_json_number(f, r->exposure_ev);
+  fputs("},\n", f);
+
+  json_key(f, "  ", "passes");
+  fputs("[", f);
+  size_t np = r->npasses < VR_MAX_PASSES ? r->npasses : VR_MAX_PASSES;
+  for (size_t i = 0; i < np; i++) {
+    const vr_pass_record *p = &r->passes[i];
+    fprintf(f, "%s\n    {\"name\": ", i ? "," : "");
+    vr_json_string(f, p->name);
+    fprintf(f, ", \"ran\": %s, \"reason\": ", p->ran ? "true" : "false");
+    vr_json_string(f, p->reason);
+    fputs(", \"seconds\": ", f);
+    vr_json_number(f, p->seconds);
+    fputs("}", f);
+  }
+  fputs(np ? "\n  ],\n" : "],\n", f);
+
+  json_key(f, "  ", "rays");
+  fprintf(f,
+          "{\"camera\": %" PRIu64 ", \"shadow\": %" PRIu64 ", \"photon\": %" PRIu64
+          ", \"other\": %" PRIu64 ", \"crossings\": %" PRIu64 ", \"created\": %" PRIu64
+          ", \"finished\": %" PRIu64 "},\n",
+          r->rays_camera, r->rays_shadow, r->rays_photon, r->rays_other, r->crossings,
+          r->rays_created, r->rays_finished);
+  json_key(f, "  ", "photons");
+  fprintf(f, "{\"global\": %zu, \"caustic\": %zu, \"direct\": %zu},\n", r->photons_global,
+          r->photons_caustic, r->photons_direct);
+
+  json_key(f, "  ", "sensors");
+  fputs("[", f);
+  for (size_t k = 0; k < r->nreadings; k++) {
+    const vr_sensor_reading *s = &r->readings[k];
+    fprintf(f, "%s\n    {\"name\": ", k ? "," : "");
+    vr_json_string(f, sensor_name(s));
+    fprintf(f, ", \"i\": %d, \"j\": %d, \"position\": [", s->i, s->j);
+    for (int c = 0; c < 3; c++) {
+      if (c) fputs(", ", f);
+      vr_json_number(f, s->position[c]);
+    }
+    fputs("], \"illuminance_lx\": ", f);
+    vr_json_number(f, s->illuminance_lx);
+    fputs(", \"stderr_lx\": ", f);
+    vr_json_number(f, s->stderr_lx);
+    fputs("}", f);
+  }
+  fputs(r->nreadings ? "\n  ],\n" : "],\n", f);
+
+  json_key(f, "  ", "photochromic");
+  fprintf(f, "{\"texels\": %zu, \"state_min\": ", r->photochromic_texels);
+  vr_json_number(f, r->photochromic_texels ? r->photochromic_state_min : NAN);
+  fputs(", \"state_max\": ", f);
+  vr_json_number(f, r->photochromic_texels ? r->photochromic_state_max : NAN);
+  fputs("},\n", f);
+
+  json_key(f, "  ", "degenerate_triangles");
+  fprintf(f, "%zu,\n", r->degenerate_triangles);
+  json_key(f, "  ", "peak_rss_bytes");
+  fprintf(f, "%lld,\n", vr_peak_rss_bytes());
+  json_key(f, "  ", "seconds_total");
+  vr_json_number(f, r->seconds_total);
+  fputs("\n}\n", f);
+  return vr_atomic_file_commit(&af, err);
+}

@@ -1,0 +1,292 @@
+/* Lights as the integrators see them: next-event samples of point, spot and
+ * sun lights, emissive surfaces and the sky; the environment met by an
+ * escaping ray (sky above the horizon, ground glow below); photon emission
+ * from every kind of source; and the wavelengths a path carries.
+ *
+ * Every sample returns the incident spectral radiance times solid angle
+ * over its pdf (for delta lights: the spectral irradiance at normal
+ * incidence), so the caller multiplies by BSDF and cosine only. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_internal.h"
+#include "vr/ies.h"
+
+static void frame(const double n[3], double t[3], double b[3]) {
+  /* Duff et al. 2017, "Building an orthonormal basis, revisited". */
+  double s = copysign(1.0, n[2]);
+  double a = -1.0 / (s + n[2]), c = n[0] * n[1] * a;
+  t[0] = 1 + s * n[0] * n[0] * a;
+  t[1] = s * c;
+  t[2] = -s * n[0];
+  b[0] = c;
+  b[1] = s + n[1] * n[1] * a;
+  b[2] = -n[1];
+}
+
+void vr_wavelengths(const rscene *rs, const vr_rng_key *key, uint32_t strata, double *wl) {
+  double span = rs->lmax - rs->lmin, step = span / rs->nwl;
+  if (rs->bins_mode) {
+    for (int i = 0; i < rs->nwl; i++) wl[i] = rs->lmin + (i + 0.5) * step;
+    return;
+  }
+  /* Hero wavelength sampling (Wilkie et al. 2014): one uniform wavelength,
+   * the others spaced evenly from it and wrapped, so each is uniform. */
+  /* Stratified over the samples of one pixel or sensor point: sample i of
+   * n takes its hero from the i-th n-th of the range. */
+  double u = vr_rng(key, VR_DIM_WAVELENGTH);
+  if (strata > 1) u = ((key->sample % strata) + u) / strata;
+  double h = u * span;
+  for (int i = 0; i < rs->nwl; i++) {
+    double x = h + i * step;
+    if (x >= span) x -= span;
+    wl[i] = rs->lmin + x;
+  }
+}
+
+/* Intensity of a point or spot light towards unit direction d (from the
+ * light), relative to the on-axis value. */
+static double distribution(const rlight *l, const double d[3]) {
+  double c = d[0] * l->axis[0] + d[1] * l->axis[1] + d[2] * l->axis[2];
+  if (l->kind == VR_LIGHT_SPOT) {
+    if (c >= l->cos_inner) return 1.0;
+    if (c <= l->cos_outer) return 0.0;
+    double x = (c - l->cos_outer) / (l->cos_inner - l->cos_outer);
+    return x * x * (3 - 2 * x); /* smoothstep falloff */
+  }
+  switch (l->dist) {
+  case VR_DIST_LAMBERTIAN: return c > 0 ? c : 0.0;
+  case VR_DIST_GONIOMETRIC: return vr_ies_candela_dir(l->ies, d) / vr_ies_max_candela(l->ies);
+  default: return 1.0;
+  }
+}
+
+static void cone_dir(const double axis[3], double cos_max, double u1, double u2, double out[3]) {
+  double t[3], b[3];
+  frame(axis, t, b);
+  double c = 1 - u1 * (1 - cos_max), s = sqrt(fmax(0, 1 - c * c)), ph = 2 * M_PI * u2;
+  for (int a = 0; a < 3; a++) out[a] = c * axis[a] + s * (cos(ph) * t[a] + sin(ph) * b[a]);
+}
+
+int vr_light_sample_delta(const rscene *rs, size_t i, const double x[3], int nwl,
+                          const double *wl, const vr_rng_key *key, light_sample *out) {
+  const rlight *l = &rs->lights[i];
+  out->delta = true;
+  if (l->kind == VR_LIGHT_SUN) {
+    /* Soft shadows: a direction within the solar disc, same irradiance. */
+    cone_dir(l->axis, l->cos_sun, vr_rng(key, VR_DIM_LIGHT_U), vr_rng(key, VR_DIM_LIGHT_V),
+             out->dir);
+    out->dist = INFINITY;
+    for (int k = 0; k < nwl; k++) out->L[k] = rspd_at(&l->spd, wl[k]);
+    return 1;
+  }
+  double d[3], r2 = 0;
+  for (int a = 0; a < 3; a++) {
+    d[a] = l->pos[a] - x[a];
+    r2 += d[a] * d[a];
+  }
+  if (!(r2 > 0)) return 0;
+  double r = sqrt(r2);
+  for (int a = 0; a < 3; a++) out->dir[a] = d[a] / r;
+  out->dist = r;
+  double from_light[3] = {-out->dir[0], -out->dir[1], -out->dir[2]};
+  double f = distribution(l, from_light) / r2;
+  if (!(f > 0)) return 0;
+  for (int k = 0; k < nwl; k++) out->L[k] = rspd_at(&l->spd, wl[k]) * f;
+  return 1;
+}
+
+bool vr_light_sample_emitter(const rscene *rs, const double x[3], int nwl, const double *wl,
+                             const vr_rng_key *key, light_sample *out) {
+  if (!rs->nemitters) return false;
+  double u = vr_rng(key, VR_DIM_LIGHT_PICK);
+  size_t e = 0;
+  while (e + 1 < rs->nemitters && rs->emitter_cdf[e] <= u) e++;
+  double p_pick = rs->emitter_cdf[e] - (e ? rs->emitter_cdf[e - 1] : 0.0);
+  if (!(p_pick > 0)) return false;
+  uint32_t obj = rs->emitters[e];
+  double y[3], ny[3];
+  vr_geometry_sample_object(rs->g, obj, vr_rng(key, VR_DIM_LIGHT_U), vr_rng(key, VR_DIM_LIGHT_V),
+                            vr_rng(key, VR_DIM_LIGHT_W), y, ny);
+  double d[3], r2 = 0;
+  for (int a = 0; a < 3; a++) {
+    d[a] = y[a] - x[a];
+    r2 += d[a] * d[a];
+  }
+  if (!(r2 > 0)) return false;
+  double r = sqrt(r2);
+  for (int a = 0; a < 3; a++) out->dir[a] = d[a] / r;
+  double cos_y = -(out->dir[0] * ny[0] + out->dir[1] * ny[1] + out->dir[2] * ny[2]);
+  if (!(cos_y > 0)) return false; /* emitters emit from their front side */
+  double area = rs->g->object_area[obj];
+  double g = cos_y * area / (r2 * p_pick);
+  const robject *o = &rs->obj[obj];
+  for (int k = 0; k < nwl; k++) out->L[k] = rspd_at(&o->emission, wl[k]) * g;
+  out->dist = r;
+  out->delta = false;
+  return true;
+}
+
+/* Sky radiance along dir (towards the sky), per wavelength. */
+static void sky_radiance(const rscene *rs, const double dir[3], int nwl, const double *wl,
+                         double *L) {
+  double rel = vr_sky_relative_luminance(rs->sky, dir);
+  for (int k = 0; k < nwl; k++) L[k] = rel * rspd_at(&rs->sky_spd, wl[k]);
+}
+
+bool vr_light_sample_sky(const rscene *rs, const double x[3], const double n[3], int nwl,
+                         const double *wl, const vr_rng_key *key, light_sample *out) {
+  (void)x;
+  if (!rs->has_sky) return false;
+  double pdf;
+  vr_sky_sample(rs->sky, vr_rng(key, VR_DIM_SKY_U), vr_rng(key, VR_DIM_SKY_V), out->dir, &pdf);
+  if (!(pdf > 0)) return false;
+  if (n && out->dir[0] * n[0] + out->dir[1] * n[1] + out->dir[2] * n[2] <= 0) return false;
+  sky_radiance(rs, out->dir, nwl, wl, out->L);
+  for (int k = 0; k < nwl; k++) out->L[k] /= pdf;
+  out->dist = INFINITY;
+  out->delta = false;
+  return true;
+}
+
+void vr_light_environment(const rscene *rs, const double dir[3], bool include_sky, int nwl,
+                          const double *wl, double *L) {
+  for (int k = 0; k < nwl; k++) L[k] = 0;
+  if (!rs->has_sky) return;
+  if (dir[2] >= 0) {
+    if (include_sky) sky_radiance(rs, dir, nwl, wl, L);
+    return;
+  }
+  for (int k = 0; k < nwl; k++) L[k] = rs->ground_radiance_scale * rspd_at(&rs->ground_spd, wl[k]);
+}
+
+vr_status vr_light_sky_create(rscene *rs, struct vr_matdb *db, vr_error *err) {
+  (void)db;
+  const vr_scene_sky *sk = &rs->s->sky;
+  if (!sk->present) return VR_OK;
+  vr_status st = vr_sky_create(sk->cie_type, sk->sun_direction, &rs->sky, err);
+  if (st) {
+    vr_error_prefix(err, "%s:%ld:%ld: sky: ", rs->s->path, sk->loc.line, sk->loc.col);
+    return st;
+  }
+  vr_quantity z;
+  st = vr_sky_zenith_level(rs->sky, sk->level, &z, err);
+  if (st) {
+    vr_error_prefix(err, "%s:%ld:%ld: sky: ", rs->s->path, sk->loc.line, sk->loc.col);
+    return st;
+  }
+  st = vr_rscene_spectrum(rs, db, sk->spectrum, "D65", &sk->loc, &rs->sky_spd, err);
+  if (st) return st;
+  /* sky_spd becomes the spectral radiance at the zenith. */
+  bool photometric = z.unit == VR_UNIT_CD_M2;
+  st = vr_rscene_normalise(rs, &rs->sky_spd, z, photometric, &sk->loc, "sky", err);
+  if (st) return st;
+  rs->has_sky = true;
+  /* Ground glow: a Lambertian ground of reflectance rho under the sky
+   * and the sun, L = rho (E_sky + E_sun,h) / pi, with the sky's spectrum
+   * for the sky part and the sun's for the sun part. */
+  double eh = vr_sky_horizontal_ratio(rs->sky); /* E_h / L_z */
+  int n = rs->sky_spd.n;
+  rs->ground_spd.lo = rs->sky_spd.lo;
+  rs->ground_spd.n = n;
+  rs->ground_spd.v = malloc((size_t)n * sizeof *rs->ground_spd.v);
+  if (!rs->ground_spd.v) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (int i = 0; i < n; i++) rs->ground_spd.v[i] = rs->sky_spd.v[i] * eh;
+  for (size_t l = 0; l < rs->nlights; l++) {
+    const rlight *li = &rs->lights[l];
+    if (li->kind != VR_LIGHT_SUN || li->axis[2] <= 0) continue;
+    for (int i = 0; i < n; i++) rs->ground_spd.v[i] += rspd_at(&li->spd, rs->ground_spd.lo + i) * li->axis[2];
+  }
+  rs->ground_radiance_scale = sk->ground_reflectance / M_PI;
+  return VR_OK;
+}
+
+void vr_light_sky_destroy(rscene *rs) {
+  vr_sky_destroy(rs->sky);
+  rs->sky = NULL;
+  free(rs->sky_spd.v);
+  free(rs->ground_spd.v);
+  rs->sky_spd.v = rs->ground_spd.v = NULL;
+}
+
+double vr_light_sky_power(const rscene *rs) {
+  if (!rs->has_sky) return 0.0;
+  /* Power through a disc of the scene's radius from the whole sky, taken
+   * as horizontal irradiance times the disc's area: only for sharing the
+   * photons among sources, never in an estimate. */
+  double e = 0;
+  for (double nm = rs->lmin; nm <= rs->lmax; nm += 1.0) e += rspd_at(&rs->sky_spd, nm);
+  return e * vr_sky_horizontal_ratio(rs->sky) * M_PI * rs->scene_radius * rs->scene_radius;
+}
+
+/* A point on the disc of radius R perpendicular to d, centred on the
+ * scene's centre moved 2R back along d: photons from far sources start
+ * there and cross the whole scene. */
+static void disc_origin(const rscene *rs, const double d[3], double u1, double u2, double o[3]) {
+  double t[3], b[3];
+  frame(d, t, b);
+  double R = rs->scene_radius, r = R * sqrt(u1), ph = 2 * M_PI * u2;
+  for (int a = 0; a < 3; a++)
+    o[a] = rs->scene_centre[a] - 2 * R * d[a] + r * (cos(ph) * t[a] + sin(ph) * b[a]);
+}
+
+bool vr_light_emit_photon(const rscene *rs, size_t source, int nwl, const double *wl,
+                          const vr_rng_key *key, photon_emit *out) {
+  double u1 = vr_rng(key, VR_DIM_EMIT_U), u2 = vr_rng(key, VR_DIM_EMIT_V);
+  double u3 = vr_rng(key, VR_DIM_EMIT_W), u4 = vr_rng(key, VR_DIM_EMIT_X);
+  if (source < rs->nlights) {
+    const rlight *l = &rs->lights[source];
+    if (l->kind == VR_LIGHT_SUN) {
+      double toward[3];
+      cone_dir(l->axis, l->cos_sun, u3, u4, toward);
+      for (int a = 0; a < 3; a++) out->dir[a] = -toward[a];
+      disc_origin(rs, out->dir, u1, u2, out->org);
+      double area = M_PI * rs->scene_radius * rs->scene_radius;
+      for (int k = 0; k < nwl; k++) out->power[k] = rspd_at(&l->spd, wl[k]) * area;
+      return true;
+    }
+    /* Directions uniform on the sphere (or within the spot's outer cone),
+     * weighted by the distribution. */
+    double pdf;
+    if (l->kind == VR_LIGHT_SPOT) {
+      cone_dir(l->axis, l->cos_outer, u1, u2, out->dir);
+      pdf = 1.0 / (2 * M_PI * (1 - l->cos_outer));
+    } else {
+      cone_dir((double[3]){0, 0, 1}, -1.0, u1, u2, out->dir);
+      pdf = 1.0 / (4 * M_PI);
+    }
+    double f = distribution(l, out->dir) / pdf;
+    memcpy(out->org, l->pos, sizeof out->org);
+    for (int k = 0; k < nwl; k++) out->power[k] = rspd_at(&l->spd, wl[k]) * f;
+    return f > 0;
+  }
+  source -= rs->nlights;
+  if (source < rs->nemitters) {
+    uint32_t obj = rs->emitters[source];
+    double n[3];
+    vr_geometry_sample_object(rs->g, obj, u1, u2, vr_rng(key, VR_DIM_EMIT_Y), out->org, n);
+    /* Cosine-weighted direction: L cos / (cos/pi) per unit area, times area. */
+    double t[3], b[3];
+    frame(n, t, b);
+    double r = sqrt(u3), ph = 2 * M_PI * u4, z = sqrt(fmax(0, 1 - u3));
+    for (int a = 0; a < 3; a++)
+      out->dir[a] = z * n[a] + r * (cos(ph) * t[a] + sin(ph) * b[a]);
+    double f = M_PI * rs->g->object_area[obj];
+    double off = 1e-5 * (1 + fmax(fabs(out->org[0]), fmax(fabs(out->org[1]), fabs(out->org[2]))));
+    for (int a = 0; a < 3; a++) out->org[a] += off * n[a];
+    for (int k = 0; k < nwl; k++) out->power[k] = rspd_at(&rs->obj[obj].emission, wl[k]) * f;
+    return true;
+  }
+  if (!rs->has_sky) return false;
+  double d[3], pdf;
+  vr_sky_sample(rs->sky, u3, u4, d, &pdf);
+  if (!(pdf > 0)) return false;
+  double L[VR_MAX_WL];
+  sky_radiance(rs, d, nwl, wl, L);
+  for (int a = 0; a < 3; a++) out->dir[a] = -d[a];
+  disc_origin(rs, out->dir, u1, u2, out->org);
+  double area = M_PI * rs->scene_radius * rs->scene_radius;
+  for (int k = 0; k < nwl; k++) out->power[k] = L[k] * area / pdf;
+  return true;
+}

@@ -1,0 +1,225 @@
+/* What the renderer's files share: the scene resolved for rendering (lights
+ * and emitters in radiometric units on a 1 nm grid, one vr_bsdf per
+ * material, the sky, the photochromic state maps), the ray payloads, and
+ * the entry points of each pass. */
+#ifndef VR_RENDER_INTERNAL_H
+#define VR_RENDER_INTERNAL_H
+
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "vr/bsdf.h"
+#include "vr/domains.h"
+#include "vr/flow.h"
+#include "vr/geometry.h"
+#include "vr/render.h"
+#include "vr/rng.h"
+#include "vr/scene.h"
+#include "vr/photon_map.h"
+#include "vr/sky.h"
+
+#define VR_MAX_WL 8 /* wavelengths carried by one path */
+
+/* A spectrum on the resolved grid: value at lo + i nm, i = 0 .. n-1. */
+typedef struct rspd {
+  double lo;
+  int n;
+  double *v;
+} rspd;
+
+double rspd_at(const rspd *s, double nm);
+
+typedef struct rlight {
+  vr_light_kind kind;
+  double pos[3], axis[3];
+  vr_distribution dist;
+  double cos_inner, cos_outer; /* spot */
+  rspd spd;        /* point/spot: on-axis intensity W/(sr nm); sun: normal irradiance W/(m² nm) */
+  double power;    /* W over the sampled range, for choosing photon sources */
+  double cos_sun;  /* sun: cosine of its apparent radius */
+  struct vr_ies *ies; /* vr_ies */
+} rlight;
+
+typedef struct robject {
+  int material;
+  rspd emission;           /* radiance W/(m² sr nm), n = 0 if not emissive */
+  double emitted_power;    /* W over the sampled range */
+  /* Photochromic state map (rect objects), or a single state. */
+  int nu, nv;
+  double *state;           /* nu*nv, or NULL: the material's own state */
+  double corner[3], eu[3], ev[3], normal[3]; /* rect: point = corner + u eu + v ev */
+} robject;
+
+typedef struct rmaterial {
+  vr_bsdf *bsdf;
+  double state;            /* chromogenic state from the scene (or 0) */
+  bool photochromic;
+  struct vr_material *db;  /* the database material, if any */
+  double temperature_K;
+} rmaterial;
+
+typedef struct rscene {
+  const vr_scene *s;
+  vr_geometry *g;
+  vr_domains *d;
+  double lmin, lmax;       /* sampled range */
+  int nwl;                 /* wavelengths per path */
+  bool bins_mode;          /* fixed bins instead of hero sampling */
+  size_t nmat;
+  rmaterial *mat;
+  robject *obj;
+  size_t nlights;
+  rlight *lights;
+  /* Emitters for next-event estimation: emissive objects chosen by power. */
+  size_t nemitters;
+  uint32_t *emitters;
+  double *emitter_cdf;
+  /* The sky. */
+  bool has_sky;
+  vr_sky *sky;
+  rspd sky_spd;            /* radiance per unit relative luminance: W/(m² sr nm) per (cd/m²) */
+  double ground_radiance_scale; /* ground glow: luminance below the horizon, cd/m² */
+  rspd ground_spd;
+  /* Light choice for photons: lights, then emitters, then the sky. */
+  size_t nsources;
+  double *source_cdf;
+  double total_power;
+  double scene_lo[3], scene_hi[3], scene_radius, scene_centre[3];
+  /* Camera frame. */
+  double cam_o[3], cam_u[3], cam_v[3], cam_w[3], tan_half;
+  double film_lo, film_step;
+  size_t nbins;
+  uint64_t seed;
+} rscene;
+
+/* Resolution of the scene (resolve.c). */
+vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, int subdomains, rscene **out,
+                           vr_error *err);
+void vr_rscene_destroy(rscene *rs);
+
+/* A relative spectrum by reference (db:NAME, a CIE name, bb:T; NULL: dflt)
+ * on the resolved grid, and its scaling to an amount in given units. */
+vr_status vr_rscene_spectrum(const rscene *rs, struct vr_matdb *db, const char *ref,
+                             const char *dflt, const vr_scene_loc *loc, rspd *out, vr_error *err);
+vr_status vr_rscene_normalise(const rscene *rs, rspd *s, vr_quantity q, bool photometric,
+                              const vr_scene_loc *loc, const char *what, vr_error *err);
+
+/* Lights (lights.c). */
+typedef struct light_sample {
+  double dir[3];       /* from the point to the light, unit */
+  double dist;         /* INFINITY for the sun and the sky */
+  double L[VR_MAX_WL]; /* radiance-like contribution divided by pdf: f-less, cos-less */
+  bool delta;
+} light_sample;
+
+/* One sample of every delta light (point, spot, sun) and one emitter and
+ * one sky direction, each adding a shadow ray through add(); the values
+ * given are incident radiance times solid angle over pdf at x. */
+int vr_light_sample_delta(const rscene *rs, size_t i, const double x[3], int nwl,
+                          const double *wl, const vr_rng_key *key, light_sample *out);
+bool vr_light_sample_emitter(const rscene *rs, const double x[3], int nwl, const double *wl,
+                             const vr_rng_key *key, light_sample *out);
+bool vr_light_sample_sky(const rscene *rs, const double x[3], const double n[3], int nwl,
+                         const double *wl, const vr_rng_key *key, light_sample *out);
+/* Radiance arriving from the environment along dir (sky above, ground glow below). */
+void vr_light_environment(const rscene *rs, const double dir[3], bool include_sky, int nwl,
+                          const double *wl, double *L);
+
+/* Wavelengths of a path: hero plus equally spaced rotations, or bins. */
+void vr_wavelengths(const rscene *rs, const vr_rng_key *key, uint32_t strata, double *wl);
+
+/* The sky (lights.c). */
+vr_status vr_light_sky_create(rscene *rs, struct vr_matdb *db, vr_error *err);
+void vr_light_sky_destroy(rscene *rs);
+double vr_light_sky_power(const rscene *rs);
+/* Photon emission from source i of rs->source_cdf order. */
+typedef struct photon_emit {
+  double org[3], dir[3];
+  double power[VR_MAX_WL]; /* W per wavelength sample, before dividing by the photon count */
+} photon_emit;
+bool vr_light_emit_photon(const rscene *rs, size_t source, int nwl, const double *wl,
+                          const vr_rng_key *key, photon_emit *out);
+
+/* Ray payloads (integrate.c). */
+enum { TARGET_PIXEL = 0, TARGET_SENSOR, TARGET_TEXEL, TARGET_PHOTON, TARGET_GATHER };
+enum { PURPOSE_CAMERA = 0, PURPOSE_SHADOW, PURPOSE_PHOTON, PURPOSE_SENSOR, PURPOSE_UV,
+       PURPOSE_GATHER };
+enum { FLAG_SPECULAR_LAST = 1, FLAG_HAS_DIFFUSE = 2, FLAG_HAS_SPECULAR = 4,
+       FLAG_TERMINATED = 8 };
+
+typedef struct payload {
+  uint64_t stream;
+  uint32_t sample;
+  uint32_t index;          /* pixel, sensor point, texel */
+  uint8_t depth, target, flags, nwl;
+  int32_t medium;          /* object whose inside the path is in, -1 outside */
+  double weight;           /* sample weight (1/spp, ...), applied on delivery */
+  double wl[VR_MAX_WL];
+  double beta[VR_MAX_WL];  /* throughput, photon power, or a shadow ray's contribution */
+} payload;
+
+/* Accumulators shared by the passes (film.c). */
+typedef struct accum {
+  int width, height, spp;
+  size_t nbins;
+  double bin_lo, bin_step;
+  _Atomic uint64_t *xyz;      /* doubles stored as bits, width*height*3 */
+  _Atomic uint64_t *bins;     /* width*height*nbins */
+  size_t npoints;             /* sensor points */
+  int groups;                 /* batches for the standard error */
+  _Atomic uint64_t *sensor_lx;  /* npoints*groups */
+  _Atomic uint64_t *sensor_bins;/* npoints*nbins */
+  size_t ntexels;
+  _Atomic uint64_t *texel_uv;   /* W/m2 in the UV band, summed */
+} accum;
+
+vr_status vr_accum_create(accum *a, int width, int height, size_t nbins, double bin_lo,
+                          double bin_step, size_t npoints, int groups, size_t ntexels,
+                          vr_error *err);
+void vr_accum_destroy(accum *a);
+void vr_atomic_add(_Atomic uint64_t *cell, double v);
+double vr_atomic_get(_Atomic uint64_t *cell);
+/* Adds radiance samples (already divided by their wavelength pdf) of a pixel. */
+void vr_accum_pixel(accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,
+                    double wl_weight);
+void vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
+                     const double *E, double wl_weight);
+
+/* The passes (integrate.c, photons.c). */
+typedef struct pass_ctx {
+  rscene *rs;
+  accum *acc;
+  vr_integrator integrator;
+  int spp, sample_offset, max_depth;
+  int sensor_samples;
+  /* Sensor points, flattened. */
+  size_t npoints;
+  double (*points)[6];         /* position, normal */
+  /* Photon maps (photon integrators). */
+  vr_photon_map *direct, *caustic, *global;
+  long photons_per_unit, photon_units;
+  double photon_scale;         /* 1 / total photons emitted */
+  int knn;
+  double radius;
+  bool fixed_radius, final_gather;
+  int gather_rays;
+  /* UV pass. */
+  size_t ntexels;
+  uint32_t *texel_object;
+  uint32_t *texel_index;
+  int uv_sky_samples;
+  uint64_t seed;
+} pass_ctx;
+
+extern const vr_flow_ops vr_camera_ops;  /* camera and sensor paths, gather rays */
+extern const vr_flow_ops vr_photon_ops;  /* photon tracing into the maps */
+extern const vr_flow_ops vr_uv_ops;      /* UV irradiance of photochromic texels */
+extern const vr_flow_ops vr_sensor_ops;  /* sensor points */
+void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit);
+void vr_sensor_generate(void *ctx, vr_flow_worker *w, long unit);
+
+/* The chromogenic state at a hit (texel map or the material's). */
+double vr_hit_state(const rscene *rs, const vr_hit *hit);
+
+#endif

@@ -1,0 +1,421 @@
+/* Resolving a parsed scene for rendering: materials loaded from the
+ * database and turned into vr_bsdf, lights and emitters converted from the
+ * units the user gave (cd, lm, W, lx, cd/m²) to spectral radiometric
+ * quantities on a 1 nm grid, the sky normalised to its stated level, the
+ * camera frame, and the geometry cut into sub-domains.
+ *
+ * Photometric to radiometric: an amount in photometric units Q_v with a
+ * relative spectrum S(λ) is Q_e(λ) = Q_v S(λ) / (K_m ∫ V(λ) S(λ) dλ), with
+ * K_m = 683.002 lm/W (VR_KM, CIE 015:2018) and V = ȳ of the CIE 1931
+ * observer, integrated over 360-830 nm.  A radiometric amount (W, W/sr,
+ * W/m², W/(m² sr)) is taken over the renderer's sampled range. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_internal.h"
+#include "vr/chromogenic.h"
+#include "vr/colour.h"
+#include "vr/ies.h"
+#include "vr/matdb.h"
+
+#define UV_LO 300.0 /* the photochromic UV band, nm */
+
+double rspd_at(const rspd *s, double nm) {
+  if (!s->n) return 0.0;
+  double x = nm - s->lo;
+  if (x <= 0) return s->v[0];
+  int i = (int)x;
+  if (i >= s->n - 1) return s->v[s->n - 1];
+  double f = x - i;
+  return s->v[i] * (1 - f) + s->v[i + 1] * f;
+}
+
+static void rspd_free(rspd *s) {
+  free(s->v);
+  s->v = NULL;
+  s->n = 0;
+}
+
+static double rspd_integral(const rspd *s, double lo, double hi) {
+  double sum = 0;
+  for (double nm = lo; nm <= hi + 1e-9; nm += 1.0)
+    sum += rspd_at(s, nm) * ((nm == lo || nm > hi - 0.5) ? 0.5 : 1.0);
+  return sum;
+}
+
+/* K_m ∫ V S dλ over 360-830 nm, 1 nm steps: lumens per unit of S. */
+static double luminous(const rspd *s) {
+  double sum = 0;
+  for (int nm = 360; nm <= 830; nm++) {
+    double xyz[3];
+    vr_cmf_eval(VR_CIE1931_2DEG, nm, xyz);
+    sum += xyz[1] * rspd_at(s, nm) * ((nm == 360 || nm == 830) ? 0.5 : 1.0);
+  }
+  return VR_KM * sum;
+}
+
+/* The relative spectrum named by ref (NULL: dflt) on [lo, hi] every nm. */
+vr_status vr_rscene_spectrum(const rscene *rs, vr_matdb *db, const char *ref, const char *dflt,
+                          const vr_scene_loc *loc, rspd *out, vr_error *err) {
+  const char *name = ref ? ref : dflt;
+  vr_spectrum *sp = NULL;
+  vr_material *m = NULL;
+  vr_status st = VR_OK;
+  if (!strncmp(name, "db:", 3)) {
+    if (!db)
+      return vr_error_at(err, VR_E_NOT_FOUND, rs->s->path, loc->line, loc->col,
+                         "spectrum '%s' needs a material database", name);
+    st = vr_matdb_load(db, name + 3, 0, &m, err);
+    if (st) {
+      vr_error_prefix(err, "%s:%ld:%ld: spectrum '%s': ", rs->s->path, loc->line, loc->col, name);
+      return st;
+    }
+    const vr_spectrum *v = vr_material_spectrum(m, "value");
+    if (!v) {
+      vr_material_destroy(m);
+      return vr_error_at(err, VR_E_ARG, rs->s->path, loc->line, loc->col,
+                         "spectrum '%s' is a %s material without a 'value' spectrum", name,
+                         vr_kind_name(m->kind));
+    }
+    sp = vr_spectrum_copy(v, err);
+    vr_material_destroy(m);
+  } else if (!strncmp(name, "bb:", 3)) {
+    sp = vr_illuminant_blackbody(strtod(name + 3, NULL), err);
+  } else {
+    sp = vr_illuminant(name, err);
+  }
+  if (!sp) {
+    vr_error_prefix(err, "%s:%ld:%ld: spectrum '%s': ", rs->s->path, loc->line, loc->col, name);
+    return err ? err->status : VR_E_ARG;
+  }
+  double lo = fmin(UV_LO, rs->lmin), hi = fmax(830.0, rs->lmax);
+  out->lo = lo;
+  out->n = (int)(hi - lo) + 1;
+  out->v = malloc((size_t)out->n * sizeof *out->v);
+  if (!out->v) {
+    vr_spectrum_destroy(sp);
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  }
+  for (int i = 0; i < out->n; i++) {
+    double nm = lo + i;
+    /* Zero outside the data: a light is not assumed to emit where its
+     * spectrum was not measured. */
+    out->v[i] = (nm < sp->nm[0] || nm > sp->nm[sp->n - 1])
+                    ? 0.0
+                    : fmax(0.0, vr_spectrum_eval(sp, nm, VR_INTERP_LINEAR));
+  }
+  vr_spectrum_destroy(sp);
+  return VR_OK;
+}
+
+static void scale_spd(rspd *s, double f) {
+  for (int i = 0; i < s->n; i++) s->v[i] *= f;
+}
+
+/* Scales a relative spd so that it carries the amount q (photometric or
+ * radiometric per unit): after this, s is the radiometric spectral amount. */
+vr_status vr_rscene_normalise(const rscene *rs, rspd *s, vr_quantity q, bool photometric,
+                                  const vr_scene_loc *loc, const char *what, vr_error *err) {
+  double denom = photometric ? luminous(s) : rspd_integral(s, rs->lmin, rs->lmax);
+  if (!(denom > 0))
+    return vr_error_at(err, VR_E_RANGE, rs->s->path, loc->line, loc->col,
+                       "%s: its spectrum has no %s power", what,
+                       photometric ? "visible" : "in-range");
+  scale_spd(s, q.value / denom);
+  return VR_OK;
+}
+
+static bool is_photometric(vr_light_unit u) {
+  return u == VR_UNIT_LM || u == VR_UNIT_CD || u == VR_UNIT_LX || u == VR_UNIT_CD_M2;
+}
+
+static void unit(double v[3]) {
+  double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (l > 0)
+    for (int a = 0; a < 3; a++) v[a] /= l;
+}
+
+static vr_status resolve_lights(rscene *rs, vr_matdb *db, vr_error *err) {
+  const vr_scene *s = rs->s;
+  rs->nlights = s->nlights;
+  rs->lights = calloc(s->nlights + 1, sizeof *rs->lights);
+  if (!rs->lights) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t i = 0; i < s->nlights; i++) {
+    const vr_scene_light *sl = &s->lights[i];
+    rlight *l = &rs->lights[i];
+    l->kind = sl->kind;
+    memcpy(l->pos, sl->position, sizeof l->pos);
+    l->dist = sl->distribution;
+    vr_status st = vr_rscene_spectrum(rs, db, sl->spectrum,
+                            sl->kind == VR_LIGHT_SUN ? "db:ASTM-G173-AM1.5D" : "D65", &sl->loc,
+                            &l->spd, err);
+    if (st) return st;
+    vr_quantity q = sl->amount;
+    bool photo = is_photometric(q.unit);
+    if (sl->kind == VR_LIGHT_SUN) {
+      memcpy(l->axis, sl->direction, sizeof l->axis);
+      unit(l->axis);
+      l->cos_sun = cos(sl->sun_radius_deg * M_PI / 180.0);
+      st = vr_rscene_normalise(rs, &l->spd, q, photo, &sl->loc, "sun", err);
+      if (st) return st;
+      /* Power through a disc of the scene's radius, for photon shares. */
+      l->power = rspd_integral(&l->spd, rs->lmin, rs->lmax) * M_PI * rs->scene_radius *
+                 rs->scene_radius;
+      continue;
+    }
+    if (sl->kind == VR_LIGHT_SPOT) {
+      memcpy(l->axis, sl->direction, sizeof l->axis);
+      unit(l->axis);
+      l->cos_inner = cos(sl->cone_deg * M_PI / 180.0);
+      l->cos_outer = cos((sl->cone_deg + sl->falloff_deg) * M_PI / 180.0);
+    } else {
+      memcpy(l->axis, sl->normal, sizeof l->axis);
+      unit(l->axis);
+    }
+    if (sl->distribution == VR_DIST_GONIOMETRIC) {
+      st = vr_ies_read(sl->ies_path, &l->ies, err);
+      if (st) {
+        vr_error_prefix(err, "%s:%ld:%ld: ", s->path, sl->loc.line, sl->loc.col);
+        return st;
+      }
+    }
+    /* Solid-angle integral of the distribution relative to its on-axis
+     * (peak) value: converts flux (lm, W) to intensity. */
+    double omega;
+    if (sl->kind == VR_LIGHT_SPOT)
+      omega = 2 * M_PI * (1 - 0.5 * (l->cos_inner + l->cos_outer));
+    else if (sl->distribution == VR_DIST_LAMBERTIAN)
+      omega = M_PI;
+    else if (sl->distribution == VR_DIST_GONIOMETRIC)
+      omega = vr_ies_lumens(l->ies) / fmax(vr_ies_max_candela(l->ies), 1e-300);
+    else
+      omega = 4 * M_PI;
+    if (q.unit == VR_UNIT_LM || q.unit == VR_UNIT_W) q.value /= omega;
+    if (sl->distribution == VR_DIST_GONIOMETRIC && (q.unit == VR_UNIT_NONE)) {
+      /* The file's own candela values: the peak is the amount. */
+      q.value = vr_ies_max_candela(l->ies);
+      photo = true;
+    }
+    st = vr_rscene_normalise(rs, &l->spd, q, photo, &sl->loc, "light", err);
+    if (st) return st;
+    l->power = rspd_integral(&l->spd, rs->lmin, rs->lmax) * omega;
+  }
+  return VR_OK;
+}
+
+static vr_status resolve_materials(rscene *rs, vr_matdb *db, vr_error *err) {
+  const vr_scene *s = rs->s;
+  rs->nmat = s->nmaterials;
+  rs->mat = calloc(s->nmaterials + 1, sizeof *rs->mat);
+  if (!rs->mat) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t i = 0; i < s->nmaterials; i++) {
+    const vr_scene_material *sm = &s->materials[i];
+    rmaterial *rm = &rs->mat[i];
+    vr_material *coating = NULL;
+    vr_status st = VR_OK;
+    if (sm->source == VR_MATSRC_DB || sm->coating_db) {
+      if (!db)
+        return vr_error_at(err, VR_E_NOT_FOUND, s->path, sm->loc.line, sm->loc.col,
+                           "material '%s' needs a material database", sm->name);
+    }
+    if (sm->source == VR_MATSRC_DB) {
+      st = vr_matdb_load(db, sm->db_name, 0, &rm->db, err);
+      if (st) {
+        vr_error_prefix(err, "%s:%ld:%ld: material '%s': ", s->path, sm->loc.line, sm->loc.col,
+                        sm->name);
+        return st;
+      }
+    }
+    if (sm->coating_db) {
+      st = vr_matdb_load(db, sm->coating_db, 0, &coating, err);
+      if (st) {
+        vr_error_prefix(err, "%s:%ld:%ld: coating of '%s': ", s->path, sm->loc.line,
+                        sm->loc.col, sm->name);
+        return st;
+      }
+    }
+    st = vr_bsdf_create(sm, rm->db, coating, rs->lmin, rs->lmax, &rm->bsdf, err);
+    vr_material_destroy(coating);
+    if (st) {
+      vr_error_prefix(err, "%s:", s->path);
+      return st;
+    }
+    rm->state = vr_bsdf_default_state(rm->bsdf);
+    rm->photochromic = vr_bsdf_is_photochromic(rm->bsdf);
+    rm->temperature_K = isnan(sm->temperature_K) ? 298.15 : sm->temperature_K;
+  }
+  return VR_OK;
+}
+
+static vr_status resolve_objects(rscene *rs, vr_matdb *db, vr_error *err) {
+  const vr_scene *s = rs->s;
+  rs->obj = calloc(s->nobjects + 1, sizeof *rs->obj);
+  rs->emitters = calloc(s->nobjects + 1, sizeof *rs->emitters);
+  rs->emitter_cdf = calloc(s->nobjects + 1, sizeof *rs->emitter_cdf);
+  if (!rs->obj || !rs->emitters || !rs->emitter_cdf)
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  double acc = 0;
+  for (size_t i = 0; i < s->nobjects; i++) {
+    const vr_scene_object *so = &s->objects[i];
+    robject *o = &rs->obj[i];
+    o->material = so->material;
+    if (so->emission.value > 0) {
+      vr_status st = vr_rscene_spectrum(rs, db, so->emission_spectrum, "D65", &so->loc, &o->emission, err);
+      if (!st)
+        st = vr_rscene_normalise(rs, &o->emission, so->emission, is_photometric(so->emission.unit),
+                              &so->loc, "emission", err);
+      if (st) return st;
+      double area = rs->g->object_area[i];
+      if (!(area > 0)) {
+        /* A zero-area emitter emits nothing; it is not an error. */
+        rspd_free(&o->emission);
+        continue;
+      }
+      o->emitted_power = rspd_integral(&o->emission, rs->lmin, rs->lmax) * M_PI * area;
+      acc += o->emitted_power;
+      rs->emitters[rs->nemitters] = (uint32_t)i;
+      rs->emitter_cdf[rs->nemitters++] = acc;
+    }
+    if (rs->mat[so->material].photochromic) {
+      if (so->shape != VR_SHAPE_RECT)
+        return vr_error_at(err, VR_E_ARG, s->path, so->loc.line, so->loc.col,
+                           "photochromic glass must be a rect (its state map is laid over "
+                           "the rectangle)");
+      o->nu = so->texels[0] > 0 ? so->texels[0] : 16;
+      o->nv = so->texels[1] > 0 ? so->texels[1] : 16;
+      o->state = calloc((size_t)o->nu * (size_t)o->nv, sizeof *o->state);
+      if (!o->state) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+      /* The rectangle's frame from its two triangles' corners. */
+      size_t t0 = rs->g->object_tri_begin[i];
+      const uint32_t *ix = rs->g->tris + 3 * t0;
+      const float *uv = rs->g->tri_uv + 6 * t0;
+      double P[3][3];
+      for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 3; a++) P[k][a] = rs->g->verts[3 * (size_t)ix[k] + a];
+      /* Solve p = c + u eu + v ev from three corners with known (u, v). */
+      double du1 = uv[2] - uv[0], dv1 = uv[3] - uv[1], du2 = uv[4] - uv[0], dv2 = uv[5] - uv[1];
+      double det = du1 * dv2 - du2 * dv1;
+      for (int a = 0; a < 3; a++) {
+        double d1 = P[1][a] - P[0][a], d2 = P[2][a] - P[0][a];
+        o->eu[a] = (d1 * dv2 - d2 * dv1) / det;
+        o->ev[a] = (du1 * d2 - du2 * d1) / det;
+        o->corner[a] = P[0][a] - uv[0] * o->eu[a] - uv[1] * o->ev[a];
+      }
+      memcpy(o->normal, so->normal, sizeof o->normal);
+    }
+  }
+  for (size_t e = 0; e < rs->nemitters; e++) rs->emitter_cdf[e] /= acc > 0 ? acc : 1;
+  return VR_OK;
+}
+
+static void camera_frame(rscene *rs) {
+  const vr_scene_camera *c = &rs->s->camera;
+  double w[3], u[3], v[3];
+  for (int a = 0; a < 3; a++) w[a] = c->to[a] - c->from[a];
+  unit(w);
+  u[0] = w[1] * c->up[2] - w[2] * c->up[1];
+  u[1] = w[2] * c->up[0] - w[0] * c->up[2];
+  u[2] = w[0] * c->up[1] - w[1] * c->up[0];
+  unit(u);
+  v[0] = u[1] * w[2] - u[2] * w[1];
+  v[1] = u[2] * w[0] - u[0] * w[2];
+  v[2] = u[0] * w[1] - u[1] * w[0];
+  memcpy(rs->cam_o, c->from, sizeof rs->cam_o);
+  memcpy(rs->cam_u, u, sizeof u);
+  memcpy(rs->cam_v, v, sizeof v);
+  memcpy(rs->cam_w, w, sizeof w);
+  rs->tan_half = tan(0.5 * c->fov_deg * M_PI / 180.0);
+}
+
+static vr_status resolve_sources(rscene *rs, vr_error *err) {
+  size_t n = rs->nlights + rs->nemitters + (rs->has_sky ? 1 : 0);
+  rs->nsources = n;
+  rs->source_cdf = calloc(n + 1, sizeof *rs->source_cdf);
+  if (!rs->source_cdf) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  double acc = 0;
+  size_t k = 0;
+  for (size_t i = 0; i < rs->nlights; i++) rs->source_cdf[k++] = (acc += rs->lights[i].power);
+  for (size_t i = 0; i < rs->nemitters; i++)
+    rs->source_cdf[k++] = (acc += rs->obj[rs->emitters[i]].emitted_power);
+  if (rs->has_sky) rs->source_cdf[k++] = (acc += vr_light_sky_power(rs));
+  rs->total_power = acc;
+  for (size_t i = 0; i < n; i++) rs->source_cdf[i] = acc > 0 ? rs->source_cdf[i] / acc : 0;
+  return VR_OK;
+}
+
+vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, int subdomains, rscene **out,
+                           vr_error *err) {
+  *out = NULL;
+  rscene *rs = calloc(1, sizeof *rs);
+  if (!rs) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  rs->s = s;
+  const vr_scene_settings *set = &s->settings;
+  rs->lmin = set->lambda_min;
+  rs->lmax = set->lambda_max;
+  rs->bins_mode = set->spectral == VR_SPECTRAL_BINS;
+  rs->nwl = set->wavelengths;
+  rs->seed = set->seed;
+  rs->film_lo = set->film_min_nm;
+  rs->film_step = set->film_step_nm;
+  rs->nbins = (size_t)floor((set->film_max_nm - set->film_min_nm) / set->film_step_nm + 1e-9);
+  vr_status st = VR_OK;
+  if (rs->nwl < 1 || rs->nwl > VR_MAX_WL) {
+    st = vr_error_at(err, VR_E_ARG, s->path, set->loc.line, set->loc.col,
+                     "wavelengths=%d: the renderer carries 1 to %d per path", rs->nwl, VR_MAX_WL);
+    goto fail;
+  }
+  if (rs->nbins < 1) rs->nbins = 1;
+  st = vr_geometry_build(s, &rs->g, err);
+  if (st) goto fail;
+  for (int a = 0; a < 3; a++) {
+    rs->scene_lo[a] = rs->g->bmin[a];
+    rs->scene_hi[a] = rs->g->bmax[a];
+    rs->scene_centre[a] = 0.5 * (rs->g->bmin[a] + rs->g->bmax[a]);
+  }
+  {
+    double d2 = 0;
+    for (int a = 0; a < 3; a++) d2 += pow(rs->g->bmax[a] - rs->g->bmin[a], 2);
+    rs->scene_radius = fmax(0.5 * sqrt(d2), 1e-3);
+  }
+  st = vr_domains_build(rs->g, subdomains, &rs->d, err);
+  if (!st) st = resolve_materials(rs, db, err);
+  if (!st) st = resolve_lights(rs, db, err);
+  if (!st) st = resolve_objects(rs, db, err);
+  if (!st) st = vr_light_sky_create(rs, db, err);
+  if (!st) st = resolve_sources(rs, err);
+  if (st) goto fail;
+  camera_frame(rs);
+  *out = rs;
+  return VR_OK;
+fail:
+  vr_rscene_destroy(rs);
+  return st;
+}
+
+void vr_rscene_destroy(rscene *rs) {
+  if (!rs) return;
+  for (size_t i = 0; rs->mat && i < rs->nmat; i++) {
+    vr_bsdf_destroy(rs->mat[i].bsdf);
+    vr_material_destroy(rs->mat[i].db);
+  }
+  for (size_t i = 0; rs->lights && i < rs->nlights; i++) {
+    rspd_free(&rs->lights[i].spd);
+    vr_ies_destroy(rs->lights[i].ies);
+  }
+  for (size_t i = 0; rs->obj && i < rs->s->nobjects; i++) {
+    rspd_free(&rs->obj[i].emission);
+    free(rs->obj[i].state);
+  }
+  vr_light_sky_destroy(rs);
+  free(rs->mat);
+  free(rs->lights);
+  free(rs->obj);
+  free(rs->emitters);
+  free(rs->emitter_cdf);
+  free(rs->source_cdf);
+  vr_domains_destroy(rs->d);
+  vr_geometry_destroy(rs->g);
+  free(rs);
+}

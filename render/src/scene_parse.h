@@ -1,0 +1,123 @@
+/* Shared by the scene parser's files: the parser's state, a statement and
+ * its checked options (scene_parse.c), the statements themselves
+ * (scene_parse_shapes.c, scene_parse_lights.c) and the readers of numbers,
+ * lengths, vectors, light quantities, spectrum references and transforms
+ * (scene_parse_values.c).  Every reader takes the whole word ("radius=5cm")
+ * for the column and the message, and the value part to read. */
+#ifndef VR_SCENE_PARSE_H
+#define VR_SCENE_PARSE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "vr/scene.h"
+
+typedef struct scn_parser {
+  vr_scene *s;
+  const char *file;  /* for messages */
+  long line;
+  const char *text;  /* the current line, for columns */
+  vr_error *err;
+  char **alias;      /* per object: its material= name until resolved */
+  vr_scene_loc *alias_loc;
+  size_t sun;        /* index + 1 of the sun light, 0 if none */
+  bool have_render;
+} scn_parser;
+
+#define SCN_MAX_WORDS 64
+
+/* One statement: its words, and its key=value options once checked. */
+typedef struct scn_opt {
+  const char *word, *val;
+  size_t klen;
+} scn_opt;
+
+typedef struct scn_stmt {
+  scn_parser *p;
+  char **w;
+  size_t nw;
+  scn_opt o[SCN_MAX_WORDS];
+  size_t no;
+  const char *what; /* "a sphere", for messages */
+} scn_stmt;
+
+/* The statements (w[0] is the keyword). */
+vr_status scn_camera(scn_stmt *t);
+vr_status scn_material(scn_stmt *t);
+vr_status scn_object(scn_stmt *t, vr_shape_kind kind);
+vr_status scn_light(scn_stmt *t);
+vr_status scn_sky(scn_stmt *t);
+vr_status scn_sensor(scn_stmt *t);
+vr_status scn_render(scn_stmt *t);
+
+/* Checks the words from `first` on: key=value, a key in `allowed` (NULL
+ * terminated), given once (translate/rotate/scale may repeat: they compose). */
+vr_status scn_options(scn_stmt *t, size_t first, const char *const *allowed);
+bool scn_is_transform(const char *key, size_t n);
+/* The option `key`, or NULL when not given. */
+const scn_opt *scn_get(const scn_stmt *t, const char *key);
+/* The same, an error naming the statement when it is missing. */
+vr_status scn_need(const scn_stmt *t, const char *key, const scn_opt **o);
+/* The later of two words on the line, to blame when both are given. */
+const char *scn_later(const scn_opt *a, const scn_opt *b);
+/* The words 1..n before the options; `what` says what they should be. */
+vr_status scn_positional(const scn_stmt *t, size_t n, const char *what);
+/* Grows an array by one zeroed element; NULL when out of memory. */
+void *scn_grow(void **arr, size_t *n, size_t size);
+/* Readers of an option when it is given (*out untouched otherwise). */
+vr_status scn_range(const scn_stmt *t, const char *key, double lo, double hi, bool open_lo,
+                    bool open_hi, double *out);
+vr_status scn_int_opt(const scn_stmt *t, const char *key, long long lo, long long hi, long long *out);
+vr_status scn_spectrum_opt(const scn_stmt *t, const char *key, vr_spectrum_ref *out);
+/* One of the words in `names` (NULL terminated); *out its index. */
+vr_status scn_choice(const scn_stmt *t, const char *key, const char *const *names, int *out);
+/* Readers of a given option. */
+vr_status scn_positive_length(const scn_stmt *t, const scn_opt *o, double *out);
+vr_status scn_point(const scn_stmt *t, const scn_opt *o, double out[3]);
+
+static inline double scn_dot3(const double a[3], const double b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void scn_cross3(const double a[3], const double b[3], double out[3]) {
+  double r[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  memcpy(out, r, sizeof r);
+}
+
+/* VR_E_PARSE "file:line:col: message", the column of `at` in the line. */
+vr_status scn_fail(const scn_parser *p, const char *at, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+vr_status scn_nomem(const scn_parser *p);
+vr_scene_loc scn_loc(const scn_parser *p, const char *at);
+
+/* A finite decimal number, nothing after it. */
+vr_status scn_number(const scn_parser *p, const char *word, const char *v, double *out);
+/* A length in metres: a number with an optional unit m, cm or mm. */
+vr_status scn_length(const scn_parser *p, const char *word, const char *v, double *out);
+/* n comma-separated numbers (lengths with units when `length`). */
+vr_status scn_numbers(const scn_parser *p, const char *word, const char *v, bool length, int n,
+                      double *out);
+/* X,Y,Z normalised to unit length; a zero vector is an error. */
+vr_status scn_direction(const scn_parser *p, const char *word, const char *v, double out[3]);
+/* n integers in [lo, hi] separated by sep ("640x480", "16,16"); a number in
+ * exponent notation is accepted when it is a whole number ("1e6"). */
+vr_status scn_ints(const scn_parser *p, const char *word, const char *v, char sep, int n, long long lo,
+                   long long hi, long long *out);
+vr_status scn_u64(const scn_parser *p, const char *word, const char *v, unsigned long long *out);
+/* A number followed by a light unit among `allowed` (VR_UNIT_NONE ends the
+ * list); no unit gives `dflt`, or an error when dflt is VR_UNIT_NONE.  The
+ * value must not be negative.  `what` names the quantity for messages. */
+vr_status scn_quantity(const scn_parser *p, const char *word, const char *v,
+                       const vr_light_unit *allowed, vr_light_unit dflt, const char *what,
+                       vr_quantity *out);
+/* db:NAME, bb:KELVIN or a CIE illuminant name; *out receives a copy. */
+vr_status scn_spectrum(const scn_parser *p, const char *word, const char *v, vr_spectrum_ref *out);
+/* Applies translate=, rotate= or scale= (key) after *x. */
+vr_status scn_transform(const scn_parser *p, const char *word, const char *key, const char *v,
+                        vr_xform *x);
+/* A path relative to the scene's folder; absolute paths are kept.  NULL when
+ * out of memory. */
+char *scn_resolve(const vr_scene *s, const char *rel);
+
+#endif

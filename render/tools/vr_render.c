@@ -1,0 +1,296 @@
+/* vr-render: renders a scene file into spectral and RGB OpenEXR, an sRGB
+ * PNG, a sensor table and statistics (docs/vr-render.md).  This file is the
+ * command line around vr_render_scene (the engine) and vr_film_write (the
+ * files): options, the material database, decision lines and a progress bar
+ * on stderr, and a short summary on stdout. */
+#include <math.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "vr/args.h"
+#include "vr/film.h"
+#include "vr/matdb.h"
+#include "vr/progress.h"
+#include "vr/render.h"
+#include "vr/scene.h"
+
+static const vr_option OPTIONS[] = {
+    {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv (default: the scene's name without .scn, here)"},
+    {"db", 'd', "FILE", "material database, read-only (default: $VR_MATDB, else ./materials.db; made if missing and needed)"},
+    {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
+    {"threads", 0, "P", "worker threads (default: the number of online CPUs)"},
+    {"image-space", 0, NULL, "image-space tiles over a replicated scene instead of the ray flow"},
+    {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
+    {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
+    {"stats", 0, "FILE.json", "write statistics (passes, rays, photons, sensors, memory, time) as JSON"},
+    {"tonemap", 0, "NAME", "PNG tone mapping: clip (default) or reinhard"},
+    {"sensors-only", 0, NULL, "evaluate the sensors only: no camera pass, no images"},
+    {"quiet", 'q', NULL, "print errors only: no decisions, progress bar or summary"},
+};
+#define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
+
+static const char USAGE[] =
+    "SCENE.scn [-o PREFIX] [--db FILE] [--subdomains S] [--threads P] [--image-space]\n"
+    "                 [--spp N] [--photons N] [--stats FILE.json] [--tonemap clip|reinhard]\n"
+    "                 [--sensors-only] [--quiet]";
+static const char ABOUT[] =
+    "Renders a scene file (docs/scene-format.md) with the materials of the material database.\n"
+    "Each analysis decision (which passes the scene needs, and why) is printed to stderr.\n"
+    "Outputs: PREFIX.exr (linear sRGB, Y in cd/m2), PREFIX.spectral.exr (spectral radiance\n"
+    "in W/(m2 sr nm), Fichet-Pacanowski-Wilkie layout), PREFIX.png (8-bit sRGB: 100 cd/m2\n"
+    "is white at EV 0, times 2^exposure of the scene's camera), and PREFIX.sensors.csv\n"
+    "(illuminance in lx and spectral irradiance in W/(m2 nm)) when the scene has sensors.\n"
+    "The outputs appear together or not at all.";
+
+/* ---- stderr: decision lines and the progress bar ---- */
+
+/* The engine may call back from its worker threads: one lock keeps the
+ * lines and the bar whole. */
+typedef struct ui {
+  pthread_mutex_t lock;
+  bool quiet;
+  vr_progress *bar;
+  char pass[64];
+  long total;
+} ui;
+
+static void ui_log(void *user, const char *line) {
+  ui *u = user;
+  if (u->quiet) return;
+  pthread_mutex_lock(&u->lock);
+  /* Over the bar's line; the bar draws itself again at its next update. */
+  if (u->bar) fputs("\r\033[K", stderr);
+  fprintf(stderr, "vr-render: %s\n", line);
+  fflush(stderr);
+  pthread_mutex_unlock(&u->lock);
+}
+
+static void ui_progress(void *user, const char *pass, long done, long total) {
+  ui *u = user;
+  if (u->quiet || total <= 0) return;
+  pthread_mutex_lock(&u->lock);
+  if (u->bar && (strcmp(u->pass, pass ? pass : "") || total != u->total)) {
+    vr_progress_finish(u->bar);
+    u->bar = NULL;
+  }
+  if (!u->bar && done < total) {
+    snprintf(u->pass, sizeof u->pass, "%s", pass ? pass : "");
+    u->total = total;
+    u->bar = vr_progress_create(u->pass, (size_t)total);
+  }
+  if (u->bar) {
+    if (done >= total) {
+      vr_progress_finish(u->bar);
+      u->bar = NULL;
+    } else {
+      vr_progress_update(u->bar, done < 0 ? 0 : (size_t)done);
+    }
+  }
+  pthread_mutex_unlock(&u->lock);
+}
+
+static void ui_end(ui *u) {
+  if (u->bar) vr_progress_finish(u->bar);
+  u->bar = NULL;
+}
+
+/* ---- options ---- */
+
+__attribute__((format(printf, 1, 2))) static int usage_error(const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  fputs("vr-render: ", stderr);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fputs("\nTry 'vr-render --help'.\n", stderr);
+  return 2;
+}
+
+/* An integer option in [lo, hi]; absent leaves *out.  false on a bad value. */
+static bool int_option(const vr_args *a, const char *name, long lo, long hi, long *out) {
+  const char *v = vr_args_get(a, name);
+  if (!v) return true;
+  char *end;
+  double x = strtod(v, &end);
+  if (end == v || *end || !(x >= (double)lo && x <= (double)hi) || x != floor(x)) {
+    usage_error("--%s '%s': expected an integer in [%ld, %ld]", name, v, lo, hi);
+    return false;
+  }
+  *out = (long)x;
+  return true;
+}
+
+/* The scene's name without its folder and .scn: "rooms/office.scn" -> "office". */
+static char *default_prefix(const char *scene) {
+  const char *slash = strrchr(scene, '/');
+  const char *base = slash ? slash + 1 : scene;
+  size_t n = strlen(base);
+  if (n > 4 && !strcmp(base + n - 4, ".scn")) n -= 4;
+  if (n == 0) base = "render", n = 6;
+  char *s = malloc(n + 1);
+  if (s) memcpy(s, base, n), s[n] = '\0';
+  return s;
+}
+
+/* ---- the material database ---- */
+
+static bool from_db(const char *ref) { return ref && !strncmp(ref, "db:", 3); }
+
+/* Does the scene take anything from the database?  A sun without a
+ * spectrum= does: its default, ASTM G173 direct, is a database row. */
+static bool scene_needs_db(const vr_scene *s) {
+  for (size_t i = 0; i < s->nmaterials; i++)
+    if (s->materials[i].source == VR_MATSRC_DB || s->materials[i].coating_db) return true;
+  for (size_t i = 0; i < s->nobjects; i++)
+    if (from_db(s->objects[i].emission_spectrum)) return true;
+  for (size_t i = 0; i < s->nlights; i++)
+    if (from_db(s->lights[i].spectrum) || (s->lights[i].kind == VR_LIGHT_SUN && !s->lights[i].spectrum))
+      return true;
+  return s->sky.present && from_db(s->sky.spectrum);
+}
+
+/* Read-only when the file exists.  When it does not: created and seeded
+ * with the built-in library if the scene needs it (as on any tool's first
+ * use), else no database at all, so that a run leaves no stray file. */
+static vr_status open_db(const char *path, const vr_scene *s, ui *u, vr_matdb **db, vr_error *err) {
+  *db = NULL;
+  const char *p = path ? path : vr_matdb_default_path();
+  if (access(p, F_OK) == 0) return vr_matdb_open(p, VR_MATDB_READONLY, db, err);
+  if (!scene_needs_db(s)) return VR_OK;
+  vr_status st = vr_matdb_open(p, 0, db, err);
+  if (!st) {
+    char line[4200];
+    snprintf(line, sizeof line, "created the material database %s with the built-in library", p);
+    ui_log(u, line);
+  }
+  return st;
+}
+
+/* ---- the summary on stdout ---- */
+
+static void summary(const vr_render_result *r, const char *prefix, const char *stats,
+                    double film_seconds) {
+  if (r->width > 0 && r->height > 0) {
+    printf("image    %d x %d", r->width, r->height);
+    if (r->nbins && r->bin_nm)
+      printf(", %zu bins %g-%g nm", r->nbins, r->bin_nm[0], r->bin_nm[r->nbins - 1]);
+    printf(", exposure %+g EV\n", r->exposure_ev);
+  }
+  for (size_t i = 0; i < r->npasses && i < VR_MAX_PASSES; i++) {
+    const vr_pass_record *p = &r->passes[i];
+    if (p->ran) printf("pass     %-16s %9.3f s  %s\n", p->name, p->seconds, p->reason);
+    else printf("pass     %-16s   skipped    %s\n", p->name, p->reason);
+  }
+  printf("rays     camera %llu, shadow %llu, photon %llu, other %llu; %llu sub-domain crossings\n",
+         (unsigned long long)r->rays_camera, (unsigned long long)r->rays_shadow,
+         (unsigned long long)r->rays_photon, (unsigned long long)r->rays_other,
+         (unsigned long long)r->crossings);
+  if (r->photons_global || r->photons_caustic || r->photons_direct)
+    printf("photons  global %zu, caustic %zu, direct %zu\n", r->photons_global, r->photons_caustic,
+           r->photons_direct);
+  for (size_t k = 0; k < r->nreadings; k++) {
+    const vr_sensor_reading *s = &r->readings[k];
+    printf("sensor   %s (%d, %d)  %.6g lx  +- %.2g lx\n", s->sensor ? s->sensor : "", s->i, s->j,
+           s->illuminance_lx, s->stderr_lx);
+  }
+  if (r->photochromic_texels)
+    printf("photochromic  %zu texels, state %.4g to %.4g\n", r->photochromic_texels,
+           r->photochromic_state_min, r->photochromic_state_max);
+  printf("wrote   ");
+  if (r->width > 0 && r->height > 0) {
+    printf(" %s.exr", prefix);
+    if (r->nbins && r->spectral) printf(" %s.spectral.exr", prefix);
+    printf(" %s.png", prefix);
+  }
+  if (r->nreadings) printf(" %s.sensors.csv", prefix);
+  if (stats) printf(" %s", stats);
+  printf("  (%.3f s)\n", film_seconds);
+  printf("time     %.3f s, peak memory %.1f MiB\n", r->seconds_total,
+         (double)vr_peak_rss_bytes() / (1024.0 * 1024.0));
+}
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- main ---- */
+
+static int run(const vr_args *a) {
+  if (a->noperands != 1) return usage_error("expected one scene file, got %zu", a->noperands);
+  vr_render_options opt;
+  vr_render_options_default(&opt);
+  long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+  long subdomains = 1, threads = cpus > 0 ? cpus : 1, spp = 0, photons = 0;
+  if (!int_option(a, "subdomains", 1, 1000000, &subdomains) ||
+      !int_option(a, "threads", 1, 4096, &threads) || !int_option(a, "spp", 1, 1L << 20, &spp) ||
+      !int_option(a, "photons", 1, 1000000000000L, &photons))
+    return 2;
+  const char *tonemap = vr_args_get(a, "tonemap");
+  vr_tonemap tm;
+  if (vr_tonemap_parse(tonemap, &tm, NULL))
+    return usage_error("--tonemap '%s': expected clip or reinhard", tonemap);
+  ui u = {.quiet = vr_args_flag(a, "quiet")};
+  pthread_mutex_init(&u.lock, NULL);
+  opt.subdomains = (int)subdomains;
+  opt.threads = (int)threads;
+  opt.image_space = vr_args_flag(a, "image-space");
+  opt.spp = (int)spp;
+  opt.photons = photons;
+  opt.log = ui_log;
+  opt.progress = ui_progress;
+  opt.user = &u;
+
+  const char *path = a->operands[0], *stats = vr_args_get(a, "stats");
+  vr_error err = {0};
+  vr_scene *scene = NULL;
+  vr_matdb *db = NULL;
+  vr_render_result *r = NULL;
+  char *prefix = NULL;
+  int rc = 1;
+  const char *given = vr_args_get(a, "output");
+  if (!(prefix = given ? strdup(given) : default_prefix(path))) {
+    vr_error_set(&err, VR_E_NOMEM, "out of memory");
+    goto out;
+  }
+  if (vr_scene_read(path, &scene, &err)) goto out;
+  /* No camera line: the scene exists for its sensors. */
+  opt.no_camera = vr_args_flag(a, "sensors-only") || !scene->camera.given;
+  if (opt.no_camera && scene->nsensors == 0) {
+    vr_error_set(&err, VR_E_ARG, "%s: --sensors-only, but the scene has no sensor line", path);
+    goto out;
+  }
+  if (open_db(vr_args_get(a, "db"), scene, &u, &db, &err)) goto out;
+  if (vr_render_scene(scene, db, &opt, &r, &err)) goto out;
+  ui_end(&u);
+  double t0 = now_s();
+  if (vr_film_write(r, prefix, tonemap, &err)) goto out;
+  if (stats && vr_stats_write_json(r, stats, &err)) goto out;
+  if (!u.quiet) summary(r, prefix, stats, now_s() - t0);
+  rc = 0;
+out:
+  ui_end(&u);
+  if (rc) fprintf(stderr, "vr-render: %s\n", err.message);
+  if (r) vr_render_result_destroy(r);
+  vr_matdb_close(db);
+  vr_scene_destroy(scene);
+  free(prefix);
+  pthread_mutex_destroy(&u.lock);
+  return rc;
+}
+
+int main(int argc, char **argv) {
+  vr_args a;
+  vr_args_outcome o = vr_args_parse(&a, "vr-render", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
+  if (o == VR_ARGS_EXIT_OK) return 0;
+  if (o == VR_ARGS_EXIT_USAGE) return 2;
+  int rc = run(&a);
+  vr_args_free(&a);
+  return rc;
+}

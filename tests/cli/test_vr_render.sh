@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Command-line test of vr-render: --help, usage and file errors, and one
+# small analytic scene rendered end to end (outputs, sensor table, stats).
+set -u
+bin="$(cd "$VR_BIN" && pwd)/vr-render"
+src="$VR_SOURCE_DIR"
+source "$(dirname "$0")/harness.sh"
+
+"$bin" --help > "$tmp/help" 2>&1; rc=$?
+check "--help exits 0" test $rc -eq 0
+check "--help shows usage" grep -q "^Usage: vr-render" "$tmp/help"
+for o in --output --db --subdomains --threads --image-space --spp --photons --stats --tonemap \
+         --sensors-only --quiet --help --version; do
+  check "--help lists $o" grep -q -- "$o" "$tmp/help"
+done
+"$bin" --version > "$tmp/ver"; check "--version" grep -q "vr-render (Virtuelium-C) " "$tmp/ver"
+
+# Usage errors exit 2; errors on files exit 1 and name the file.
+"$bin" --bogus "$tmp/x.scn" > /dev/null 2> "$tmp/err"; rc=$?
+check "unknown option is a usage error (2)" test $rc -eq 2
+"$bin" > /dev/null 2>&1; rc=$?
+check "no scene is a usage error (2)" test $rc -eq 2
+"$bin" --threads zero "$tmp/x.scn" > /dev/null 2> "$tmp/err"; rc=$?
+check "bad --threads is a usage error (2)" test $rc -eq 2
+check "bad --threads is named" grep -q -- "--threads 'zero'" "$tmp/err"
+"$bin" --tonemap filmic "$tmp/x.scn" > /dev/null 2> "$tmp/err"; rc=$?
+check "bad --tonemap is a usage error (2)" test $rc -eq 2
+"$bin" "$tmp/none.scn" > /dev/null 2> "$tmp/err"; rc=$?
+check "missing scene exits 1" test $rc -eq 1
+check "missing scene is named" grep -q "^vr-render: .*none.scn" "$tmp/err"
+printf 'camera pinhole from=0,-1,1 to=0,0,0\nrect center=0,0,0 normal=0,0,1 size=1,1 material=nowhere\n' > "$tmp/bad.scn"
+"$bin" "$tmp/bad.scn" > /dev/null 2> "$tmp/err"; rc=$?
+check "unknown material exits 1" test $rc -eq 1
+check "scene error is file:line:col" grep -q "^vr-render: .*bad.scn:2:[0-9]*: .*nowhere" "$tmp/err"
+check "no output after an error" test ! -e "$tmp/bad.png"
+
+# CIE 171:2006 test case 5.2 geometry: a 1000 cd isotropic point 3 m above a
+# point on the floor, facing it: E = I / r^2 = 1000 / 9 = 111.1 lx.  The
+# floor is the only surface and lies below the sensor, so nothing is
+# reflected onto it.
+cat > "$tmp/point.scn" <<'EOF'
+# One lamp over a grey floor.
+camera pinhole from=0,-6,4 to=0,0,0 up=0,0,1 fov=60 resolution=32x24
+material grey lambert reflectance=0.5
+rect center=0,0,0 normal=0,0,1 size=20,20 material=grey
+light point position=0,0,3 intensity=1000cd
+sensor floor point position=0,0,0 normal=0,0,1
+render integrator=path spp=4
+EOF
+(cd "$tmp" && "$bin" point.scn --stats point.json --threads 2 > out.txt 2> log.txt); rc=$?
+check "renders the point-light scene" test $rc -eq 0
+[ $rc -eq 0 ] || sed 's/^/# /' "$tmp/log.txt"
+for f in point.exr point.spectral.exr point.png point.sensors.csv point.json; do
+  check "wrote $f" test -s "$tmp/$f"
+done
+check "no database file made for a scene that needs none" test ! -e "$VR_MATDB"
+check "no staging file left" test -z "$(ls "$tmp" | grep -e '\.stage-' -e '\.tmp-')"
+python3 - "$tmp" <<'PY'
+import csv, json, sys
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/point.sensors.csv")))
+assert len(rows) == 1 and rows[0]["sensor"] == "floor", rows
+E = float(rows[0]["illuminance_lx"])
+assert abs(E - 1000 / 9) <= 0.01 * 1000 / 9, E
+head = open(d + "/point.sensors.csv").readline().strip().split(",")
+assert head[:8] == ["sensor", "i", "j", "x", "y", "z", "illuminance_lx", "stderr_lx"], head
+assert len(head) > 8 and all(h.startswith("E_") for h in head[8:]), head
+s = json.load(open(d + "/point.json"))
+for k in ("passes", "rays", "peak_rss_bytes", "photons", "sensors", "seconds_total", "photochromic"):
+    assert k in s, k
+assert s["peak_rss_bytes"] > 0 and s["rays"]["camera"] > 0, s
+assert abs(s["sensors"][0]["illuminance_lx"] - E) < 1e-7 * E  # the CSV keeps 9 digits
+PY
+check "sensor reads 111.1 lx within 1 %, stats parse" test $? -eq 0
+check "summary names the sensor" grep -q "^sensor .*floor" "$tmp/out.txt"
+check "decision lines are prefixed" grep -q "^vr-render: " "$tmp/log.txt"
+
+# -o, --sensors-only and --quiet: only the table, nothing printed.
+mkdir -p "$tmp/o"
+"$bin" "$tmp/point.scn" -o "$tmp/o/s" --sensors-only --quiet > "$tmp/out2.txt" 2>&1; rc=$?
+check "--sensors-only runs" test $rc -eq 0
+check "--sensors-only writes the table" test -s "$tmp/o/s.sensors.csv"
+check "--sensors-only writes no image" test ! -e "$tmp/o/s.png" -a ! -e "$tmp/o/s.exr"
+check "--quiet prints nothing" test ! -s "$tmp/out2.txt"
+
+finish

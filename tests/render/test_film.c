@@ -1,0 +1,380 @@
+/* The files of a render (vr/film.h) from results built by hand: no engine
+ * involved.  Expected values:
+ *  - sRGB: IEC 61966-2-1:1999, its 4-digit XYZ -> RGB matrix and transfer
+ *    curve; encode(0.5) = 1.055 * 0.5^(1/2.4) - 0.055 = 0.735357, so 8-bit
+ *    188 (187.5 rounded).  The standard's matrix puts the D65 white
+ *    (x, y = 0.3127, 0.3290) at R, G, B = 0.99984, 1.00010, 1.00007: that is
+ *    the 2e-4 tolerance on "white = (1, 1, 1)" below.
+ *  - Exposure convention of docs/vr-render.md: 100 cd/m² of the white is
+ *    display 1.0 at EV 0; Reinhard (2002, eq. 3) L / (1 + L) on luminance.
+ *  - Spectral OpenEXR channel names: Fichet, Pacanowski, Wilkie, JCGT 10(3)
+ *    2021 ("S0.550,000000nm"). */
+#include "../acquire/image_test_util.h"
+
+#include <ctype.h>
+#include <openexr.h>
+#include <sys/stat.h>
+
+#include "vr/colour.h"
+#include "vr/film.h"
+#include "vr/spectral_exr.h"
+
+enum { W = 4, H = 2, NB = 3 };
+static const double BINS[NB] = {450, 550, 650};
+
+typedef struct owned_result {
+  vr_render_result r;
+  double xyz[W * H * 3], spectral[W * H * NB], bin_nm[NB];
+  vr_sensor_reading readings[2];
+  double sensor_spectral[2 * NB];
+} owned_result;
+
+/* 4 x 2 pixels of the D65 white at luminance Y (cd/m²), three bins of
+ * radiance 0.01 * (b + 1) W/(m² sr nm), two sensor readings. */
+static void make_result(owned_result *o, double Y) {
+  memset(o, 0, sizeof *o);
+  double white[3];
+  vr_srgb_white(white);
+  for (int p = 0; p < W * H; p++) {
+    for (int c = 0; c < 3; c++) o->xyz[3 * p + c] = white[c] * Y;
+    for (int b = 0; b < NB; b++) o->spectral[p * NB + b] = 0.01 * (b + 1);
+  }
+  memcpy(o->bin_nm, BINS, sizeof BINS);
+  o->readings[0] = (vr_sensor_reading){"floor", 0, 0, {0, 0, 0}, 111.1, 0.2};
+  o->readings[1] = (vr_sensor_reading){"desk, left", 1, 2, {1.5, -2, 0.75}, 42.5, 0.5};
+  for (int k = 0; k < 2 * NB; k++) o->sensor_spectral[k] = 0.1 * (k + 1);
+  vr_render_result *r = &o->r;
+  r->width = W, r->height = H;
+  r->xyz = o->xyz;
+  r->nbins = NB;
+  r->bin_nm = o->bin_nm;
+  r->bin_width_nm = 100;
+  r->spectral = o->spectral;
+  r->nreadings = 2;
+  r->readings = o->readings;
+  r->sensor_spectral = o->sensor_spectral;
+  r->npasses = 2;
+  r->passes[0] = (vr_pass_record){"caustic photons", false, "no specular surface \"seen\" through", 0};
+  r->passes[1] = (vr_pass_record){"camera", true, "the scene has a camera", 1.25};
+  r->rays_camera = 1000, r->rays_shadow = 2000, r->crossings = 7;
+  r->rays_created = 3000, r->rays_finished = 3000;
+  r->seconds_total = 1.5;
+}
+
+static bool exists(const char *path) {
+  struct stat st;
+  return stat(path, &st) == 0;
+}
+
+static char *slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  static char buf[1 << 16];
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  fclose(f);
+  buf[n] = '\0';
+  return buf;
+}
+
+static void read_png(const char *path, vr_image *img) {
+  vr_error err = {0};
+  assert_int_equal(vr_image_read(path, img, &err), VR_OK);
+  assert_int_equal(img->bit_depth, 8);
+  assert_int_equal(img->width, W);
+  assert_int_equal(img->height, H);
+}
+
+static void png_white_ev0_is_255(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  vr_error err = {0};
+  assert_int_equal(vr_film_write(&o.r, in_dir("w"), NULL, &err), VR_OK);
+  vr_image img = {0};
+  read_png(in_dir("w.png"), &img);
+  for (int i = 0; i < W * H * 3; i++) assert_near(img.data[i] * 255.0, 255, 1e-3);
+  vr_image_free(&img);
+}
+
+static void png_ev_minus_one_is_half(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  o.r.exposure_ev = -1;
+  vr_error err = {0};
+  assert_int_equal(vr_film_write(&o.r, in_dir("half"), "clip", &err), VR_OK);
+  vr_image img = {0};
+  read_png(in_dir("half.png"), &img);
+  assert_near(vr_srgb_encode(0.5), 0.735357, 1e-6);
+  for (int i = 0; i < W * H * 3; i++) assert_near(img.data[i] * 255.0, 188, 1.0 + 1e-3);
+  vr_image_free(&img);
+}
+
+static void reinhard_maps_100_cd_to_half(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  vr_error err = {0};
+  assert_int_equal(vr_film_write(&o.r, in_dir("rh"), "Reinhard", &err), VR_OK);
+  vr_image img = {0};
+  read_png(in_dir("rh.png"), &img);
+  for (int i = 0; i < W * H * 3; i++) assert_near(img.data[i] * 255.0, 188, 1.0 + 1e-3);
+  vr_image_free(&img);
+  /* A coloured pixel keeps its channel ratios: Y = 300 cd/m² -> L = 3 ->
+   * 0.75, every channel scaled by 0.25 / 100. */
+  double rgb[3] = {400, 250, 100}, out[3];
+  vr_film_display(rgb, 300, 0, VR_TONEMAP_REINHARD, out);
+  assert_near(out[0], 1.0, 1e-12);
+  assert_near(out[1], 0.625, 1e-12);
+  assert_near(out[2], 0.25, 1e-12);
+  /* Clip: plain scaling, clamped; black stays black. */
+  vr_film_display(rgb, 300, 0, VR_TONEMAP_CLIP, out);
+  for (int c = 0; c < 3; c++) assert_near(out[c], 1.0, 0);
+  double black[3] = {0, 0, 0};
+  vr_film_display(black, 0, 0, VR_TONEMAP_REINHARD, out);
+  assert_near(out[0] + out[1] + out[2], 0, 0);
+  vr_tonemap tm;
+  assert_int_equal(vr_tonemap_parse("filmic", &tm, &err), VR_E_ARG);
+  assert_contains(err.message, "'filmic'");
+  assert_int_equal(vr_film_write(&o.r, in_dir("bad"), "filmic", &err), VR_E_ARG);
+  assert_false(exists(in_dir("bad.exr")));
+}
+
+static void exr_holds_linear_srgb_in_cd_m2(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  vr_error err = {0};
+  assert_int_equal(vr_film_write(&o.r, in_dir("lin"), NULL, &err), VR_OK);
+  vr_image img = {0};
+  assert_int_equal(vr_image_read(in_dir("lin.exr"), &img, &err), VR_OK);
+  assert_int_equal(img.bit_depth, 32);
+  assert_int_equal(img.width, W);
+  double expect[3];
+  vr_xyz_to_srgb_linear(o.xyz, expect);
+  for (int p = 0; p < W * H; p++)
+    for (int c = 0; c < 3; c++) {
+      assert_rel(img.data[3 * p + c], expect[c], 1e-6); /* float storage */
+      assert_rel(img.data[3 * p + c], 100.0, 2e-4);     /* the standard's matrix */
+    }
+  /* Luminance from the primaries' Y row gives back the film's Y. */
+  double Y = 0.2126 * img.data[0] + 0.7152 * img.data[1] + 0.0722 * img.data[2];
+  assert_rel(Y, 100.0, 1e-4);
+  vr_image_free(&img);
+}
+
+static void spectral_exr_has_bins_and_rgb(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  vr_error err = {0};
+  assert_int_equal(vr_film_write(&o.r, in_dir("sp"), NULL, &err), VR_OK);
+  /* Channel count and names, with OpenEXR itself. */
+  exr_context_t ctxt;
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  assert_int_equal(exr_start_read(&ctxt, in_dir("sp.spectral.exr"), &init), EXR_ERR_SUCCESS);
+  const exr_attr_chlist_t *ch = NULL;
+  assert_int_equal(exr_get_channels(ctxt, 0, &ch), EXR_ERR_SUCCESS);
+  assert_int_equal(ch->num_channels, NB + 3);
+  bool seen550 = false, seenR = false;
+  for (int i = 0; i < ch->num_channels; i++) {
+    seen550 |= !strcmp(ch->entries[i].name.str, "S0.550,000000nm");
+    seenR |= !strcmp(ch->entries[i].name.str, "R");
+  }
+  assert_true(seen550);
+  assert_true(seenR);
+  const exr_attribute_t *units = NULL;
+  assert_int_equal(exr_get_attribute_by_name(ctxt, 0, "emissiveUnits", &units), EXR_ERR_SUCCESS);
+  assert_string_equal(units->string->str, "W.m^-2.sr^-1.nm^-1");
+  exr_finish(&ctxt);
+  /* Values, through our reader. */
+  vr_spectral_image sp = {0};
+  vr_image rgb = {0};
+  assert_int_equal(vr_spectral_exr_read(in_dir("sp.spectral.exr"), &sp, &rgb, &err), VR_OK);
+  assert_int_equal(sp.nbands, NB);
+  assert_int_equal(sp.kind, VR_SPECTRAL_EMISSIVE);
+  for (int b = 0; b < NB; b++) {
+    assert_near(sp.wavelengths_nm[b], BINS[b], 1e-9);
+    assert_rel(sp.data[(1 * W + 3) * NB + b], 0.01 * (b + 1), 1e-6);
+  }
+  assert_non_null(rgb.data);
+  assert_rel(rgb.data[1], 100.0, 2e-4);
+  vr_spectral_image_free(&sp);
+  vr_image_free(&rgb);
+}
+
+static void sensor_table_has_one_row_per_point(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  vr_error err = {0};
+  assert_int_equal(vr_film_write(&o.r, in_dir("sn"), NULL, &err), VR_OK);
+  char *csv = slurp(in_dir("sn.sensors.csv"));
+  assert_string_equal(csv,
+                      "sensor,i,j,x,y,z,illuminance_lx,stderr_lx,E_450,E_550,E_650\n"
+                      "floor,0,0,0,0,0,111.1,0.2,0.1,0.2,0.3\n"
+                      "\"desk, left\",1,2,1.5,-2,0.75,42.5,0.5,0.4,0.5,0.6\n");
+  /* A sensors-only result: no images, the table alone. */
+  o.r.width = o.r.height = 0;
+  o.r.xyz = NULL;
+  assert_int_equal(vr_film_write(&o.r, in_dir("only"), NULL, &err), VR_OK);
+  assert_true(exists(in_dir("only.sensors.csv")));
+  assert_false(exists(in_dir("only.exr")));
+  assert_false(exists(in_dir("only.png")));
+  /* No readings: no table. */
+  make_result(&o, 100);
+  o.r.nreadings = 0;
+  assert_int_equal(vr_film_write(&o.r, in_dir("nosn"), NULL, &err), VR_OK);
+  assert_true(exists(in_dir("nosn.png")));
+  assert_false(exists(in_dir("nosn.sensors.csv")));
+}
+
+/* ---- a small JSON checker: RFC 8259 values, nothing else ---- */
+
+static const char *json_value(const char *s);
+
+static const char *json_ws(const char *s) {
+  while (*s == ' ' || *s == '\n' || *s == '\t' || *s == '\r') s++;
+  return s;
+}
+
+static const char *json_string(const char *s) {
+  if (*s != '"') return NULL;
+  for (s++; *s && *s != '"'; s++) {
+    if ((unsigned char)*s < 0x20) return NULL;
+    if (*s == '\\' && !*++s) return NULL;
+  }
+  return *s == '"' ? s + 1 : NULL;
+}
+
+static const char *json_list(const char *s, char close, bool keys) {
+  s = json_ws(s + 1);
+  if (*s == close) return s + 1;
+  for (;;) {
+    if (keys) {
+      if (!(s = json_string(s))) return NULL;
+      s = json_ws(s);
+      if (*s++ != ':') return NULL;
+    }
+    if (!(s = json_value(s))) return NULL;
+    s = json_ws(s);
+    if (*s == close) return s + 1;
+    if (*s++ != ',') return NULL;
+    s = json_ws(s);
+  }
+}
+
+static const char *json_value(const char *s) {
+  s = json_ws(s);
+  if (*s == '{') return json_list(s, '}', true);
+  if (*s == '[') return json_list(s, ']', false);
+  if (*s == '"') return json_string(s);
+  for (const char *lit = "true\0false\0null\0"; *lit; lit += strlen(lit) + 1)
+    if (!strncmp(s, lit, strlen(lit))) return s + strlen(lit);
+  char *end;
+  strtod(s, &end);
+  return end > s && (isdigit((unsigned char)*s) || *s == '-') ? end : NULL;
+}
+
+static void stats_json_parses_and_has_the_keys(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  vr_error err = {0};
+  const char *path = in_dir("stats.json");
+  assert_int_equal(vr_stats_write_json(&o.r, path, &err), VR_OK);
+  const char *js = slurp(path);
+  const char *end = json_value(js);
+  if (!end || *json_ws(end)) fail_msg("not one JSON value:\n%s", js);
+  static const char *const KEYS[] = {
+      "\"passes\"",   "\"name\"",      "\"ran\"",          "\"reason\"",     "\"seconds\"",
+      "\"rays\"",     "\"camera\"",    "\"shadow\"",       "\"photon\"",     "\"crossings\"",
+      "\"created\"",  "\"finished\"",  "\"peak_rss_bytes\"", "\"photons\"",  "\"sensors\"",
+      "\"i\"",        "\"j\"",         "\"illuminance_lx\"", "\"stderr_lx\"", "\"seconds_total\"",
+      "\"photochromic\"", "\"texels\"", "\"state_min\"",   "\"state_max\""};
+  for (size_t k = 0; k < sizeof KEYS / sizeof *KEYS; k++) assert_contains(js, KEYS[k]);
+  /* Quotes in a reason are escaped, and the numbers are the result's. */
+  assert_contains(js, "no specular surface \\\"seen\\\" through");
+  assert_contains(js, "\"camera\": 1000,");
+  assert_contains(js, "\"illuminance_lx\": 111.09999999999999");
+  assert_contains(js, "\"state_min\": null"); /* no photochromic texels */
+  const char *rss = strstr(js, "\"peak_rss_bytes\": ");
+  assert_non_null(rss);
+  assert_true(strtoll(rss + strlen("\"peak_rss_bytes\": "), NULL, 10) > 0);
+  assert_true(vr_peak_rss_bytes() > 1024 * 1024); /* any process holds more than 1 MiB */
+}
+
+static void nan_pixel_writes_nothing(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  o.xyz[3 * (1 * W + 2) + 1] = NAN; /* pixel (2, 1), Y */
+  vr_error err = {0};
+  int before = test_dir_entries();
+  assert_int_equal(vr_film_write(&o.r, in_dir("nan"), NULL, &err), VR_E_RANGE);
+  assert_contains(err.message, "pixel (2, 1)");
+  assert_contains(err.message, "NaN");
+  assert_false(exists(in_dir("nan.exr")));
+  assert_false(exists(in_dir("nan.spectral.exr")));
+  assert_false(exists(in_dir("nan.png")));
+  assert_false(exists(in_dir("nan.sensors.csv")));
+  assert_int_equal(test_dir_entries(), before);
+  /* A NaN bin is refused the same way, naming its wavelength. */
+  make_result(&o, 100);
+  o.spectral[(0 * W + 1) * NB + 2] = NAN;
+  assert_int_equal(vr_film_write(&o.r, in_dir("nan"), NULL, &err), VR_E_RANGE);
+  assert_contains(err.message, "pixel (1, 0)");
+  assert_contains(err.message, "650 nm");
+  /* So is a NaN reading, naming the sensor. */
+  make_result(&o, 100);
+  o.readings[1].illuminance_lx = NAN;
+  assert_int_equal(vr_film_write(&o.r, in_dir("nan"), NULL, &err), VR_E_RANGE);
+  assert_contains(err.message, "desk, left");
+  assert_int_equal(test_dir_entries(), before);
+  /* Earlier files of the same prefix stay as they were. */
+  make_result(&o, 100);
+  assert_int_equal(vr_film_write(&o.r, in_dir("keep"), NULL, &err), VR_OK);
+  char old[4096];
+  snprintf(old, sizeof old, "%s", slurp(in_dir("keep.sensors.csv")));
+  o.readings[0].illuminance_lx = 1;
+  o.xyz[0] = NAN;
+  assert_int_equal(vr_film_write(&o.r, in_dir("keep"), NULL, &err), VR_E_RANGE);
+  assert_string_equal(slurp(in_dir("keep.sensors.csv")), old);
+  assert_true(exists(in_dir("keep.png")));
+}
+
+/* A failure after some files are in place: PREFIX.png is a folder, so the
+ * PNG cannot be moved over it; the EXRs already moved are taken back. */
+static void failed_output_removes_the_others(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  assert_int_equal(mkdir(in_dir("blocked.png"), 0755), 0);
+  int before = test_dir_entries();
+  vr_error err = {0};
+  assert_int_not_equal(vr_film_write(&o.r, in_dir("blocked"), NULL, &err), VR_OK);
+  assert_contains(err.message, "blocked.png");
+  assert_false(exists(in_dir("blocked.exr")));
+  assert_false(exists(in_dir("blocked.spectral.exr")));
+  assert_false(exists(in_dir("blocked.sensors.csv")));
+  assert_int_equal(test_dir_entries(), before); /* no staging file either */
+  rmdir(in_dir("blocked.png"));
+  /* A folder that does not exist: an error naming the path, nothing else. */
+  assert_int_not_equal(vr_film_write(&o.r, in_dir("none/x"), NULL, &err), VR_OK);
+  assert_contains(err.message, "none/x.exr");
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(png_white_ev0_is_255),
+      cmocka_unit_test(png_ev_minus_one_is_half),
+      cmocka_unit_test(reinhard_maps_100_cd_to_half),
+      cmocka_unit_test(exr_holds_linear_srgb_in_cd_m2),
+      cmocka_unit_test(spectral_exr_has_bins_and_rgb),
+      cmocka_unit_test(sensor_table_has_one_row_per_point),
+      cmocka_unit_test(stats_json_parses_and_has_the_keys),
+      cmocka_unit_test(nan_pixel_writes_nothing),
+      cmocka_unit_test(failed_output_removes_the_others),
+  };
+  return cmocka_run_group_tests(tests, make_test_dir, remove_test_dir);
+}
