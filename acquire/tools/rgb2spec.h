@@ -54,6 +54,18 @@ vr_status rg_save(vr_matdb *db, const char *prefix, const rg_run *run, vr_error 
  * (through XYZ with the light's white). */
 double rg_delta_e(const rg_run *run, size_t light, const double a[3], const double b[3]);
 
+/* Per-pixel recovery into a spectral OpenEXR (rgb2spec_pixels.c). */
+typedef struct rg_pixels {
+  long pixels;
+  double clamped_fraction; /* of all spectral samples, clamped into [0, 1] */
+  double rgb_rms;          /* RMS of re-rendered minus photo linear responses, after clamping */
+  double *mean;            /* mean spectrum over the pixels (n), malloc'ed */
+} rg_pixels;
+vr_status rg_per_pixel(const rg_run *run, const vr_image *img, const char *path, int threads,
+                       rg_pixels *res, vr_error *err);
+vr_status rg_save_texture(vr_matdb *db, const char *name, const char *path, const rg_run *run,
+                          const rg_pixels *px, vr_error *err);
+
 /* vr-rgb2spec simulate (rgb2spec_simulate.c). */
 int rg_cmd_simulate(vr_args *a);
 

@@ -21,6 +21,9 @@ static const vr_option OPTIONS[] = {
     {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
     {"report", 'r', "FILE.html", "HTML report with plots and a swatch image"},
     {"json", 'j', NULL, "JSON output"},
+    {"per-pixel", 0, "FILE.exr", "also recover every pixel (Matrix R, clamped to [0, 1]) into a spectral EXR"},
+    {"texture", 0, "NAME", "with --per-pixel: save material NAME referencing the EXR (mean spectrum as 'value')"},
+    {"threads", 0, "N", "threads for --per-pixel (default 2)"},
     {"noise", 0, "SIGMA", "simulate: Gaussian noise on linear values (default 0.002)"},
     {"seed", 0, "N", "simulate: random seed (default 1)"},
     {"size", 0, "WxH", "simulate: photo size (default 640x480)"},
@@ -29,7 +32,7 @@ static const vr_option OPTIONS[] = {
 
 static const char USAGE[] =
     "PHOTOS... [--manifest FILE] [--method matrix-r|bounded|regularised] [--save-prefix P]\n"
-    "                  [--db FILE] [--report FILE.html] [--json]\n"
+    "                  [--db FILE] [--report FILE.html] [--json] [--per-pixel FILE.exr [--texture NAME]]\n"
     "       vr-rgb2spec simulate --manifest FILE [--noise SIGMA] [--seed N] [--size WxH]\n"
     "       vr-rgb2spec calibrate PHOTO --light NAME|FILE [options] (see calibrate --help)";
 static const char ABOUT[] =
@@ -204,13 +207,29 @@ static int cmd_recover(vr_args *a) {
   char *mpath = NULL;
   int rc = 1;
   const char *manifest = vr_args_get(a, "manifest"), *prefix = vr_args_get(a, "save-prefix");
+  const char *pixels = vr_args_get(a, "per-pixel"), *texture = vr_args_get(a, "texture");
+  rg_pixels px = {0};
+  int threads = 2;
+  if (vr_args_get(a, "threads")) {
+    char *end;
+    long t = strtol(vr_args_get(a, "threads"), &end, 10);
+    if (*end || t < 1 || t > 256) {
+      vr_error_set(&err, VR_E_ARG, "--threads '%s': expected 1 to 256", vr_args_get(a, "threads"));
+      goto out;
+    }
+    threads = (int)t;
+  }
+  if (texture && !pixels) {
+    vr_error_set(&err, VR_E_ARG, "--texture needs --per-pixel FILE.exr");
+    goto out;
+  }
   if (parse_method(vr_args_get(a, "method"), &run.method, &err)) goto out;
   if (!manifest && a->noperands == 0) {
     vr_error_set(&err, VR_E_ARG, "give photos or --manifest FILE");
     goto out;
   }
   mpath = manifest ? strdup(manifest) : default_manifest(a->operands[0]);
-  if ((prefix || vr_matdb_named_in(mpath)) && vr_matdb_open(vr_args_get(a, "db"), 0, &db, &err)) goto out;
+  if ((prefix || texture || vr_matdb_named_in(mpath)) && vr_matdb_open(vr_args_get(a, "db"), 0, &db, &err)) goto out;
   if (vr_capture_read(mpath, db, &cap, &err)) goto out;
   run.cap = cap;
   /* The photos: those given, each of which the manifest must list; or all. */
@@ -309,6 +328,17 @@ static int cmd_recover(vr_args *a) {
   const char *report = vr_args_get(a, "report");
   if (report && rg_write_report(report, &run, &err)) goto out;
   if (prefix && rg_save(db, prefix, &run, &err)) goto out;
+  if (pixels) {
+    if (rg_per_pixel(&run, img, pixels, threads, &px, &err)) goto out;
+    fprintf(vr_args_flag(a, "json") ? stderr : stdout,
+            "per-pixel: %ld pixels into %s (%zu bands, Matrix R), %.3g %% of samples clamped "
+            "into [0, 1], RGB round-trip RMS %.3g\n",
+            px.pixels, pixels, run.n, 100 * px.clamped_fraction, px.rgb_rms);
+    if (texture && rg_save_texture(db, texture, pixels, &run, &px, &err)) {
+      remove(pixels); /* nothing half done: no texture without its database row */
+      goto out;
+    }
+  }
   rc = 0;
 out:
   if (rc) fail(&err);
@@ -320,6 +350,7 @@ out:
   vr_capture_destroy(cap);
   vr_matdb_close(db);
   free(mpath);
+  free(px.mean);
   return rc;
 }
 

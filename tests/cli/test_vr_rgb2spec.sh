@@ -189,4 +189,30 @@ check "calibrate: no database row after a failure" test ! -s "$tmp/rows"
 check "calibrate: --light is required" test $rc -eq 2
 "$bin" --help | grep -q "vr-rgb2spec calibrate PHOTO"; check "--help names calibrate" test $? -eq 0
 
+# Per-pixel mode: a spectral EXR in the Fichet et al. 2021 layout (reflective
+# channels T.<nm>nm, JCGT 10(3) and afichet/spectral-exr), referenced from the
+# database by a material whose 'texture' property is its absolute path.
+photos="$src/samples/photos"
+"$bin" "$photos"/d65.png "$photos"/a.png --per-pixel "$tmp/tex.exr" --texture photo-tex > "$tmp/pp" 2> "$tmp/err"; rc=$?
+check "per-pixel: exit 0" test $rc -eq 0
+check "per-pixel: the EXR exists" test -s "$tmp/tex.exr"
+check "per-pixel: reflective channel names of the 400-700 nm grid" \
+  test -n "$(grep -a -o 'T.400,000000nm' "$tmp/tex.exr" | head -1)" -a -n "$(grep -a -o 'T.700,000000nm' "$tmp/tex.exr" | head -1)"
+check "per-pixel: the summary counts 640 x 480 pixels" test -n "$(grep 'per-pixel: 307200 pixels' "$tmp/pp")"
+"$matdb" show photo-tex --json > "$tmp/tex.json" 2>&1
+python3 - "$tmp/tex.json" "$tmp/tex.exr" <<'PY'
+import json, os, sys
+m = json.load(open(sys.argv[1]))
+props = {p["key"]: p for p in m["properties"]}
+assert os.path.samefile(props["texture"]["text"], sys.argv[2]), props["texture"]
+assert len(props["texture_sha256"]["text"]) == 64
+PY
+check "per-pixel: the database row references the EXR" test $? -eq 0
+"$bin" "$photos"/d65.png --texture x 2> "$tmp/err" > /dev/null; rc=$?
+check "per-pixel: --texture alone is refused" test $rc -eq 1 -a -n "$(grep -- '--per-pixel' "$tmp/err")"
+"$bin" "$photos"/d65.png --per-pixel "$tmp/no/such/dir/t.exr" --texture bad-tex 2> "$tmp/err" > /dev/null; rc=$?
+check "per-pixel: an unwritable output is an error" test $rc -eq 1 -a -n "$(grep 'no/such/dir' "$tmp/err")"
+"$matdb" show bad-tex > /dev/null 2>&1; rc=$?
+check "per-pixel: no database row after a failed write" test $rc -ne 0
+
 finish
