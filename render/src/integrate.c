@@ -217,10 +217,17 @@ static bool continue_path(pass_ctx *c, vr_flow_worker *w, payload *p, const vr_h
     for (int k = 0; k < p->nwl; k++) p->beta[k] /= q;
   }
   double wi[3] = {bs.wi.x, bs.wi.y, bs.wi.z};
-  if (bs.lobe & VR_LOBE_DELTA)
-    p->flags |= FLAG_SPECULAR_LAST;
-  else
-    p->flags &= (uint8_t)~FLAG_SPECULAR_LAST;
+  /* Whether the next hit's emission (and the sky on escape) counts: only
+   * if no next-event estimate covered it, i.e. after the camera or a
+   * deflecting delta lobe.  Straight transmission through a pane changes
+   * nothing: next-event shadow rays cross panes too, so a path going on
+   * straight after a diffuse vertex must not count the sky again. */
+  if (bs.lobe != VR_LOBE_STRAIGHT) {
+    if (bs.lobe & VR_LOBE_DELTA)
+      p->flags |= FLAG_SPECULAR_LAST;
+    else
+      p->flags &= (uint8_t)~FLAG_SPECULAR_LAST;
+  }
   if (bs.lobe & (VR_LOBE_SPECULAR_T | VR_LOBE_GLOSSY_T))
     p->medium = dot3(wi, hit->ng) < 0 ? (int32_t)hit->object : -1;
   (void)dir_in;
@@ -242,7 +249,7 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
   payload p;
   memcpy(&p, r->payload, sizeof p);
   double L[VR_MAX_WL] = {0};
-  bool first = p.depth == 0 || (p.flags & FLAG_SPECULAR_LAST);
+  bool first = (p.flags & FLAG_SPECULAR_LAST) != 0;
   if (!hit) {
     vr_light_environment(rs, r->dir, first && p.target != TARGET_GATHER, p.nwl, p.wl, L);
     for (int k = 0; k < p.nwl; k++) L[k] *= p.beta[k];
@@ -385,6 +392,7 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
       p.sample = (uint32_t)(s + c->sample_offset);
       p.index = pixel;
       p.target = TARGET_PIXEL;
+      p.flags = FLAG_SPECULAR_LAST; /* the camera sees emitters and the sky directly */
       p.nwl = (uint8_t)rs->nwl;
       p.medium = -1;
       vr_rng_key key = {rs->seed, p.stream, p.sample, 0};

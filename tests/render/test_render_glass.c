@@ -169,6 +169,43 @@ static void test_photochromic_sun_and_shade(void **state) {
   vr_render_result_destroy(r);
 }
 
+/* Sky light through a pane: next-event shadow rays cross the pane, so a
+ * path going on straight through it must not count the sky again.  A
+ * lossless pane can only remove light (its reflectance), so the sensor
+ * reads less than with no pane, and more than behind an opaque one. */
+static double sky_behind(const char *pane, double y) {
+  char scn[1024];
+  snprintf(scn, sizeof scn,
+           "material pane %s\n"
+           "rect center=0,%g,1 normal=0,1,0 size=4,4 material=pane\n"
+           "sky cie type=12 illuminance=15000lx\n"
+           "light sun altitude=35 azimuth=180 illuminance=1lx\n"
+           "sensor s point position=0,2,1 normal=0,-1,0\n"
+           "render integrator=path sensor_samples=8192\n",
+           pane, y);
+  vr_render_result *r = NULL;
+  vr_error err = {0};
+  if (render_text(scn, &r, &err)) fail_msg("%s", err.message);
+  double e = r->readings[0].illuminance_lx;
+  vr_render_result_destroy(r);
+  return e;
+}
+
+static void test_sky_through_pane_once(void **state) {
+  (void)state;
+  double none = sky_behind("black", 100.0); /* behind the sensor's back: no pane in view */
+  double clear = sky_behind("db:glass-152 thickness=4mm", 1.0);
+  double black = sky_behind("black", 1.0);
+  if (!(clear < none && clear > black))
+    fail_msg("behind a clear pane %.1f lx, no pane %.1f lx, opaque %.1f lx", clear, none, black);
+  /* What comes through is the window's share times T (0.92 at normal
+   * incidence, less obliquely), plus the sky on the sensor's side that the
+   * pane reflects back (R about 0.08 at normal incidence); counted twice,
+   * as before the fix, the share was about 1.9. */
+  double t = (clear - black) / (none - black);
+  if (!(t > 0.75 && t < 1.0)) fail_msg("transmitted share %.3f", t);
+}
+
 static void test_bad_input(void **state) {
   (void)state;
   vr_render_result *r = NULL;
@@ -194,6 +231,7 @@ int main(void) {
       cmocka_unit_test(test_clear_pane),
       cmocka_unit_test(test_electrochromic_states),
       cmocka_unit_test(test_photochromic_sun_and_shade),
+      cmocka_unit_test(test_sky_through_pane_once),
       cmocka_unit_test(test_bad_input),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
