@@ -11,61 +11,10 @@
 
 #include <openexr.h>
 
+#include "exr_stream.h"
+
 #include "image_internal.h"
 #include "vr/atomic_file.h"
-
-typedef struct exr_stream {
-  const unsigned char *buf; /* reading: the whole file */
-  size_t len;
-  FILE *fp;                 /* writing: the temporary file */
-  int write_errno;
-  char message[256];        /* first error OpenEXR reported while reading */
-} exr_stream;
-
-static int64_t stream_read(exr_const_context_t ctxt, void *user, void *buffer, uint64_t sz,
-                           uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
-  (void)ctxt;
-  (void)error_cb;
-  const exr_stream *s = user;
-  if (offset >= s->len) return 0;
-  uint64_t n = s->len - offset < sz ? s->len - offset : sz;
-  memcpy(buffer, s->buf + offset, (size_t)n);
-  return (int64_t)n;
-}
-
-static int64_t stream_size(exr_const_context_t ctxt, void *user) {
-  (void)ctxt;
-  return (int64_t)((const exr_stream *)user)->len;
-}
-
-static int64_t stream_write(exr_const_context_t ctxt, void *user, const void *buffer, uint64_t sz,
-                            uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
-  (void)ctxt;
-  (void)error_cb;
-  exr_stream *s = user;
-  if (fseeko(s->fp, (off_t)offset, SEEK_SET) != 0 || fwrite(buffer, 1, sz, s->fp) != sz) {
-    if (!s->write_errno) s->write_errno = errno ? errno : EIO;
-    return -1;
-  }
-  return (int64_t)sz;
-}
-
-/* Read contexts are not locked, so asking for the user data here is safe. */
-static void on_read_error(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
-  void *user = NULL;
-  if (!ctxt || exr_get_user_data(ctxt, &user) != EXR_ERR_SUCCESS || !user) return;
-  exr_stream *s = user;
-  if (!s->message[0])
-    snprintf(s->message, sizeof s->message, "%s", msg ? msg : exr_get_default_error_message(code));
-}
-
-/* Write contexts hold their lock while reporting, so this one must not call
- * back into OpenEXR; stream_write keeps the errno that matters. */
-static void on_write_error(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
-  (void)ctxt;
-  (void)code;
-  (void)msg;
-}
 
 static vr_status read_failed(vr_error *err, const char *path, const exr_stream *s,
                              exr_result_t rv, const char *doing) {
@@ -185,9 +134,9 @@ vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *
   exr_stream s = {.buf = buf, .len = len};
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.user_data = &s;
-  init.read_fn = stream_read;
-  init.size_fn = stream_size;
-  init.error_handler_fn = on_read_error;
+  init.read_fn = vr_exr_stream_read;
+  init.size_fn = vr_exr_stream_size;
+  init.error_handler_fn = vr_exr_on_read_error;
   /* A cut file should fail, not be half-rebuilt from whatever chunks remain. */
   init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
   exr_context_t ctxt = NULL;
@@ -244,8 +193,8 @@ vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half,
   exr_stream s = {.fp = af.fp};
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.user_data = &s;
-  init.write_fn = stream_write;
-  init.error_handler_fn = on_write_error;
+  init.write_fn = vr_exr_stream_write;
+  init.error_handler_fn = vr_exr_on_write_error;
   exr_context_t ctxt = NULL;
   int part = 0;
   const exr_pixel_type_t type = half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT;
