@@ -1,7 +1,7 @@
 /* Prints how fast the renderer moves rays, and how long the sample room takes.
  *
  * (a) Rays per second on the geometry of samples/room.scn (the shell, the
- *     two panes, the mirror, the four furniture meshes: 976 triangles):
+ *     two panes, the mirror, the four furniture meshes: 974 triangles):
  *     2 million rays with origins uniform in the room's bounds and
  *     directions uniform on the sphere, all made by a counter-based hash,
  *     traced to their closest hit by
@@ -13,16 +13,23 @@
  *         of the flow plus the hit record the integrators need (point,
  *         normals, surface coordinates);
  *       - the whole ray flow (vr_flow_run): the same rays pushed through the
- *         per-cell queues, S = 1 and S = 8, on 1 and 2 threads.
- *     All single-threaded except the flow's 2-thread lines.  Each figure is
- *     the best of three runs; the closest hits are checked to agree.
+ *         per-cell queues, S = 1 and S = 8, on 1 and 2 threads;
+ *       - the image-space scheduler (vr_flow_run_image_space) on the same
+ *         callbacks: each worker traces its units' rays itself, S = 1 (what
+ *         vr-render --image-space does) and S = 8 (cells walked in place).
+ *     All single-threaded except the 2-thread lines.  Each figure is the
+ *     best of three runs; the closest hits are checked to agree.  The
+ *     callbacks count hits per worker, so the figures are the flow's own.
  * (b) The wall-clock time of vr_render_scene on samples/room.scn at its own
- *     settings with 2 threads.  It needs the material database the main job
- *     fills: the path given as the first argument, else $VR_MATDB; without
- *     one, (b) is skipped with a message.
+ *     settings: the domain-decomposed flow with S = 1 and S = 8 and image
+ *     space, each on 1 and 2 threads, with the largest difference of the
+ *     film (XYZ, relative) from the first line.  It needs the material
+ *     database the main job fills: the path given as the first argument,
+ *     else $VR_MATDB; without one, (b) is skipped with a message.
  *
- *     build/bench/bench_render [out/materials.db]
+ *     build/bench/bench_render [out/materials.db] [--quick]
  *
+ * --quick leaves out (b) but for the 2-thread decomposed S = 1 line.
  * Figures go to docs/benchmarks.md. */
 #include "vr/domains.h"
 #include "vr/flow.h"
@@ -33,7 +40,7 @@
 
 #include <embree3/rtcore.h>
 #include <math.h>
-#include <stdatomic.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -174,19 +181,22 @@ static double run_domains(const vr_domains *dm, const bounds *b, float *t, long 
   return now() - t0;
 }
 
+#define MAXTHREADS 2
+
 typedef struct flow_ctx {
   bounds b;
   float *t;
-  _Atomic long hits;
+  struct {
+    _Alignas(64) long n; /* a cache line per worker: counting costs nothing shared */
+  } hits[MAXTHREADS];
 } flow_ctx;
 
 static void fl_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit) {
-  (void)w;
   flow_ctx *c = ctx;
   long i;
   memcpy(&i, r->payload, sizeof i);
   c->t[i] = hit ? (float)hit->t : INFINITY;
-  if (hit) atomic_fetch_add_explicit(&c->hits, 1, memory_order_relaxed);
+  if (hit) c->hits[vr_flow_worker_index(w)].n++;
 }
 static bool fl_shadow_hit(void *ctx, vr_flow_worker *w, vr_ray *r, const vr_hit *hit) {
   (void)ctx, (void)w, (void)r, (void)hit;
@@ -210,17 +220,19 @@ static void fl_generate(void *ctx, vr_flow_worker *w, long unit) {
 }
 static const vr_flow_ops flow_ops = {fl_closest, fl_shadow_hit, fl_shadow_done, fl_generate};
 
-static double run_flow(const vr_domains *dm, const bounds *b, int threads, float *t, long *hits,
-                       uint64_t *crossings) {
+static double run_flow(const vr_domains *dm, const bounds *b, int threads, bool image_space,
+                       float *t, long *hits, uint64_t *crossings) {
   flow_ctx c = {.b = *b, .t = t};
-  atomic_init(&c.hits, 0);
   vr_flow_stats st = {0};
   vr_error err = {0};
   double t0 = now();
-  if (vr_flow_run(dm, &flow_ops, &c, (NRAYS + UNIT - 1) / UNIT, threads, NULL, NULL, &st, &err))
+  if ((image_space ? vr_flow_run_image_space : vr_flow_run)(
+          dm, &flow_ops, &c, (NRAYS + UNIT - 1) / UNIT, threads, NULL, NULL, &st, &err))
     die("vr_flow_run", &err);
   double dt = now() - t0;
-  *hits = atomic_load(&c.hits);
+  if (st.created != NRAYS || st.finished != NRAYS) die("rays created != finished", NULL);
+  *hits = 0;
+  for (int i = 0; i < threads; i++) *hits += c.hits[i].n;
   *crossings = st.crossings;
   return dt;
 }
@@ -301,18 +313,21 @@ static void part_a(const vr_scene *s) {
     snprintf(what, sizeof what, "vr_domains locate+intersect, S = %d", S[j]);
     line(what, best, hits, extra);
   }
-  for (int threads = 1; threads <= 2; threads++)
-    for (int j = 0; j < 2; j++) {
-      uint64_t cross = 0;
-      best = INFINITY;
-      for (int k = 0; k < RUNS; k++) best = fmin(best, run_flow(dm[j], &b, threads, t, &hits, &cross));
-      snprintf(extra, sizeof extra, "; %.2f crossings/ray; x%.2f of raw; %ld disagree",
-               (double)cross / NRAYS, best / embree_best, disagree(ref, t));
-      char what[64];
-      snprintf(what, sizeof what, "vr_flow_run (queues), S = %d, %d thread%s", S[j], threads,
-               threads > 1 ? "s" : "");
-      line(what, best, hits, extra);
-    }
+  for (int image = 0; image < 2; image++)
+    for (int threads = 1; threads <= MAXTHREADS; threads++)
+      for (int j = 0; j < 2; j++) {
+        uint64_t cross = 0;
+        best = INFINITY;
+        for (int k = 0; k < RUNS; k++)
+          best = fmin(best, run_flow(dm[j], &b, threads, image, t, &hits, &cross));
+        snprintf(extra, sizeof extra, "; %.2f crossings/ray; x%.2f of raw; %ld disagree",
+                 (double)cross / NRAYS, best / embree_best, disagree(ref, t));
+        char what[64];
+        snprintf(what, sizeof what, "%s, S = %d, %d thread%s",
+                 image ? "vr_flow_run_image_space" : "vr_flow_run (queues)", S[j], threads,
+                 threads > 1 ? "s" : "");
+        line(what, best, hits, extra);
+      }
   for (int j = 0; j < 2; j++) vr_domains_destroy(dm[j]);
   rtcReleaseScene(sc);
   rtcReleaseDevice(dev);
@@ -323,8 +338,13 @@ static void part_a(const vr_scene *s) {
 
 /* --- (b) the whole render ------------------------------------------------ */
 
-static void part_b(const vr_scene *s, const char *dbpath) {
-  printf("\n(b) vr_render_scene on %s at its own settings, 2 threads\n", s->path);
+typedef struct config {
+  bool image_space;
+  int S, P;
+} config;
+
+static void part_b(const vr_scene *s, const char *dbpath, bool quick) {
+  printf("\n(b) vr_render_scene on %s at its own settings\n", s->path);
   if (!dbpath || access(dbpath, R_OK) != 0) {
     printf("  skipped: no material database (%s); run scripts/main-job.sh, then pass "
            "out/materials.db or set VR_MATDB\n",
@@ -334,39 +354,92 @@ static void part_b(const vr_scene *s, const char *dbpath) {
   vr_error err = {0};
   vr_matdb *db = NULL;
   if (vr_matdb_open(dbpath, VR_MATDB_READONLY, &db, &err)) die(dbpath, &err);
-  vr_render_options opt;
-  vr_render_options_default(&opt);
-  opt.threads = 2;
-  vr_render_result *r = NULL;
-  double t0 = now();
-  if (vr_render_scene(s, db, &opt, &r, &err)) die("vr_render_scene", &err);
-  double wall = now() - t0;
   printf("  database %s\n", dbpath);
-  printf("  %d x %d pixels, %d spp, %ld photons per pass, knn %d\n", r->width, r->height,
-         s->settings.spp, s->settings.photons, s->settings.knn);
-  for (size_t i = 0; i < r->npasses; i++)
-    if (r->passes[i].ran) printf("  pass %-16s %8.3f s\n", r->passes[i].name, r->passes[i].seconds);
-  printf("  rays: camera %llu, shadow %llu, photon %llu, other %llu; photons stored: global %zu, "
-         "caustic %zu\n",
-         (unsigned long long)r->rays_camera, (unsigned long long)r->rays_shadow,
-         (unsigned long long)r->rays_photon, (unsigned long long)r->rays_other, r->photons_global,
-         r->photons_caustic);
-  uint64_t rays = r->rays_camera + r->rays_shadow + r->rays_photon + r->rays_other;
-  printf("  total %.2f s wall clock (outputs not written), %.2f Mrays/s over the whole render\n",
-         wall, rays / wall / 1e6);
-  vr_render_result_destroy(r);
+  static const config all[] = {{false, 1, 2}, {false, 1, 1}, {false, 8, 1}, {false, 8, 2},
+                               {true, 1, 1},  {true, 1, 2}};
+  int n = quick ? 1 : (int)(sizeof all / sizeof all[0]);
+  double *ref = NULL;
+  size_t nref = 0;
+  for (int k = 0; k < n; k++) {
+    vr_render_options opt;
+    vr_render_options_default(&opt);
+    opt.threads = all[k].P;
+    opt.subdomains = all[k].S;
+    opt.image_space = all[k].image_space;
+    vr_render_result *r = NULL;
+    double t0 = now();
+    if (vr_render_scene(s, db, &opt, &r, &err)) die("vr_render_scene", &err);
+    double wall = now() - t0;
+    if (k == 0) {
+      printf("  %d x %d pixels, %d spp, %ld photons per pass, knn %d\n", r->width, r->height,
+             s->settings.spp, s->settings.photons, s->settings.knn);
+      printf("  rays: camera %llu, shadow %llu, photon %llu, other %llu; photons stored: "
+             "global %zu, caustic %zu\n",
+             (unsigned long long)r->rays_camera, (unsigned long long)r->rays_shadow,
+             (unsigned long long)r->rays_photon, (unsigned long long)r->rays_other,
+             r->photons_global, r->photons_caustic);
+    }
+    double diff = 0;
+    size_t npx = (size_t)r->width * (size_t)r->height * 3;
+    if (!ref) {
+      ref = malloc(npx * sizeof *ref);
+      if (!ref) die("film copy", NULL);
+      memcpy(ref, r->xyz, npx * sizeof *ref);
+      nref = npx;
+    } else if (npx == nref) {
+      for (size_t i = 0; i < npx; i++) {
+        double a = ref[i], b = r->xyz[i], m = fmax(fabs(a), fabs(b));
+        if (m > 0) diff = fmax(diff, fabs(a - b) / m);
+      }
+    }
+    char what[64];
+    if (all[k].image_space)
+      snprintf(what, sizeof what, "image space, %d thread%s", all[k].P, all[k].P > 1 ? "s" : "");
+    else
+      snprintf(what, sizeof what, "decomposed, S = %d, %d thread%s", all[k].S, all[k].P,
+               all[k].P > 1 ? "s" : "");
+    uint64_t rays = r->rays_camera + r->rays_shadow + r->rays_photon + r->rays_other;
+    printf("  %-30s %7.2f s", what, wall);
+    bool photons = false; /* the photon passes share one time: print it once */
+    for (size_t i = 0; i < r->npasses; i++) {
+      const vr_pass_record *p = &r->passes[i];
+      if (!p->ran || !(p->seconds > 0)) continue;
+      if (strstr(p->name, "photons")) {
+        if (photons) continue;
+        photons = true;
+        printf("; photons %.2f s", p->seconds);
+      } else {
+        printf("; %s %.2f s", p->name, p->seconds);
+      }
+    }
+    printf("; %.2f Mrays/s; %llu crossings; created %s finished", rays / wall / 1e6,
+           (unsigned long long)r->crossings,
+           r->rays_created == r->rays_finished ? "==" : "!=");
+    if (k > 0) printf("; film differs by %.1e", diff);
+    printf("\n");
+    fflush(stdout);
+    vr_render_result_destroy(r);
+  }
+  free(ref);
   vr_matdb_close(db);
 }
 
 int main(int argc, char **argv) {
   const char *scene_path = VR_SOURCE_DIR "/samples/room.scn";
-  const char *dbpath = argc > 1 ? argv[1] : getenv("VR_MATDB");
+  const char *dbpath = getenv("VR_MATDB");
+  bool quick = false;
+  for (int i = 1; i < argc; i++) {
+    if (!strcmp(argv[i], "--quick"))
+      quick = true;
+    else
+      dbpath = argv[i];
+  }
   machine();
   vr_error err = {0};
   vr_scene *s = NULL;
   if (vr_scene_read(scene_path, &s, &err)) die(scene_path, &err);
   part_a(s);
-  part_b(s, dbpath);
+  part_b(s, dbpath, quick);
   vr_scene_destroy(s);
   return 0;
 }

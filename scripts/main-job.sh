@@ -47,6 +47,12 @@ echo "== colour of the ColorChecker under D65 and under A (vr-colour)"
 build/core/vr-colour samples/spectra/colorchecker_babelcolor.csv | tee out/colorchecker_D65.txt
 build/core/vr-colour --illuminant A --json samples/spectra/colorchecker_babelcolor.csv > out/colorchecker_A.json
 
+echo "== the measured Cornell box: photon-mapped illuminance on five patches (vr-matdb, vr-render)"
+for c in white red green; do
+  build/matdb/vr-matdb import "samples/cornell/cornell_$c.csv" --name "cornell-$c" --kind reflectance
+done
+build/matdb/vr-matdb import samples/cornell/cornell_light.csv --name cornell-light --kind illuminant
+build/render/vr-render samples/cornell/cornell.scn -o out/cornell --threads 2 --sensors-only --quiet
 echo "== the hotel room through clear and electrochromic windows, from the database filled above (vr-render)"
 build/render/vr-render samples/room.scn -o out/room --threads 2 --stats out/room_stats.json
 echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room)"

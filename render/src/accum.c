@@ -76,7 +76,40 @@ void vr_accum_destroy(accum *a) {
   free(a->sensor_lx);
   free(a->sensor_bins);
   free(a->texel_uv);
+  free(a->cmf_avg);
   memset(a, 0, sizeof *a);
+}
+
+vr_status vr_accum_set_bins(accum *a, double lo, double hi, int n, vr_error *err) {
+  free(a->cmf_avg);
+  a->cmf_avg = calloc((size_t)(n > 0 ? n : 1), sizeof *a->cmf_avg);
+  if (!a->cmf_avg) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  a->cmf_lo = lo;
+  a->cmf_step = (hi - lo) / n;
+  a->cmf_n = n;
+  for (int b = 0; b < n; b++) {
+    /* Midpoint rule on 0.1 nm steps inside the bin. */
+    int m = (int)ceil(a->cmf_step / 0.1);
+    double h = a->cmf_step / m;
+    for (int i = 0; i < m; i++) {
+      double c[3];
+      vr_cmf_eval(VR_CIE1931_2DEG, lo + b * a->cmf_step + (i + 0.5) * h, c);
+      for (int k = 0; k < 3; k++) a->cmf_avg[b][k] += c[k] / m;
+    }
+  }
+  return VR_OK;
+}
+
+/* The CMFs a wavelength sample is weighted by. */
+static void cmf(const accum *a, double nm, double c[3]) {
+  if (a->cmf_avg) {
+    long b = (long)floor((nm - a->cmf_lo) / a->cmf_step);
+    if (b >= 0 && b < a->cmf_n) {
+      memcpy(c, a->cmf_avg[b], sizeof a->cmf_avg[b]);
+      return;
+    }
+  }
+  vr_cmf_eval(VR_CIE1931_2DEG, nm, c);
 }
 
 static long bin_of(const accum *a, double nm) {
@@ -91,7 +124,7 @@ void vr_accum_pixel(accum *a, uint32_t pixel, int nwl, const double *wl, const d
   for (int i = 0; i < nwl; i++) {
     if (L[i] == 0.0) continue;
     double c[3];
-    vr_cmf_eval(VR_CIE1931_2DEG, wl[i], c);
+    cmf(a, wl[i], c);
     for (int k = 0; k < 3; k++) xyz[k] += KM * c[k] * L[i] * wl_weight;
     long b = bin_of(a, wl[i]);
     if (b >= 0) vr_atomic_add(&a->bins[(size_t)pixel * a->nbins + (size_t)b], L[i] * wl_weight / a->bin_step);
@@ -105,7 +138,7 @@ void vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const d
   for (int i = 0; i < nwl; i++) {
     if (E[i] == 0.0) continue;
     double c[3];
-    vr_cmf_eval(VR_CIE1931_2DEG, wl[i], c);
+    cmf(a, wl[i], c);
     lx += KM * c[1] * E[i] * wl_weight;
     long b = bin_of(a, wl[i]);
     if (b >= 0)

@@ -1,9 +1,17 @@
-/* The ray flow: per-cell queues, the workers that drain them, and the
- * counting that tells when all work is done (see vr/flow.h). */
+/* The ray flow: per-cell queues, the workers that drain them, the counting
+ * that tells when all work is done, and the image-space scheduler that
+ * runs the same callbacks without queues (see vr/flow.h).
+ *
+ * Nothing shared is written once per ray.  Statistics are counted by each
+ * worker in its own cache line and summed when the run ends; the count of
+ * rays in flight is kept by reservation (see reserve below), so a worker
+ * touches the shared counter once per CREDIT rays; queues are filled and
+ * drained in batches of BATCH rays under their lock. */
 #include "vr/flow.h"
 
 #include <math.h>
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,9 +23,12 @@
 /* Generate more work only while fewer rays than this wait in the queues:
  * it bounds memory whatever the image size. */
 #define LOW_WATER 65536
+/* Rays of in-flight count a worker reserves at a time. */
+#define CREDIT 1024
+#define LINE 64
 
 typedef struct queue {
-  pthread_mutex_t lock;
+  _Alignas(LINE) pthread_mutex_t lock; /* one cache line per queue: no false sharing */
   vr_ray *rays;
   size_t n, cap;
   _Atomic long pending; /* = n, readable without the lock to choose a cell */
@@ -28,27 +39,92 @@ typedef struct flow {
   const vr_flow_ops *ops;
   void *ctx;
   int ncells;
+  bool image_space;
   queue *q;
   long units;
-  _Atomic long next_unit, done_units;
-  _Atomic long in_flight, queued;
-  _Atomic uint64_t created, finished, crossings, closest, shadow, traversals;
-  _Atomic uint64_t by_purpose[8];
-  _Atomic int failed;
   pthread_mutex_t progress_lock;
   void (*progress)(void *, long, long);
   void *pctx;
+  /* The shared counters, each in its own cache line. */
+  _Alignas(LINE) _Atomic long next_unit;
+  _Alignas(LINE) _Atomic long done_units;
+  _Alignas(LINE) _Atomic long queued;
+  /* Rays in flight plus the workers' unused reservations: never below the
+   * true number of rays in flight (see reserve). */
+  _Alignas(LINE) _Atomic long in_flight;
+  _Alignas(LINE) _Atomic int failed;
 } flow;
 
 struct vr_flow_worker {
-  flow *f;
+  _Alignas(LINE) flow *f; /* workers sit in separate cache lines */
   int index;
-  vr_ray *out;      /* BATCH rays per cell */
-  int *nout;        /* per cell */
   bool oom;
+  long credit;        /* reserved in f->in_flight and not yet used; >= 0 */
+  vr_flow_stats st;   /* this worker's share of the statistics */
+  /* Queued flow: BATCH rays per cell waiting to go to the cell's queue. */
+  vr_ray *out;
+  int *nout;
+  /* Image space: the private depth-first stack. */
+  vr_ray *stack;
+  size_t top, cap;
 };
 
 int vr_flow_worker_index(const vr_flow_worker *w) { return w->index; }
+
+long vr_flow_tiles(int width, int height) {
+  if (width <= 0 || height <= 0) return 0;
+  long tx = (width + VR_FLOW_TILE - 1) / VR_FLOW_TILE, ty = (height + VR_FLOW_TILE - 1) / VR_FLOW_TILE;
+  return tx * ty;
+}
+
+void vr_flow_tile(int width, int height, long unit, int *x0, int *y0, int *x1, int *y1) {
+  long tx = (width + VR_FLOW_TILE - 1) / VR_FLOW_TILE;
+  if (tx < 1 || height < 1 || unit < 0) {
+    *x0 = *y0 = *x1 = *y1 = 0; /* no pixels */
+    return;
+  }
+  *x0 = (int)(unit % tx) * VR_FLOW_TILE;
+  *y0 = (int)(unit / tx) * VR_FLOW_TILE;
+  *x1 = *x0 + VR_FLOW_TILE < width ? *x0 + VR_FLOW_TILE : width;
+  *y1 = *y0 + VR_FLOW_TILE < height ? *y0 + VR_FLOW_TILE : height;
+}
+
+/* Counting rays in flight without a shared update per ray.
+ *
+ * Each worker holds a credit c >= 0 that it has already added to
+ * f->in_flight: a push spends one unit of it (reserving CREDIT more first
+ * when it has none), a finish gives one back.  Summing over the workers,
+ * f->in_flight = (rays in flight) + sum of credits, so f->in_flight is never
+ * below the number of rays in flight, whoever pushed or finished them and
+ * whenever the others last touched the counter.  Reading 0 therefore
+ * proves that no ray exists anywhere (in a queue, in a push buffer, in a
+ * worker's hands): the count a ray took at its push can only have been
+ * handed back by the worker that finished it, after the finish, and the
+ * counter's operations are sequentially consistent, so whoever reads 0
+ * also sees those finishes (and the rays they pushed, which took their
+ * count before).  A worker gives its credit back when it runs out of work,
+ * so the count reaches 0 once every worker is out of work.  A worker that
+ * finishes far more rays than it pushes (one that only traces what others
+ * generate) returns its surplus above 2 CREDIT so the count does not drift
+ * far above the truth. */
+static void reserve(vr_flow_worker *w) {
+  atomic_fetch_add(&w->f->in_flight, CREDIT);
+  w->credit += CREDIT;
+}
+
+static void give_back(vr_flow_worker *w) {
+  if (w->credit) atomic_fetch_sub(&w->f->in_flight, w->credit);
+  w->credit = 0;
+}
+
+static void finish(vr_flow_worker *w, long n) {
+  w->st.finished += (uint64_t)n;
+  w->credit += n;
+  if (w->credit > 2 * CREDIT) {
+    atomic_fetch_sub(&w->f->in_flight, w->credit - CREDIT);
+    w->credit = CREDIT;
+  }
+}
 
 static void queue_put(flow *f, int c, const vr_ray *rays, int n, vr_flow_worker *w) {
   queue *q = &f->q[c];
@@ -62,8 +138,7 @@ static void queue_put(flow *f, int c, const vr_ray *rays, int n, vr_flow_worker 
       w->oom = true;
       atomic_store(&f->failed, 1);
       /* The rays are lost: count them finished so the run still ends. */
-      atomic_fetch_sub(&f->in_flight, n);
-      atomic_fetch_add(&f->finished, (uint64_t)n);
+      finish(w, n);
       return;
     }
     q->rays = r;
@@ -77,6 +152,7 @@ static void queue_put(flow *f, int c, const vr_ray *rays, int n, vr_flow_worker 
 }
 
 static void flush(vr_flow_worker *w) {
+  if (!w->nout) return;
   for (int c = 0; c < w->f->ncells; c++) {
     if (w->nout[c]) queue_put(w->f, c, w->out + (size_t)c * BATCH, w->nout[c], w);
     w->nout[c] = 0;
@@ -93,27 +169,55 @@ static void enqueue(vr_flow_worker *w, const vr_ray *r) {
   }
 }
 
+/* Image space: the free slot on top of the worker's own stack, or NULL
+ * when it cannot grow. */
+static vr_ray *stack_slot(vr_flow_worker *w) {
+  if (w->top == w->cap) {
+    size_t cap = w->cap ? 2 * w->cap : 1024;
+    vr_ray *s = realloc(w->stack, cap * sizeof *s);
+    if (!s) return NULL;
+    w->stack = s;
+    w->cap = cap;
+  }
+  return &w->stack[w->top];
+}
+
 void vr_flow_push(vr_flow_worker *w, const vr_ray *r0) {
   flow *f = w->f;
-  vr_ray r = *r0;
   double te;
-  r.cell = vr_domains_locate(f->d, r.org, r.dir, r.tnear, &te);
-  r.crossings = 0;
-  atomic_fetch_add(&f->in_flight, 1);
-  atomic_fetch_add(&f->created, 1);
-  atomic_fetch_add(r.kind == VR_RAY_SHADOW ? &f->shadow : &f->closest, 1);
-  atomic_fetch_add(&f->by_purpose[r.purpose & 7], 1);
-  enqueue(w, &r);
+  int c = vr_domains_locate(f->d, r0->org, r0->dir, r0->tnear, &te);
+  if (w->credit == 0) reserve(w);
+  w->credit--;
+  w->st.created++;
+  if (r0->kind == VR_RAY_SHADOW)
+    w->st.shadow++;
+  else
+    w->st.closest++;
+  w->st.by_purpose[r0->purpose & 7]++;
+  /* Copied once, straight to where it waits. */
+  vr_ray *r = f->image_space ? stack_slot(w) : &w->out[(size_t)c * BATCH + (size_t)w->nout[c]];
+  if (!r) {
+    /* The stack cannot grow: the ray is lost, the run fails. */
+    w->oom = true;
+    atomic_store(&f->failed, 1);
+    finish(w, 1);
+    return;
+  }
+  *r = *r0;
+  r->cell = c;
+  r->crossings = 0;
+  if (f->image_space) {
+    w->top++;
+  } else if (++w->nout[c] == BATCH) {
+    queue_put(f, c, w->out + (size_t)c * BATCH, BATCH, w);
+    w->nout[c] = 0;
+  }
 }
 
-static void finish(flow *f) {
-  atomic_fetch_add(&f->finished, 1);
-  atomic_fetch_sub(&f->in_flight, 1);
-}
-
-/* Traces r inside its cell; returns true if it moved on to another cell
- * (and was queued there). */
-static void trace_in_cell(vr_flow_worker *w, vr_ray *r) {
+/* Traces r from its cell on.  In the queued flow a ray that leaves the
+ * cell is queued for the next one and the call returns; in image space
+ * (walk) the worker follows it into the next cell itself. */
+static void trace(vr_flow_worker *w, vr_ray *r, bool walk) {
   flow *f = w->f;
   for (;;) {
     double t_exit;
@@ -122,23 +226,25 @@ static void trace_in_cell(vr_flow_worker *w, vr_ray *r) {
       /* Hand-over: the ray entered another cell at tnear (the interface). */
       r->cell = c;
       r->crossings++;
-      atomic_fetch_add(&f->crossings, 1);
-      enqueue(w, r);
-      return;
+      w->st.crossings++;
+      if (!walk) {
+        enqueue(w, r);
+        return;
+      }
     }
     double tfar = t_exit < r->tmax ? t_exit : r->tmax;
     vr_hit hit;
-    atomic_fetch_add(&f->traversals, 1);
+    w->st.traversals++;
     bool got = vr_domains_intersect(f->d, c, r->org, r->dir, r->tnear, tfar, &hit);
     if (got) {
       if (r->kind == VR_RAY_CLOSEST) {
         f->ops->closest(f->ctx, w, r, &hit);
-        finish(f);
+        finish(w, 1);
         return;
       }
       if (!f->ops->shadow_hit(f->ctx, w, r, &hit)) {
         f->ops->shadow_done(f->ctx, w, r, false);
-        finish(f);
+        finish(w, 1);
         return;
       }
       /* Past a thin element: go on just beyond it, in float steps, so the
@@ -148,7 +254,7 @@ static void trace_in_cell(vr_flow_worker *w, vr_ray *r) {
       r->tnear = t + step;
       if (r->tnear >= r->tmax) {
         f->ops->shadow_done(f->ctx, w, r, true);
-        finish(f);
+        finish(w, 1);
         return;
       }
       continue;
@@ -158,7 +264,7 @@ static void trace_in_cell(vr_flow_worker *w, vr_ray *r) {
         f->ops->closest(f->ctx, w, r, NULL);
       else
         f->ops->shadow_done(f->ctx, w, r, true);
-      finish(f);
+      finish(w, 1);
       return;
     }
     r->tnear = t_exit;
@@ -170,7 +276,7 @@ static int busiest(flow *f) {
   int best = -1;
   long most = 0;
   for (int c = 0; c < f->ncells; c++) {
-    long p = atomic_load(&f->q[c].pending);
+    long p = atomic_load_explicit(&f->q[c].pending, memory_order_relaxed);
     if (p > most) {
       most = p;
       best = c;
@@ -198,15 +304,14 @@ static void report_progress(flow *f) {
   pthread_mutex_unlock(&f->progress_lock);
 }
 
-static void *worker_main(void *arg) {
-  vr_flow_worker *w = arg;
+static void *queued_worker(vr_flow_worker *w) {
   flow *f = w->f;
   vr_ray batch[BATCH];
   for (;;) {
-    if (atomic_load(&f->failed)) break;
-    bool low = atomic_load(&f->queued) < LOW_WATER;
+    if (atomic_load_explicit(&f->failed, memory_order_relaxed)) break;
+    bool low = atomic_load_explicit(&f->queued, memory_order_relaxed) < LOW_WATER;
     long u = -1;
-    if (low && atomic_load(&f->next_unit) < f->units) {
+    if (low && atomic_load_explicit(&f->next_unit, memory_order_relaxed) < f->units) {
       u = atomic_fetch_add(&f->next_unit, 1);
       if (u >= f->units) u = -1;
     }
@@ -220,39 +325,95 @@ static void *worker_main(void *arg) {
     int c = busiest(f);
     if (c >= 0) {
       int n = take(f, c, batch);
-      for (int i = 0; i < n; i++) trace_in_cell(w, &batch[i]);
+      for (int i = 0; i < n; i++) trace(w, &batch[i], false);
       flush(w);
       continue;
     }
-    /* Nothing queued: done when nothing is in flight and no unit is left;
-     * otherwise another worker holds rays it has not pushed yet. */
-    if (atomic_load(&f->in_flight) == 0 && atomic_load(&f->next_unit) >= f->units) break;
+    /* Out of work, with every ray of ours flushed: give the credit back,
+     * then the run is over when every unit has been generated (a unit
+     * being generated is not yet done) and the count, which is never below
+     * the rays in flight, is 0.  Otherwise another worker still holds rays
+     * that will reach the queues. */
+    give_back(w);
+    if (atomic_load(&f->done_units) >= f->units && atomic_load(&f->in_flight) == 0) break;
     sched_yield();
   }
   flush(w);
+  give_back(w);
   return NULL;
 }
 
-vr_status vr_flow_run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
-                      int threads, void (*progress)(void *, long, long), void *pctx,
-                      vr_flow_stats *stats, vr_error *err) {
+/* Image space: each unit is traced to the end by the worker that claimed
+ * it, depth first on its private stack: pop the newest ray, trace it
+ * through the whole scene, and what its callbacks push lands on top.  The
+ * stack therefore holds at most the rays the unit itself made plus, for
+ * the one path being followed, the rays each of its vertices spawned
+ * beside the one followed (shadow rays to the lights, final-gather rays):
+ * path depth times branching, whatever the image size or the number of
+ * threads.  No ray is shared, so the run ends when the units run out and
+ * every worker has emptied its stack. */
+static void *image_space_worker(vr_flow_worker *w) {
+  flow *f = w->f;
+  for (;;) {
+    if (atomic_load_explicit(&f->failed, memory_order_relaxed)) break;
+    long u = atomic_fetch_add(&f->next_unit, 1);
+    if (u >= f->units) break;
+    f->ops->generate(f->ctx, w, u);
+    while (w->top > 0) {
+      vr_ray r = w->stack[--w->top];
+      trace(w, &r, true);
+    }
+    atomic_fetch_add(&f->done_units, 1);
+    report_progress(f);
+  }
+  give_back(w);
+  return NULL;
+}
+
+static void *worker_main(void *arg) {
+  vr_flow_worker *w = arg;
+  return w->f->image_space ? image_space_worker(w) : queued_worker(w);
+}
+
+static void *alloc_lines(size_t n, size_t size) {
+  size_t bytes = (n * size + LINE - 1) / LINE * LINE;
+  void *p = aligned_alloc(LINE, bytes ? bytes : LINE);
+  if (p) memset(p, 0, bytes ? bytes : LINE);
+  return p;
+}
+
+static void add_stats(vr_flow_stats *to, const vr_flow_stats *s) {
+  to->created += s->created;
+  to->finished += s->finished;
+  to->crossings += s->crossings;
+  to->closest += s->closest;
+  to->shadow += s->shadow;
+  to->traversals += s->traversals;
+  for (int i = 0; i < 8; i++) to->by_purpose[i] += s->by_purpose[i];
+}
+
+static vr_status run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
+                     int threads, bool image_space, void (*progress)(void *, long, long),
+                     void *pctx, vr_flow_stats *stats, vr_error *err) {
   if (threads < 1 || threads > 1024)
     return vr_error_set(err, VR_E_ARG, "threads = %d, expected 1 to 1024", threads);
-  flow f = {.d = d, .ops = ops, .ctx = ctx, .units = units, .progress = progress, .pctx = pctx};
+  flow f = {.d = d, .ops = ops, .ctx = ctx, .units = units, .image_space = image_space,
+            .progress = progress, .pctx = pctx};
   f.ncells = vr_domains_count(d);
-  f.q = calloc((size_t)f.ncells, sizeof *f.q);
-  vr_flow_worker *ws = calloc((size_t)threads, sizeof *ws);
+  f.q = image_space ? NULL : alloc_lines((size_t)f.ncells, sizeof *f.q);
+  vr_flow_worker *ws = alloc_lines((size_t)threads, sizeof *ws);
   pthread_t *tids = calloc((size_t)threads, sizeof *tids);
   vr_status st = VR_OK;
-  if (!f.q || !ws || !tids) {
+  pthread_mutex_init(&f.progress_lock, NULL);
+  for (int c = 0; f.q && c < f.ncells; c++) pthread_mutex_init(&f.q[c].lock, NULL);
+  if ((!image_space && !f.q) || !ws || !tids) {
     st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory");
     goto done;
   }
-  pthread_mutex_init(&f.progress_lock, NULL);
-  for (int c = 0; c < f.ncells; c++) pthread_mutex_init(&f.q[c].lock, NULL);
   for (int i = 0; i < threads; i++) {
     ws[i].f = &f;
     ws[i].index = i;
+    if (image_space) continue;
     ws[i].out = malloc((size_t)f.ncells * BATCH * sizeof(vr_ray));
     ws[i].nout = calloc((size_t)f.ncells, sizeof(int));
     if (!ws[i].out || !ws[i].nout) {
@@ -267,28 +428,40 @@ vr_status vr_flow_run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, lo
   }
   worker_main(&ws[0]);
   for (int i = 1; i <= started; i++) pthread_join(tids[i], NULL);
-  if (atomic_load(&f.failed)) st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory in a queue");
+  if (atomic_load(&f.failed))
+    st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory in a %s",
+                      image_space ? "worker's ray stack" : "queue");
   if (progress) progress(pctx, atomic_load(&f.done_units), units);
   if (stats) {
-    stats->created = atomic_load(&f.created);
-    stats->finished = atomic_load(&f.finished);
-    stats->crossings = atomic_load(&f.crossings);
-    stats->closest = atomic_load(&f.closest);
-    stats->shadow = atomic_load(&f.shadow);
-    stats->traversals = atomic_load(&f.traversals);
-    for (int i = 0; i < 8; i++) stats->by_purpose[i] = atomic_load(&f.by_purpose[i]);
+    memset(stats, 0, sizeof *stats);
+    for (int i = 0; i < threads; i++) add_stats(stats, &ws[i].st);
   }
 done:
   for (int i = 0; ws && i < threads; i++) {
     free(ws[i].out);
     free(ws[i].nout);
+    free(ws[i].stack);
   }
   for (int c = 0; f.q && c < f.ncells; c++) {
     free(f.q[c].rays);
     pthread_mutex_destroy(&f.q[c].lock);
   }
   free(f.q);
+  pthread_mutex_destroy(&f.progress_lock);
   free(ws);
   free(tids);
   return st;
+}
+
+vr_status vr_flow_run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
+                      int threads, void (*progress)(void *, long, long), void *pctx,
+                      vr_flow_stats *stats, vr_error *err) {
+  return run(d, ops, ctx, units, threads, false, progress, pctx, stats, err);
+}
+
+vr_status vr_flow_run_image_space(const vr_domains *d, const vr_flow_ops *ops, void *ctx,
+                                  long units, int threads,
+                                  void (*progress)(void *, long, long), void *pctx,
+                                  vr_flow_stats *stats, vr_error *err) {
+  return run(d, ops, ctx, units, threads, true, progress, pctx, stats, err);
 }

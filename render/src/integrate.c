@@ -203,6 +203,9 @@ static bool continue_path(pass_ctx *c, vr_flow_worker *w, payload *p, const vr_h
                           vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
                           vr_rng(&key, VR_DIM_DIR_V), &bs))
     return false;
+  /* The factor nwl of a dispersive refraction stands for the secondary
+   * wavelengths it ends: once only. */
+  if (bs.terminate_secondary && (p->flags & FLAG_TERMINATED)) bs.weight[0] /= p->nwl;
   double mx = 0;
   for (int k = 0; k < p->nwl; k++) {
     p->beta[k] *= bs.weight[k];
@@ -378,13 +381,19 @@ static void on_shadow_done(void *ctx, vr_flow_worker *w, const vr_ray *r, bool r
   deliver(ctx, &p, p.beta);
 }
 
+/* Camera unit: one tile of the image (vr_flow_tile), all its samples.  A
+ * sample's random numbers are keyed by its pixel and sample index only, so
+ * the cut into units changes nothing in the image. */
 void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
   pass_ctx *c = ctx;
   const rscene *rs = c->rs;
   const vr_scene_camera *cam = &rs->s->camera;
-  int W = cam->width, H = cam->height, y = (int)unit;
+  int W = cam->width, H = cam->height, x0, y0, x1, y1;
   double aspect = (double)H / W;
-  for (int x = 0; x < W; x++) {
+  vr_flow_tile(W, H, unit, &x0, &y0, &x1, &y1);
+  int tw = x1 - x0, npix = tw * (y1 - y0);
+  for (int i = 0; i < npix; i++) {
+    int x = x0 + i % tw, y = y0 + i / tw;
     uint32_t pixel = (uint32_t)(y * W + x);
     for (int s = 0; s < c->spp; s++) {
       payload p = {0};

@@ -3,7 +3,17 @@
  * key, packs them and arranges them as an implicit balanced kd-tree: the
  * median of each range sits at the range's middle index, the lower half
  * before it, the upper half after, so the tree needs no pointers.  Ranges of
- * LEAF photons or fewer are left unordered and scanned. */
+ * LEAF photons or fewer are left unordered and scanned.
+ *
+ * A photon's power is a record of spec_size bytes, the same staged and
+ * built: dense, nbins floats; sparse, `slots` floats (the non-zero powers in
+ * increasing bin order, then +0 in unused slots) followed by their `slots`
+ * bin indices (uint8 when nbins <= 256, else uint16; 0 in unused slots).
+ * The record is not padded, so sparse floats are read with memcpy.  Both
+ * forms add w * power to a bin for each non-zero bin of each photon in the
+ * same photon order; the dense form also adds w * 0 = +-0 to the other bins,
+ * which changes no sum (no sum is ever -0: each starts at +0, and
+ * +0 + -0 = +0), so the two give bit-identical estimates. */
 #include "vr/photon_map.h"
 
 #include <math.h>
@@ -27,9 +37,13 @@ typedef struct node {
 struct vr_photon_map {
   int nbins;
   double lambda_min, lambda_max;
+  int max_nz;    /* non-zero bins a photon may have (nbins for vr_photon_map_create) */
+  int slots;     /* (power, bin) pairs a photon keeps; 0: dense */
+  int bin_bytes; /* 1 or 2, sparse only */
+  size_t spec_size; /* bytes of a photon's power record */
 
   /* Staging, before the build: records of rec_size bytes, each
-   * key (u64) | pos (3 double) | dir (u32) | normal (u32) | power (nbins float) | 0-padding. */
+   * key (u64) | pos (3 double) | dir (u32) | normal (u32) | power record | 0-padding. */
   pthread_mutex_t lock;
   unsigned char *stage;
   size_t nstage, capstage, rec_size;
@@ -40,7 +54,7 @@ struct vr_photon_map {
   double centre[3];
   node *nodes;
   uint32_t *dir, *nrm; /* octahedral, 2 x 16 bits */
-  float *power;        /* n x nbins */
+  unsigned char *spec; /* n power records of spec_size bytes */
 };
 
 enum { OFF_POS = 8, OFF_DIR = 32, OFF_NRM = 36, OFF_POW = 40 };
@@ -89,8 +103,9 @@ static void oct_decode(uint32_t code, double v[3]) {
 
 /* --- creation and staging ---------------------------------------------- */
 
-vr_photon_map *vr_photon_map_create(int nbins, double lambda_min, double lambda_max,
-                                    vr_error *err) {
+/* sparse: keep (power, bin) pairs, if they cost less than the dense bins. */
+static vr_photon_map *create(int nbins, double lambda_min, double lambda_max, int max_nz,
+                             bool sparse, vr_error *err) {
   if (nbins < 1 || nbins > 65536) {
     vr_error_set(err, VR_E_ARG, "photon map: nbins = %d, expected 1 to 65536", nbins);
     return NULL;
@@ -100,6 +115,10 @@ vr_photon_map *vr_photon_map_create(int nbins, double lambda_min, double lambda_
     vr_error_set(err, VR_E_ARG,
                  "photon map: wavelength range [%g, %g] nm, expected 0 < lambda_min < lambda_max",
                  lambda_min, lambda_max);
+    return NULL;
+  }
+  if (max_nz < 1) {
+    vr_error_set(err, VR_E_ARG, "photon map: max_nonzero = %d, expected at least 1", max_nz);
     return NULL;
   }
   vr_photon_map *m = calloc(1, sizeof *m);
@@ -115,8 +134,24 @@ vr_photon_map *vr_photon_map_create(int nbins, double lambda_min, double lambda_
   m->nbins = nbins;
   m->lambda_min = lambda_min;
   m->lambda_max = lambda_max;
-  m->rec_size = ((size_t)OFF_POW + 4u * (size_t)nbins + 7u) & ~(size_t)7u;
+  m->max_nz = max_nz < nbins ? max_nz : nbins;
+  m->bin_bytes = nbins <= 256 ? 1 : 2;
+  /* Pairs only when they are smaller than the bins they stand for. */
+  size_t pairs = (size_t)m->max_nz * (4u + (size_t)m->bin_bytes), dense = 4u * (size_t)nbins;
+  m->slots = sparse && pairs < dense ? m->max_nz : 0;
+  m->spec_size = m->slots ? pairs : dense;
+  m->rec_size = ((size_t)OFF_POW + m->spec_size + 7u) & ~(size_t)7u;
   return m;
+}
+
+vr_photon_map *vr_photon_map_create(int nbins, double lambda_min, double lambda_max,
+                                    vr_error *err) {
+  return create(nbins, lambda_min, lambda_max, nbins, false, err);
+}
+
+vr_photon_map *vr_photon_map_create_sparse(int nbins, double lambda_min, double lambda_max,
+                                           int max_nonzero, vr_error *err) {
+  return create(nbins, lambda_min, lambda_max, max_nonzero, true, err);
 }
 
 void vr_photon_map_destroy(vr_photon_map *m) {
@@ -126,7 +161,7 @@ void vr_photon_map_destroy(vr_photon_map *m) {
   free(m->nodes);
   free(m->dir);
   free(m->nrm);
-  free(m->power);
+  free(m->spec);
   free(m);
 }
 
@@ -154,11 +189,19 @@ vr_status vr_photon_map_store(vr_photon_map *m, uint64_t key, const double pos[3
     return vr_error_set(err, VR_E_RANGE,
                         "photon map store: normal (%g, %g, %g) is not a finite non-zero vector",
                         normal[0], normal[1], normal[2]);
-  for (int b = 0; b < m->nbins; b++)
+  int nz = 0;
+  for (int b = 0; b < m->nbins; b++) {
     if (!isfinite(power[b]) || power[b] < 0.0f)
       return vr_error_set(err, VR_E_RANGE,
                           "photon map store: power[%d] = %g, expected finite and >= 0", b,
                           (double)power[b]);
+    nz += power[b] != 0.0f;
+  }
+  if (nz > m->max_nz)
+    return vr_error_set(err, VR_E_RANGE,
+                        "photon map store: %d non-zero power bins, but this map keeps at most %d "
+                        "a photon (max_nonzero of vr_photon_map_create_sparse)",
+                        nz, m->max_nz);
 
   /* Everything but the copy happens outside the lock. */
   uint32_t d = oct_encode(dir_in), nr = oct_encode(normal);
@@ -189,7 +232,25 @@ vr_status vr_photon_map_store(vr_photon_map *m, uint64_t key, const double pos[3
       memcpy(r + OFF_POS, pos, 24);
       memcpy(r + OFF_DIR, &d, 4);
       memcpy(r + OFF_NRM, &nr, 4);
-      memcpy(r + OFF_POW, power, 4u * (size_t)m->nbins);
+      float *pw = (float *)(r + OFF_POW); /* 8-aligned: rec_size and OFF_POW are */
+      if (!m->slots) {
+        /* -0 is kept as +0, as in a sparse map: it adds nothing anyway */
+        for (int b = 0; b < m->nbins; b++) pw[b] = power[b] != 0.0f ? power[b] : 0.0f;
+      } else {
+        unsigned char *bins = r + OFF_POW + 4u * (size_t)m->slots;
+        int s = 0;
+        for (int b = 0; b < m->nbins; b++)
+          if (power[b] != 0.0f) {
+            pw[s] = power[b];
+            if (m->bin_bytes == 1)
+              bins[s] = (unsigned char)b;
+            else {
+              uint16_t b16 = (uint16_t)b;
+              memcpy(bins + 2 * s, &b16, 2);
+            }
+            s++;
+          }
+      }
       m->nstage++;
     }
   }
@@ -208,10 +269,43 @@ typedef struct keyed {
   uint64_t idx;
 } keyed;
 
+/* Bin and power of slot s of a sparse power record. */
+static int slot_bin(const vr_photon_map *m, const unsigned char *spec, int s) {
+  const unsigned char *bins = spec + 4u * (size_t)m->slots;
+  if (m->bin_bytes == 1) return bins[s];
+  uint16_t b;
+  memcpy(&b, bins + 2 * s, 2);
+  return b;
+}
+
+static float slot_power(const unsigned char *spec, int s) {
+  float v;
+  memcpy(&v, spec + 4 * s, 4);
+  return v;
+}
+
+/* A sparse record against another in the order memcmp gives their dense
+ * forms (bins in turn, the bytes of each float in memory order), so a
+ * sparse map orders photons of equal keys as a dense map does. */
+static int sparse_cmp(const vr_photon_map *m, const unsigned char *a, const unsigned char *b) {
+  int i = 0, j = 0;
+  for (;;) {
+    int ba = i < m->slots && slot_power(a, i) != 0.0f ? slot_bin(m, a, i) : m->nbins;
+    int bb = j < m->slots && slot_power(b, j) != 0.0f ? slot_bin(m, b, j) : m->nbins;
+    if (ba == m->nbins && bb == m->nbins) return 0;
+    int bin = ba < bb ? ba : bb;
+    float fa = ba == bin ? slot_power(a, i++) : 0.0f, fb = bb == bin ? slot_power(b, j++) : 0.0f;
+    int c = memcmp(&fa, &fb, 4);
+    if (c) return c;
+  }
+}
+
 static bool keyed_less(const vr_photon_map *m, const keyed *a, const keyed *b) {
   if (a->key != b->key) return a->key < b->key;
-  return memcmp(m->stage + a->idx * m->rec_size + 8, m->stage + b->idx * m->rec_size + 8,
-                m->rec_size - 8) < 0;
+  const unsigned char *ra = m->stage + a->idx * m->rec_size, *rb = m->stage + b->idx * m->rec_size;
+  if (!m->slots) return memcmp(ra + 8, rb + 8, m->rec_size - 8) < 0;
+  int c = memcmp(ra + 8, rb + 8, OFF_POW - 8);
+  return (c ? c : sparse_cmp(m, ra + OFF_POW, rb + OFF_POW)) < 0;
 }
 
 /* Bottom-up merge sort, stable (qsort has no context argument in C17). */
@@ -299,14 +393,13 @@ static void build_tree(node *v, size_t lo, size_t hi) {
 vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err) {
   if (!m) return vr_error_set(err, VR_E_ARG, "photon map build: NULL map");
   if (m->built) return VR_OK;
-  size_t n = m->nstage, nb = (size_t)m->nbins;
+  size_t n = m->nstage, sz = m->spec_size;
   keyed *order = malloc((n ? n : 1) * sizeof *order);
   node *nodes = malloc((n ? n : 1) * sizeof *nodes);
   uint32_t *dir = malloc((n ? n : 1) * sizeof *dir);
   uint32_t *nrm = malloc((n ? n : 1) * sizeof *nrm);
-  float *power = n <= SIZE_MAX / (nb * sizeof(float)) ? malloc((n ? n : 1) * nb * sizeof *power)
-                                                      : NULL;
-  if (!order || !nodes || !dir || !nrm || !power) goto nomem;
+  unsigned char *spec = n <= SIZE_MAX / sz ? malloc((n ? n : 1) * sz) : NULL;
+  if (!order || !nodes || !dir || !nrm || !spec) goto nomem;
   for (size_t i = 0; i < n; i++) {
     memcpy(&order[i].key, m->stage + i * m->rec_size, 8);
     order[i].idx = i;
@@ -336,7 +429,7 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err) {
     const unsigned char *rec = m->stage + order[rank_of(&nodes[i])].idx * m->rec_size;
     memcpy(&dir[i], rec + OFF_DIR, 4);
     memcpy(&nrm[i], rec + OFF_NRM, 4);
-    memcpy(power + i * nb, rec + OFF_POW, 4 * nb);
+    memcpy(spec + i * sz, rec + OFF_POW, sz);
   }
   free(order);
   free(m->stage);
@@ -345,7 +438,7 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err) {
   m->nodes = nodes;
   m->dir = dir;
   m->nrm = nrm;
-  m->power = power;
+  m->spec = spec;
   m->n = n;
   m->built = true;
   return VR_OK;
@@ -355,7 +448,7 @@ nomem:
   free(nodes);
   free(dir);
   free(nrm);
-  free(power);
+  free(spec);
   return vr_error_set(err, VR_E_NOMEM, "photon map build: out of memory for %zu photons", n);
 }
 
@@ -375,7 +468,7 @@ int vr_photon_map_nbins(const vr_photon_map *m) { return m ? m->nbins : 0; }
 bool vr_photon_map_built(const vr_photon_map *m) { return m && m->built; }
 
 size_t vr_photon_map_bytes_per_photon(const vr_photon_map *m) {
-  return m ? sizeof(node) + 2 * sizeof(uint32_t) + (size_t)m->nbins * sizeof(float) : 0;
+  return m ? sizeof(node) + 2 * sizeof(uint32_t) + m->spec_size : 0;
 }
 
 vr_status vr_photon_map_get(const vr_photon_map *m, size_t index, double pos[3],
@@ -385,7 +478,16 @@ vr_status vr_photon_map_get(const vr_photon_map *m, size_t index, double pos[3],
     for (int a = 0; a < 3; a++) pos[a] = m->centre[a] + (double)m->nodes[index].p[a];
   if (dir_in) oct_decode(m->dir[index], dir_in);
   if (normal) oct_decode(m->nrm[index], normal);
-  if (power) memcpy(power, m->power + index * (size_t)m->nbins, sizeof(float) * (size_t)m->nbins);
+  if (power) {
+    const unsigned char *spec = m->spec + index * m->spec_size;
+    if (!m->slots) {
+      memcpy(power, spec, m->spec_size);
+    } else {
+      memset(power, 0, sizeof(float) * (size_t)m->nbins);
+      for (int s = 0; s < m->slots && slot_power(spec, s) != 0.0f; s++)
+        power[slot_bin(m, spec, s)] = slot_power(spec, s);
+    }
+  }
   return VR_OK;
 }
 
@@ -412,6 +514,28 @@ typedef struct cand {
   double g2, d2;
   uint32_t rank, idx;
 } cand;
+
+/* sum[b] += w power[b] for the bins of photon i. */
+static void accumulate(const vr_photon_map *m, size_t i, double w, double *sum) {
+  const unsigned char *spec = m->spec + i * m->spec_size;
+  if (!m->slots) {
+    const float *pw = (const float *)spec; /* spec_size is a multiple of 4 */
+    for (int b = 0; b < m->nbins; b++) sum[b] += w * (double)pw[b];
+  } else if (m->bin_bytes == 1) {
+    const unsigned char *bins = spec + 4u * (size_t)m->slots;
+    for (int s = 0; s < m->slots; s++) {
+      float v = slot_power(spec, s);
+      if (v == 0.0f) break;
+      sum[bins[s]] += w * (double)v;
+    }
+  } else {
+    for (int s = 0; s < m->slots; s++) {
+      float v = slot_power(spec, s);
+      if (v == 0.0f) break;
+      sum[slot_bin(m, spec, s)] += w * (double)v;
+    }
+  }
+}
 
 static bool cand_less(const cand *a, const cand *b) {
   return a->g2 < b->g2 || (a->g2 == b->g2 && a->rank < b->rank);
@@ -459,8 +583,7 @@ static void consider(query *q, uint32_t i) {
 
   if (!q->heap) { /* fixed radius: add it now */
     double w = q->kcr > 0.0 ? 1.0 - sqrt(d2) / q->kcr : 1.0;
-    const float *pw = q->m->power + (size_t)i * (size_t)q->m->nbins;
-    for (int b = 0; b < q->m->nbins; b++) q->sum[b] += w * (double)pw[b];
+    accumulate(q->m, i, w, q->sum);
     q->found++;
   } else if (!full) {
     int j = q->found++;
@@ -556,8 +679,7 @@ int vr_photon_map_irradiance(const vr_photon_map *m, const double x[3], const do
     }
     for (int j = 0; j < q.found; j++) {
       double w = kc > 0.0 ? 1.0 - sqrt(q.heap[j].d2) / (kc * r) : 1.0;
-      const float *pw = m->power + (size_t)q.heap[j].idx * (size_t)m->nbins;
-      for (int b = 0; b < m->nbins; b++) out[b] += w * (double)pw[b];
+      accumulate(m, q.heap[j].idx, w, out);
     }
     if (q.heap != stack_heap) free(q.heap);
   }

@@ -107,6 +107,10 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
                           vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
                           vr_rng(&key, VR_DIM_DIR_V), &bs))
     return;
+  if (bs.terminate_secondary) {
+    if (p.flags & FLAG_TERMINATED) bs.weight[0] /= p.nwl;
+    p.flags |= FLAG_TERMINATED;
+  }
   double old = 0, mx = 0;
   for (int k = 0; k < p.nwl; k++) {
     if (p.beta[k] > old) old = p.beta[k];

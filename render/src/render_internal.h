@@ -19,7 +19,7 @@
 #include "vr/photon_map.h"
 #include "vr/sky.h"
 
-#define VR_MAX_WL 8 /* wavelengths carried by one path */
+#define VR_MAX_WL VR_SCENE_MAX_WAVELENGTHS /* wavelengths carried by one path */
 
 /* A spectrum on the resolved grid: value at lo + i nm, i = 0 .. n-1. */
 typedef struct rspd {
@@ -172,12 +172,22 @@ typedef struct accum {
   _Atomic uint64_t *sensor_bins;/* npoints*nbins */
   size_t ntexels;
   _Atomic uint64_t *texel_uv;   /* W/m2 in the UV band, summed */
+  /* Fixed-bins mode: the CMFs averaged over each of the cmf_n bins of
+   * [cmf_lo, cmf_lo + cmf_n cmf_step], used for a wavelength in that bin
+   * instead of their value at it (NULL in hero mode). */
+  double (*cmf_avg)[3];
+  double cmf_lo, cmf_step;
+  int cmf_n;
 } accum;
 
 vr_status vr_accum_create(accum *a, int width, int height, size_t nbins, double bin_lo,
                           double bin_step, size_t npoints, int groups, size_t ntexels,
                           vr_error *err);
 void vr_accum_destroy(accum *a);
+/* Fixed-bins mode: weight each of the n bins of [lo, hi] by the CMFs'
+ * mean over the bin, so a spectrum flat within each bin integrates
+ * exactly (the midpoint rule with 4 bins of 117 nm is 17 % off for D65). */
+vr_status vr_accum_set_bins(accum *a, double lo, double hi, int n, vr_error *err);
 void vr_atomic_add(_Atomic uint64_t *cell, double v);
 double vr_atomic_get(_Atomic uint64_t *cell);
 /* Adds radiance samples (already divided by their wavelength pdf) of a pixel. */

@@ -24,7 +24,7 @@ static const vr_option OPTIONS[] = {
     {"db", 'd', "FILE", "material database, read-only (default: $VR_MATDB, else ./materials.db; made if missing and needed)"},
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
     {"threads", 0, "P", "worker threads (default: the number of online CPUs)"},
-    {"image-space", 0, NULL, "image-space tiles over a replicated scene instead of the ray flow"},
+    {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
     {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
     {"stats", 0, "FILE.json", "write statistics (passes, rays, photons, sensors, memory, time) as JSON"},

@@ -83,4 +83,57 @@ check "--sensors-only writes the table" test -s "$tmp/o/s.sensors.csv"
 check "--sensors-only writes no image" test ! -e "$tmp/o/s.png" -a ! -e "$tmp/o/s.exr"
 check "--quiet prints nothing" test ! -s "$tmp/out2.txt"
 
+# --sensors-only keeps the spectral columns (the film's bins are known
+# without a camera).
+head -1 "$tmp/o/s.sensors.csv" | grep -q ",E_405,"; check "--sensors-only table has spectral columns" test $? -eq 0
+
+# Only the effects a scene calls for, read from --stats: a diffuse room with
+# photon mapping runs the global photon map but no caustic and no UV pass; a
+# mirror added makes the caustic pass run, naming the material.
+cat > "$tmp/diffuse.scn" <<'EOF'
+camera pinhole from=0,-1.5,1 to=0,0,1 fov=70 resolution=16x12
+material grey lambert reflectance=0.5
+box min=-2,-2,0 max=2,2,2.5 material=grey
+light point position=0,0,2 intensity=500lm
+render integrator=photon spp=1 photons=20000 caustic_photons=20000 knn=20
+EOF
+sed 's/^render/material mirror db:Ag\nsphere center=0.5,0.5,0.4 radius=0.3 material=mirror\nrender/' "$tmp/diffuse.scn" > "$tmp/mirror.scn"
+(cd "$tmp" && VR_MATDB="$tmp/m.db" "$bin" diffuse.scn --stats diffuse.json --quiet && \
+   VR_MATDB="$tmp/m.db" "$bin" mirror.scn --stats mirror.json --quiet) > /dev/null 2>&1
+check "diffuse and mirror scenes render" test $? -eq 0
+python3 - "$tmp" <<'PY'
+import json, sys
+d = sys.argv[1]
+def passes(f):
+    return {p["name"]: p for p in json.load(open(d + "/" + f))["passes"]}
+a, b = passes("diffuse.json"), passes("mirror.json")
+assert a["global photons"]["ran"] and not a["caustic photons"]["ran"], a
+assert "no specular" in a["caustic photons"]["reason"], a["caustic photons"]
+assert not a["uv"]["ran"] and "photochromic" in a["uv"]["reason"], a["uv"]
+assert b["caustic photons"]["ran"] and "mirror" in b["caustic photons"]["reason"], b["caustic photons"]
+assert not a["dispersion"]["ran"] and not b["dispersion"]["ran"]
+PY
+check "--stats: caustic pass only with a mirror, no UV pass without photochromic glass" test $? -eq 0
+
+# A light mesh made only of degenerate triangles is refused with the file
+# named; one with a good triangle renders and the dropped ones are counted.
+printf 'v 0 0 2\nv 1 0 2\nv 2 0 2\nf 1 2 3\n' > "$tmp/flat.obj"
+printf 'v 0 0 2\nv 1 0 2\nv 2 0 2\nv 0 1 2\nf 1 2 3\nf 1 4 2\n' > "$tmp/half.obj"
+for m in flat half; do
+  cat > "$tmp/$m.scn" <<EOF
+material grey lambert reflectance=0.5
+material lamp black
+rect center=0,0,0 normal=0,0,1 size=4,4 material=grey
+mesh $m.obj material=lamp emission=1000cd/m2
+sensor floor point position=0.3,0.3,0 normal=0,0,1
+render integrator=path sensor_samples=64
+EOF
+done
+(cd "$tmp" && "$bin" flat.scn --sensors-only > /dev/null 2> flat.err); rc=$?
+check "an all-degenerate light mesh exits 1" test $rc -eq 1
+check "an all-degenerate light mesh names its file" grep -q "flat.obj.*degenerate" "$tmp/flat.err"
+(cd "$tmp" && "$bin" half.scn --sensors-only > half.out 2> half.err); rc=$?
+check "a light mesh with one degenerate triangle renders" test $rc -eq 0
+check "the dropped triangle is reported" grep -q "1 degenerate triangle" "$tmp/half.err"
+
 finish

@@ -1,7 +1,10 @@
 /* The spectral photon map (vr/photon_map.h): density estimates on a uniform
  * field against their analytic expectation, the kd-tree's neighbourhoods
  * against brute force, the side and disc rules, bit-identical results for
- * any order of stores, and degenerate input.
+ * any order of stores, and degenerate input; sparse maps
+ * (vr_photon_map_create_sparse) against the same analytic values, against
+ * dense maps fed the same photons (bit for bit), their refusal of photons
+ * with too many non-zero bins, and their cost.
  *
  * Every random number comes from a counter-based generator (a hash of a
  * stream and a counter), so each test sees the same photons on every run. */
@@ -36,21 +39,27 @@ static const double DOWN[3] = {0, 0, -1}, UP[3] = {0, 0, 1};
 
 /* N = n^2 photons, one per cell of an n x n grid on the unit square at z = 0
  * (jittered stratification), all travelling straight down, carrying
- * PHI[b] / N each: the irradiance is PHI[b] W/m^2 everywhere inside. */
+ * PHI[b] / N each: the irradiance is PHI[b] W/m^2 everywhere inside.  The
+ * dense map has three bins; the sparse one 47 (10 nm over 360-830 nm), of
+ * which each photon fills the three of UBIN, and keeps at most 4. */
 #define GRID 256
 #define KNN 100
+#define UNB 47
 static const double PHI[3] = {1.0, 2.0, 0.5};
+static const int UBIN[3] = {5, 23, 46};
 
 static double jitter(int i, int j, int axis) {
   return u01(11 + (uint64_t)axis, (uint64_t)j * GRID + (uint64_t)i);
 }
 
-static vr_photon_map *uniform_square(void) {
+static vr_photon_map *uniform_square(bool sparse) {
   vr_error err;
-  vr_photon_map *m = vr_photon_map_create(3, 400, 700, &err);
+  vr_photon_map *m = sparse ? vr_photon_map_create_sparse(UNB, 360, 830, 4, &err)
+                            : vr_photon_map_create(3, 400, 700, &err);
   assert_non_null(m);
   const double N = (double)GRID * GRID;
-  float p[3] = {(float)(PHI[0] / N), (float)(PHI[1] / N), (float)(PHI[2] / N)};
+  float p[UNB] = {0};
+  for (int c = 0; c < 3; c++) p[sparse ? UBIN[c] : c] = (float)(PHI[c] / N);
   for (int j = 0; j < GRID; j++)
     for (int i = 0; i < GRID; i++) {
       double pos[3] = {(i + jitter(i, j, 0)) / GRID, (j + jitter(i, j, 1)) / GRID, 0.0};
@@ -104,9 +113,10 @@ static double knn_expectation(int k, double kc) {
   return (k - s / kc) / ((1.0 - 2.0 / (3.0 * kc)) * (k - 0.5));
 }
 
-static void uniform_field(void **state) {
-  (void)state;
-  vr_photon_map *m = uniform_square();
+static void uniform_field_of(bool sparse) {
+  vr_photon_map *m = uniform_square(sparse);
+  const int nb = sparse ? UNB : 3, b0 = sparse ? UBIN[0] : 0, b1 = sparse ? UBIN[1] : 1,
+            b2 = sparse ? UBIN[2] : 2;
   const double N = (double)GRID * GRID, r0 = sqrt(KNN / (M_PI * N));
   struct {
     const char *name;
@@ -123,7 +133,7 @@ static void uniform_field(void **state) {
     double x[3] = {0.15 + 0.7 * u01(21, (uint64_t)q), 0.15 + 0.7 * u01(22, (uint64_t)q), 0.0};
     double sigma = count_sigma(x, r0) / KNN; /* relative, ~2.4 % */
     for (int i = 0; i < NF; i++) {
-      double out[3], r;
+      double out[UNB], r;
       int used = vr_photon_map_irradiance(m, x, UP, f[i].k, f[i].k ? 0.5 : r0, f[i].kc, out, &r);
       if (f[i].k) {
         assert_int_equal(used, KNN);
@@ -133,8 +143,10 @@ static void uniform_field(void **state) {
         assert_true(r == r0);
       }
       /* the bins differ by exact factors of two: so must the estimates */
-      assert_true(out[1] == 2.0 * out[0] && out[2] == 0.5 * out[0]);
-      double e = out[0] / PHI[0] - 1.0;
+      assert_true(out[b1] == 2.0 * out[b0] && out[b2] == 0.5 * out[b0]);
+      for (int b = 0; b < nb; b++)
+        if (b != b0 && b != b1 && b != b2) assert_true(out[b] == 0.0);
+      double e = out[b0] / PHI[0] - 1.0;
       sum[i] += e;
       sum2[i] += e * e;
       if (fabs(e) / sigma > worst[i]) worst[i] = fabs(e) / sigma;
@@ -162,6 +174,16 @@ static void uniform_field(void **state) {
   print_message("  box, r fixed: mean z^2 = %.3f\n", z2 / Q);
   assert_true(z2 / Q > 0.85 && z2 / Q < 1.15);
   vr_photon_map_destroy(m);
+}
+
+static void uniform_field(void **state) {
+  (void)state;
+  uniform_field_of(false);
+}
+
+static void uniform_field_sparse(void **state) {
+  (void)state;
+  uniform_field_of(true);
 }
 
 /* --- (b) neighbourhoods against brute force ------------------------------ */
@@ -371,12 +393,15 @@ static void side_and_disc(void **state) {
 
 /* --- (d) order independence -------------------------------------------- */
 
-enum { ORDER_M = 5000 };
+enum { ORDER_M = 5000, ORDER_NB = 40 };
 
 /* Photon i of the order test; keys repeat (pairs share one) and the last
- * ten photons duplicate earlier ones exactly. */
-static void order_photon(uint64_t i, uint64_t *key, double pos[3], double dir[3], double nrm[3],
-                         float p[4]) {
+ * ten photons duplicate earlier ones exactly.  With nb = 4 every bin has
+ * power; with more, four wavelengths' worth land in bins that vary from
+ * photon to photon (sometimes the same one twice), and one photon in nine
+ * has only two. */
+static void order_photon(uint64_t i, int nb, uint64_t *key, double pos[3], double dir[3],
+                         double nrm[3], float *p) {
   uint64_t s = i >= ORDER_M - 10 ? i - 100 : i;
   *key = mix64(s / 2);
   pos[0] = u01(61, s);
@@ -385,13 +410,20 @@ static void order_photon(uint64_t i, uint64_t *key, double pos[3], double dir[3]
   if (s % 7 == 0) pos[0] = pos[1] = 0.5; /* coincident positions too */
   unit_vector(64, s, dir);
   unit_vector(65, s, nrm);
-  for (int b = 0; b < 4; b++) p[b] = (float)u01(66 + (uint64_t)b, s);
+  if (nb == 4) {
+    for (int b = 0; b < 4; b++) p[b] = (float)u01(66 + (uint64_t)b, s);
+    return;
+  }
+  for (int b = 0; b < nb; b++) p[b] = 0.0f;
+  for (uint64_t w = 0; w < (s % 9 ? 4u : 2u); w++)
+    p[(s * 13 + w * (1 + s % 11)) % (uint64_t)nb] += (float)u01(66 + w, s);
 }
 
 typedef struct store_job {
   vr_photon_map *m;
   int phase; /* 0: even i upwards, 1: odd i downwards */
   int failures;
+  int nb;
 } store_job;
 
 static void *store_thread(void *arg) {
@@ -399,20 +431,22 @@ static void *store_thread(void *arg) {
   for (int t = 0; t < ORDER_M / 2; t++) {
     uint64_t i = j->phase ? (uint64_t)(ORDER_M - 1 - 2 * t) : (uint64_t)(2 * t), key;
     double pos[3], dir[3], nrm[3];
-    float p[4];
-    order_photon(i, &key, pos, dir, nrm, p);
+    float p[ORDER_NB];
+    order_photon(i, j->nb, &key, pos, dir, nrm, p);
     if (vr_photon_map_store(j->m, key, pos, dir, nrm, p, NULL) != VR_OK) j->failures++;
   }
   return NULL;
 }
 
-static vr_photon_map *order_map(int how) {
+/* nb = 4: dense; nb = ORDER_NB: sparse with 4 pairs if sparse, else dense. */
+static vr_photon_map *order_map(int how, int nb, bool sparse) {
   vr_error err;
-  vr_photon_map *m = vr_photon_map_create(4, 380, 780, &err);
+  vr_photon_map *m = sparse ? vr_photon_map_create_sparse(nb, 380, 780, 4, &err)
+                            : vr_photon_map_create(nb, 380, 780, &err);
   assert_non_null(m);
   if (how == 2) {
     pthread_t th[2];
-    store_job jobs[2] = {{m, 0, 0}, {m, 1, 0}};
+    store_job jobs[2] = {{m, 0, 0, nb}, {m, 1, 0, nb}};
     for (int t = 0; t < 2; t++) assert_int_equal(pthread_create(&th[t], NULL, store_thread, &jobs[t]), 0);
     for (int t = 0; t < 2; t++) pthread_join(th[t], NULL);
     assert_int_equal(jobs[0].failures + jobs[1].failures, 0);
@@ -421,8 +455,8 @@ static vr_photon_map *order_map(int how) {
       /* how 0: in order; how 1: a permutation (3001 is prime to 5000) */
       uint64_t i = how == 0 ? t : t * 3001 % ORDER_M, key;
       double pos[3], dir[3], nrm[3];
-      float p[4];
-      order_photon(i, &key, pos, dir, nrm, p);
+      float p[ORDER_NB];
+      order_photon(i, nb, &key, pos, dir, nrm, p);
       assert_int_equal(vr_photon_map_store(m, key, pos, dir, nrm, p, &err), VR_OK);
     }
   }
@@ -430,18 +464,24 @@ static vr_photon_map *order_map(int how) {
   return m;
 }
 
-static void store_order_independent(void **state) {
-  (void)state;
-  vr_photon_map *m[3] = {order_map(0), order_map(1), order_map(2)};
-  for (int a = 1; a < 3; a++) {
+/* Maps 0-2 take the same photons in order, permuted and from two threads;
+ * a sparse run adds map 3, dense, stored in order: all must agree bit for
+ * bit, photon by photon and estimate by estimate. */
+static void order_independent_of(int nb, bool sparse) {
+  int nm = sparse ? 4 : 3;
+  vr_photon_map *m[4] = {order_map(0, nb, sparse), order_map(1, nb, sparse),
+                         order_map(2, nb, sparse), sparse ? order_map(0, nb, false) : NULL};
+  if (sparse) /* the sparse maps are smaller (a check that they are sparse) */
+    assert_true(vr_photon_map_bytes_per_photon(m[0]) < vr_photon_map_bytes_per_photon(m[3]));
+  for (int a = 1; a < nm; a++) {
     assert_int_equal(vr_photon_map_count(m[a]), ORDER_M);
     for (size_t i = 0; i < ORDER_M; i++) {
       double p0[9], p1[9];
-      float w0[4], w1[4];
+      float w0[ORDER_NB], w1[ORDER_NB];
       vr_photon_map_get(m[0], i, p0, p0 + 3, p0 + 6, w0);
       vr_photon_map_get(m[a], i, p1, p1 + 3, p1 + 6, w1);
       assert_memory_equal(p0, p1, sizeof p0);
-      assert_memory_equal(w0, w1, sizeof w0);
+      assert_memory_equal(w0, w1, (size_t)nb * sizeof(float));
     }
   }
   for (uint64_t q = 0; q < 400; q++) {
@@ -450,17 +490,17 @@ static void store_order_independent(void **state) {
     if (q % 3 == 0) unit_vector(73, q, nrm);
     int k = (int)(q % 60);
     double kc = q % 2 ? 1.0 : 0.0, R = 0.05 + 0.3 * u01(74, q);
-    double out[3][4], r[3];
-    int used[3];
-    vr_photon_hit hits[3][64];
-    int found[3];
-    for (int a = 0; a < 3; a++) {
+    double out[4][ORDER_NB], r[4];
+    int used[4];
+    vr_photon_hit hits[4][64];
+    int found[4];
+    for (int a = 0; a < nm; a++) {
       used[a] = vr_photon_map_irradiance(m[a], x, nrm, k, R, kc, out[a], &r[a]);
       found[a] = vr_photon_map_locate(m[a], x, nrm, k ? k : 64, R, hits[a], NULL);
     }
-    for (int a = 1; a < 3; a++) {
+    for (int a = 1; a < nm; a++) {
       assert_int_equal(used[a], used[0]);
-      assert_memory_equal(out[a], out[0], sizeof out[0]);
+      assert_memory_equal(out[a], out[0], (size_t)nb * sizeof(double));
       assert_memory_equal(&r[a], &r[0], sizeof r[0]);
       assert_int_equal(found[a], found[0]);
       for (int j = 0; j < found[0]; j++) {
@@ -469,7 +509,17 @@ static void store_order_independent(void **state) {
       }
     }
   }
-  for (int a = 0; a < 3; a++) vr_photon_map_destroy(m[a]);
+  for (int a = 0; a < nm; a++) vr_photon_map_destroy(m[a]);
+}
+
+static void store_order_independent(void **state) {
+  (void)state;
+  order_independent_of(4, false);
+}
+
+static void store_order_independent_sparse(void **state) {
+  (void)state;
+  order_independent_of(ORDER_NB, true);
 }
 
 /* --- (e) degenerate input ------------------------------------------------ */
@@ -631,13 +681,239 @@ static void stored_precision(void **state) {
   vr_photon_map_destroy(m);
 }
 
+/* --- (f) sparse maps ---------------------------------------------------- */
+
+/* Photon i of the sparse comparison, over nb bins of 360-830 nm: four hero
+ * wavelengths 117.5 nm apart (one in seven photons loses one, one in
+ * thirteen has all four in one bin), with key pairs as above.  Photons
+ * i >= M form a cluster at one point, all of one key, direction and normal,
+ * told apart by their power alone (values whose bytes order differently
+ * from their magnitudes, a subnormal among them), so the order of equal
+ * keys by content is put to the test. */
+enum { SD_M = 6000, SD_CLUSTER = 24 };
+static const double CLUSTER_AT[3] = {0.5, 0.5, 0.0};
+
+static void sd_photon(const vr_photon_map *dense, int nb, uint64_t i, uint64_t *key,
+                      double pos[3], double dir[3], double nrm[3], float *p) {
+  for (int b = 0; b < nb; b++) p[b] = 0.0f;
+  if (i >= SD_M) {
+    static const float vals[5] = {1.0f, 0.5f, 1.5f, 3.0f, 1e-40f};
+    uint64_t t = i - SD_M;
+    *key = hashed_key(1000000007u);
+    for (int a = 0; a < 3; a++) pos[a] = CLUSTER_AT[a], dir[a] = DOWN[a], nrm[a] = UP[a];
+    for (uint64_t j = 0; j < 1 + t % 3; j++) p[(t * 5 + j * 3) % 7] = vals[(t + j) % 5];
+    return;
+  }
+  *key = hashed_key(i / 2);
+  pos[0] = u01(31, i);
+  pos[1] = u01(32, i);
+  pos[2] = i % 3 == 0 ? 0.0 : 0.1 * u01(33, i) - 0.05;
+  unit_vector(34, i, dir);
+  unit_vector(35, i, nrm);
+  double h = 470.0 * u01(37, i);
+  for (uint64_t w = 0; w < 4; w++) {
+    if (i % 7 == 0 && w == 3) continue;
+    double wl = 360.0 + fmod(h + (i % 13 ? 117.5 * (double)w : 0.0), 470.0);
+    int b = vr_photon_map_bin(dense, wl);
+    assert_true(b >= 0 && b < nb);
+    p[b] += (float)(0.25 + u01(38 + w, i));
+  }
+}
+
+static void sparse_vs_dense(int nb, int nz) {
+  vr_error err;
+  vr_photon_map *d = vr_photon_map_create(nb, 360, 830, &err);
+  vr_photon_map *s = vr_photon_map_create_sparse(nb, 360, 830, nz, &err);
+  assert_non_null(d);
+  assert_non_null(s);
+  assert_true(vr_photon_map_bytes_per_photon(s) < vr_photon_map_bytes_per_photon(d));
+  enum { N = SD_M + SD_CLUSTER };
+  float *p = malloc((size_t)nb * sizeof *p), *p2 = malloc((size_t)nb * sizeof *p2);
+  double pos[3], dir[3], nrm[3];
+  uint64_t key;
+  /* the dense map in order, the sparse one the cluster first and backwards,
+   * then a permutation (3001 is prime to 6000) */
+  for (uint64_t i = 0; i < N; i++) {
+    sd_photon(d, nb, i, &key, pos, dir, nrm, p);
+    assert_int_equal(vr_photon_map_store(d, key, pos, dir, nrm, p, &err), VR_OK);
+  }
+  for (uint64_t t = 0; t < N; t++) {
+    uint64_t i = t < SD_CLUSTER ? N - 1 - t : (t - SD_CLUSTER) * 3001 % SD_M;
+    sd_photon(d, nb, i, &key, pos, dir, nrm, p);
+    assert_int_equal(vr_photon_map_store(s, key, pos, dir, nrm, p, &err), VR_OK);
+  }
+  assert_int_equal(vr_photon_map_build(d, &err), VR_OK);
+  assert_int_equal(vr_photon_map_build(s, &err), VR_OK);
+  assert_int_equal(vr_photon_map_count(s), N);
+
+  /* the same photons in the same places */
+  for (size_t i = 0; i < N; i++) {
+    double a[9], b[9];
+    assert_int_equal(vr_photon_map_get(d, i, a, a + 3, a + 6, p), VR_OK);
+    assert_int_equal(vr_photon_map_get(s, i, b, b + 3, b + 6, p2), VR_OK);
+    assert_memory_equal(a, b, sizeof a);
+    if (memcmp(p, p2, (size_t)nb * sizeof *p) != 0)
+      fail_msg("nbins %d, max_nonzero %d: photon %zu has other powers in the sparse map", nb, nz,
+               i);
+  }
+
+  /* the same estimates and neighbourhoods, bit for bit */
+  static const int ks[] = {0, 1, 7, 50, 0, 300};
+  static const double kcs[] = {0.0, 1.0, 1.1};
+  double *od = malloc((size_t)nb * sizeof *od), *os = malloc((size_t)nb * sizeof *os);
+  vr_photon_hit hd[300], hs[300];
+  long total = 0;
+  for (uint64_t q = 0; q < 600; q++) {
+    double x[3] = {u01(41, q), u01(42, q), 0.04 * u01(43, q) - 0.02}, n[3] = {0, 0, 1};
+    if (q % 10 == 0) /* at the cluster, or just beside it */
+      for (int a = 0; a < 3; a++) x[a] = CLUSTER_AT[a] + (q % 20 ? 0.003 * (a == 0) : 0.0);
+    if (q % 2) unit_vector(44, q, n);
+    else if (q % 4 == 0) n[2] = -1.0;
+    int k = ks[q % 6];
+    double kc = kcs[q % 3], R = 0.02 + 0.3 * u01(45, q), rd, rs;
+    int ud = vr_photon_map_irradiance(d, x, n, k, R, kc, od, &rd);
+    int us = vr_photon_map_irradiance(s, x, n, k, R, kc, os, &rs);
+    assert_int_equal(us, ud);
+    if (memcmp(od, os, (size_t)nb * sizeof *od) != 0 || memcmp(&rd, &rs, sizeof rd) != 0)
+      fail_msg("nbins %d, max_nonzero %d, query %d (k %d, kc %g): estimates differ", nb, nz,
+               (int)q, k, kc);
+    total += ud > 0 ? ud : 0;
+    int kl = k ? k : 50;
+    int fd = vr_photon_map_locate(d, x, n, kl, R, hd, &rd);
+    int fs = vr_photon_map_locate(s, x, n, kl, R, hs, &rs);
+    assert_int_equal(fs, fd);
+    assert_memory_equal(&rd, &rs, sizeof rd);
+    for (int j = 0; j < fd; j++) {
+      assert_int_equal(hs[j].index, hd[j].index);
+      assert_memory_equal(&hs[j].dist, &hd[j].dist, sizeof(double));
+    }
+  }
+  print_message("  nbins %d, max_nonzero %d: %zu vs %zu bytes a photon, %.1f photons a query\n",
+                nb, nz, vr_photon_map_bytes_per_photon(s), vr_photon_map_bytes_per_photon(d),
+                total / 600.0);
+  assert_true(total > 600 * 20); /* the queries do see photons */
+  free(od);
+  free(os);
+  free(p);
+  free(p2);
+  vr_photon_map_destroy(d);
+  vr_photon_map_destroy(s);
+}
+
+static void sparse_matches_dense(void **state) {
+  (void)state;
+  sparse_vs_dense(47, 4); /* bin indices of one byte */
+  sparse_vs_dense(47, 8); /* slots left unused */
+  sparse_vs_dense(300, 4); /* bin indices of two bytes */
+}
+
+static void sparse_refusal(void **state) {
+  (void)state;
+  vr_error err;
+  double at[3] = {0.5, 0.5, 0.0};
+  assert_null(vr_photon_map_create_sparse(30, 400, 700, 0, &err));
+  assert_int_equal(err.status, VR_E_ARG);
+  assert_contains(err.message, "max_nonzero");
+  assert_null(vr_photon_map_create_sparse(30, 400, 700, -3, &err));
+  assert_null(vr_photon_map_create_sparse(0, 400, 700, 4, &err));
+  assert_null(vr_photon_map_create_sparse(30, 700, 400, 4, &err));
+
+  vr_photon_map *m = vr_photon_map_create_sparse(30, 400, 700, 4, &err);
+  assert_non_null(m);
+  float five[30] = {0}, four[30] = {0}, negzero[30] = {0}, none[30] = {0}, nan_[30] = {0};
+  for (int j = 0; j < 5; j++) five[3 + 6 * j] = 1.0f + (float)j;
+  memcpy(four, five, sizeof four);
+  four[27] = 0.0f;
+  memcpy(negzero, five, sizeof negzero);
+  negzero[9] = -0.0f; /* a zero: four non-zero bins remain */
+  for (int j = 0; j < 6; j++) nan_[j] = 1.0f;
+  nan_[20] = NAN;
+  assert_int_equal(vr_photon_map_store(m, 1, at, DOWN, UP, five, &err), VR_E_RANGE);
+  assert_contains(err.message, "5 non-zero");
+  assert_contains(err.message, "at most 4");
+  assert_int_equal(vr_photon_map_count(m), 0); /* not kept */
+  assert_int_equal(vr_photon_map_store(m, 1, at, DOWN, UP, nan_, &err), VR_E_RANGE);
+  assert_contains(err.message, "power[20]");
+  assert_int_equal(vr_photon_map_store(m, 3, at, DOWN, UP, four, &err), VR_OK);
+  assert_int_equal(vr_photon_map_store(m, 2, at, DOWN, UP, negzero, &err), VR_OK);
+  assert_int_equal(vr_photon_map_store(m, 4, at, DOWN, UP, none, &err), VR_OK);
+  assert_int_equal(vr_photon_map_count(m), 3);
+  assert_int_equal(vr_photon_map_build(m, &err), VR_OK);
+  float got[30];
+  negzero[9] = 0.0f; /* given back as +0 */
+  assert_int_equal(vr_photon_map_get(m, 0, NULL, NULL, NULL, got), VR_OK);
+  assert_memory_equal(got, negzero, sizeof got);
+  assert_int_equal(vr_photon_map_get(m, 1, NULL, NULL, NULL, got), VR_OK);
+  assert_memory_equal(got, four, sizeof got);
+  assert_int_equal(vr_photon_map_get(m, 2, NULL, NULL, NULL, got), VR_OK);
+  assert_memory_equal(got, none, sizeof got);
+  /* fixed radius, box: the three photons' powers over pi r^2, exactly
+   * zero in the bins none of them has */
+  double out[30], r;
+  assert_int_equal(vr_photon_map_irradiance(m, at, UP, 0, 0.1, 0.0, out, &r), 3);
+  for (int b = 0; b < 30; b++)
+    assert_near(out[b] * M_PI * 0.01, (double)four[b] + (double)negzero[b], 1e-12);
+  assert_true(r == 0.1);
+  assert_true(out[0] == 0.0 && out[4] == 0.0 && out[29] == 0.0 && out[9] > 0.0);
+  vr_photon_map_destroy(m);
+
+  /* a dense map takes any number */
+  m = vr_photon_map_create(30, 400, 700, &err);
+  assert_int_equal(vr_photon_map_store(m, 1, at, DOWN, UP, five, &err), VR_OK);
+  vr_photon_map_destroy(m);
+
+  /* max_nonzero above nbins is nbins: dense storage, nothing refused */
+  m = vr_photon_map_create_sparse(3, 400, 700, 10, &err);
+  assert_non_null(m);
+  assert_int_equal(vr_photon_map_bytes_per_photon(m), 24 + 4 * 3);
+  assert_int_equal(vr_photon_map_store(m, 1, at, DOWN, UP, (float[3]){1, 2, 3}, &err), VR_OK);
+  vr_photon_map_destroy(m);
+  /* 7 pairs would cost more than 8 bins: stored densely, yet the bound holds */
+  m = vr_photon_map_create_sparse(8, 400, 700, 7, &err);
+  assert_int_equal(vr_photon_map_bytes_per_photon(m), 24 + 4 * 8);
+  float eight[8] = {1, 1, 1, 1, 1, 1, 1, 1};
+  assert_int_equal(vr_photon_map_store(m, 1, at, DOWN, UP, eight, &err), VR_E_RANGE);
+  assert_contains(err.message, "8 non-zero");
+  eight[5] = 0.0f;
+  assert_int_equal(vr_photon_map_store(m, 1, at, DOWN, UP, eight, &err), VR_OK);
+  assert_int_equal(vr_photon_map_count(m), 1);
+  vr_photon_map_destroy(m);
+}
+
+/* What a photon costs: 24 bytes of position, direction and normal, then
+ * 4 nbins dense or max_nonzero (4 + 1) sparse (4 + 2 beyond 256 bins). */
+static void sparse_bytes(void **state) {
+  (void)state;
+  static const struct {
+    int nb, nz;
+    size_t dense, sparse;
+  } c[] = {{30, 4, 144, 44}, {47, 4, 212, 44},  {30, 8, 144, 64},
+           {47, 8, 212, 64}, {300, 4, 1224, 48}, {300, 8, 1224, 72}};
+  vr_error err;
+  for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+    vr_photon_map *d = vr_photon_map_create(c[i].nb, 360, 830, &err);
+    vr_photon_map *s = vr_photon_map_create_sparse(c[i].nb, 360, 830, c[i].nz, &err);
+    print_message("  nbins %3d, max_nonzero %d: dense %4zu, sparse %2zu bytes a photon\n",
+                  c[i].nb, c[i].nz, vr_photon_map_bytes_per_photon(d),
+                  vr_photon_map_bytes_per_photon(s));
+    assert_int_equal(vr_photon_map_bytes_per_photon(d), c[i].dense);
+    assert_int_equal(vr_photon_map_bytes_per_photon(s), c[i].sparse);
+    assert_int_equal(vr_photon_map_build(s, &err), VR_OK); /* the same once built */
+    assert_int_equal(vr_photon_map_bytes_per_photon(s), c[i].sparse);
+    vr_photon_map_destroy(d);
+    vr_photon_map_destroy(s);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(uniform_field),         cmocka_unit_test(knn_matches_brute_force),
       cmocka_unit_test(ties_broken_by_key),    cmocka_unit_test(side_and_disc),
       cmocka_unit_test(store_order_independent), cmocka_unit_test(empty_map),
       cmocka_unit_test(coincident_photons),    cmocka_unit_test(bad_input),
-      cmocka_unit_test(stored_precision),
+      cmocka_unit_test(stored_precision),      cmocka_unit_test(uniform_field_sparse),
+      cmocka_unit_test(sparse_matches_dense),  cmocka_unit_test(sparse_refusal),
+      cmocka_unit_test(sparse_bytes),          cmocka_unit_test(store_order_independent_sparse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

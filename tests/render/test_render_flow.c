@@ -1,8 +1,10 @@
 /* The domain-decomposed ray flow: the same image for any number of
  * sub-domains S and threads P (DESIGN §6.5: counter-based randomness keyed
- * by pixel, sample, depth and purpose), rays created equal to rays
- * finished, and the awkward rays: lying in an interface plane, starting on
- * one, bouncing between mirrors that sit in different sub-domains.  Also
+ * by pixel, sample, depth and purpose), and the same again from the
+ * image-space tile scheduler; rays created equal to rays finished, also
+ * when every ray spawns more in other cells; image tiles that cover every
+ * pixel once; and the awkward rays: lying in an interface plane, starting
+ * on one, bouncing between mirrors that sit in different sub-domains.  Also
  * the scene analysis: passes a scene does not call for are not run. */
 #include <math.h>
 #include <setjmp.h>
@@ -16,6 +18,7 @@
 #include <cmocka.h>
 
 #include "vr/domains.h"
+#include "vr/flow.h"
 #include "vr/geometry.h"
 #include "vr/matdb.h"
 #include "vr/render.h"
@@ -52,11 +55,12 @@ static vr_scene *parse(const char *text) {
   return s;
 }
 
-static vr_render_result *render(vr_scene *s, int S, int P) {
+static vr_render_result *render_mode(vr_scene *s, int S, int P, bool image_space) {
   vr_render_options o;
   vr_render_options_default(&o);
   o.subdomains = S;
   o.threads = P;
+  o.image_space = image_space;
   vr_render_result *r = NULL;
   vr_error err = {0};
   vr_status st = vr_render_scene(s, db, &o, &r, &err);
@@ -64,6 +68,20 @@ static vr_render_result *render(vr_scene *s, int S, int P) {
   assert_int_equal(st, VR_OK);
   assert_true(r->rays_created == r->rays_finished);
   return r;
+}
+
+static vr_render_result *render(vr_scene *s, int S, int P) { return render_mode(s, S, P, false); }
+
+/* Fails unless the two films agree to 1e-6 relative in every value. */
+static void same_film(const vr_render_result *a, const vr_render_result *b, const char *what) {
+  assert_int_equal(a->width, b->width);
+  assert_int_equal(a->height, b->height);
+  size_t n = (size_t)a->width * a->height * 3;
+  for (size_t i = 0; i < n; i++) {
+    double x = a->xyz[i], y = b->xyz[i];
+    if (fabs(x - y) > 1e-6 * fmax(fabs(x), fabs(y)) + 1e-12)
+      fail_msg("%s: value %zu differs: %.17g vs %.17g", what, i, x, y);
+  }
 }
 
 /* A small room with a sphere, a box, two facing silver mirrors and a
@@ -94,15 +112,194 @@ static void test_same_image_any_S_P(void **state) {
     for (int b = 0; b < 2; b++) {
       if (Ss[a] == 1 && Ps[b] == 1) continue;
       vr_render_result *r = render(s, Ss[a], Ps[b]);
-      for (size_t i = 0; i < n; i++) {
-        double x = ref->xyz[i], y = r->xyz[i];
-        if (fabs(x - y) > 1e-6 * fmax(fabs(x), fabs(y)) + 1e-12)
-          fail_msg("S=%d P=%d: value %zu differs: %.17g vs %.17g", Ss[a], Ps[b], i, x, y);
-      }
+      char what[32];
+      snprintf(what, sizeof what, "S=%d P=%d", Ss[a], Ps[b]);
+      same_film(ref, r, what);
+      assert_true(r->rays_created == ref->rays_created);
       if (Ss[a] > 1) assert_true(r->crossings > 0);
       vr_render_result_destroy(r);
     }
   vr_render_result_destroy(ref);
+  vr_scene_destroy(s);
+}
+
+/* Image space (tiles over the whole scene, each worker tracing its tiles'
+ * rays depth first on its own stack) gives the decomposed image: the same
+ * rays, keyed by pixel and sample, only traced in another order.  Path
+ * tracing in the room, then photon mapping with its photon pass. */
+static void test_image_space_same_image(void **state) {
+  (void)state;
+  vr_scene *s = parse(ROOM);
+  for (int pass = 0; pass < 2; pass++) {
+    if (pass == 1) {
+      s->settings.integrator = VR_INT_PHOTON;
+      s->settings.photons = s->settings.caustic_photons = 4000;
+    }
+    vr_render_result *ref = render(s, 4, 2);
+    assert_true(ref->crossings > 0);
+    for (int P = 1; P <= 2; P++) {
+      vr_render_result *r = render_mode(s, 4, P, true);
+      char what[64];
+      snprintf(what, sizeof what, "%s, image space P=%d vs S=4 P=2",
+               pass ? "photon mapping" : "path tracing", P);
+      same_film(ref, r, what);
+      /* One cell: nothing to cross, and the same rays as the flow made. */
+      assert_int_equal(r->crossings, 0);
+      assert_true(r->rays_created == ref->rays_created);
+      assert_true(r->rays_camera == ref->rays_camera);
+      assert_true(r->rays_shadow == ref->rays_shadow);
+      assert_true(r->rays_photon == ref->rays_photon);
+      if (pass == 1) assert_true(r->photons_global == ref->photons_global);
+      vr_render_result_destroy(r);
+    }
+    vr_render_result_destroy(ref);
+  }
+  vr_scene_destroy(s);
+}
+
+/* Camera tiles: square, clipped at the edges, every pixel in exactly one;
+ * and a render whose size is no multiple of the tile makes exactly one
+ * camera ray per pixel and sample (Whitted in a diffuse box: no bounce) and
+ * lights every pixel, in both schedulers. */
+static void test_tiles_cover_image(void **state) {
+  (void)state;
+  const int sizes[][2] = {{1, 1}, {16, 16}, {17, 5}, {37, 21}, {320, 240}, {5, 100}};
+  for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
+    int W = sizes[k][0], H = sizes[k][1];
+    long n = vr_flow_tiles(W, H);
+    assert_int_equal(n, (long)((W + VR_FLOW_TILE - 1) / VR_FLOW_TILE) *
+                            ((H + VR_FLOW_TILE - 1) / VR_FLOW_TILE));
+    int *seen = calloc((size_t)W * H, sizeof *seen);
+    assert_non_null(seen);
+    for (long u = 0; u < n; u++) {
+      int x0, y0, x1, y1;
+      vr_flow_tile(W, H, u, &x0, &y0, &x1, &y1);
+      assert_true(x0 >= 0 && x0 < x1 && x1 <= W && x1 - x0 <= VR_FLOW_TILE);
+      assert_true(y0 >= 0 && y0 < y1 && y1 <= H && y1 - y0 <= VR_FLOW_TILE);
+      for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) seen[y * W + x]++;
+    }
+    for (int i = 0; i < W * H; i++) assert_int_equal(seen[i], 1);
+    free(seen);
+  }
+  assert_int_equal(vr_flow_tiles(0, 10), 0);
+
+  vr_scene *s = parse("camera pinhole from=0,-1.5,1 to=0,0,1 fov=70 resolution=37x21\n"
+                      "material wall lambert reflectance=0.5\n"
+                      "box min=-2,-2,0 max=2,2,2.5 material=wall\n"
+                      "light point position=0,0,2 intensity=100cd\n"
+                      "render integrator=whitted spp=2 seed=3\n");
+  vr_render_result *ref = NULL;
+  for (int image = 0; image < 2; image++) {
+    vr_render_result *r = render_mode(s, image ? 1 : 2, 2, image);
+    assert_int_equal(r->rays_camera, 37 * 21 * 2);
+    for (int i = 0; i < 37 * 21; i++) assert_true(r->xyz[3 * i + 1] > 0);
+    if (ref) {
+      same_film(ref, r, "whitted, image space vs S=2");
+      vr_render_result_destroy(r);
+    } else {
+      ref = r;
+    }
+  }
+  vr_render_result_destroy(ref);
+  vr_scene_destroy(s);
+}
+
+/* Termination under heavy spawning: every closest-hit ray pushes two more
+ * from its hit point, in whatever cell that is, down to depth 9, and every
+ * unit starts 16 rays, so the run must trace exactly 16 (2^10 - 1) rays per
+ * unit before it ends, with rays handed between the workers all along. */
+typedef struct tree_ctx {
+  struct {
+    _Alignas(64) long rays; /* per worker */
+  } seen[2];
+  double lo[3], hi[3];
+} tree_ctx;
+
+static double hash01(uint64_t z) {
+  z += 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+}
+
+static void tree_ray(const tree_ctx *c, const double *from, uint64_t id, int depth,
+                     vr_flow_worker *w) {
+  vr_ray r;
+  memset(&r, 0, sizeof r);
+  for (int a = 0; a < 3; a++)
+    r.org[a] = from ? from[a] : c->lo[a] + (c->hi[a] - c->lo[a]) * (0.1 + 0.8 * hash01(id * 8 + a));
+  double z = 1 - 2 * hash01(id * 8 + 3), ph = 2 * M_PI * hash01(id * 8 + 4);
+  r.dir[0] = sqrt(1 - z * z) * cos(ph);
+  r.dir[1] = sqrt(1 - z * z) * sin(ph);
+  r.dir[2] = z;
+  if (from)
+    for (int a = 0; a < 3; a++) r.org[a] += 1e-4 * r.dir[a];
+  r.tmax = INFINITY;
+  r.kind = VR_RAY_CLOSEST;
+  memcpy(r.payload, &id, sizeof id);
+  memcpy(r.payload + 8, &depth, sizeof depth);
+  vr_flow_push(w, &r);
+}
+
+static void tree_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit) {
+  tree_ctx *c = ctx;
+  c->seen[vr_flow_worker_index(w)].rays++;
+  uint64_t id;
+  int depth;
+  memcpy(&id, r->payload, sizeof id);
+  memcpy(&depth, r->payload + 8, sizeof depth);
+  if (depth == 9) return;
+  double at[3];
+  for (int a = 0; a < 3; a++) at[a] = hit ? hit->p[a] : r->org[a];
+  for (int k = 0; k < 2; k++) tree_ray(c, at, id * 2 + (uint64_t)k + 1, depth + 1, w);
+}
+
+static bool tree_shadow_hit(void *ctx, vr_flow_worker *w, vr_ray *r, const vr_hit *hit) {
+  (void)ctx, (void)w, (void)r, (void)hit;
+  return false;
+}
+
+static void tree_shadow_done(void *ctx, vr_flow_worker *w, const vr_ray *r, bool reached) {
+  (void)ctx, (void)w, (void)r, (void)reached;
+}
+
+static void tree_generate(void *ctx, vr_flow_worker *w, long unit) {
+  for (int i = 0; i < 16; i++) tree_ray(ctx, NULL, (uint64_t)unit * 1000003u + (uint64_t)i, 0, w);
+}
+
+static void test_termination_many_spawned(void **state) {
+  (void)state;
+  vr_scene *s = parse(ROOM);
+  vr_geometry *g = NULL;
+  vr_error err = {0};
+  assert_int_equal(vr_geometry_build(s, &g, &err), VR_OK);
+  const vr_flow_ops ops = {tree_closest, tree_shadow_hit, tree_shadow_done, tree_generate};
+  const long units = 40, per_unit = 16 * 1023;
+  for (int S = 1; S <= 8; S *= 8) {
+    vr_domains *d = NULL;
+    assert_int_equal(vr_domains_build(g, S, &d, &err), VR_OK);
+    for (int image = 0; image < 2; image++)
+      for (int P = 1; P <= 2; P++) {
+        tree_ctx c;
+        memset(&c, 0, sizeof c);
+        memcpy(c.lo, g->bmin, sizeof c.lo);
+        memcpy(c.hi, g->bmax, sizeof c.hi);
+        vr_flow_stats st;
+        vr_status rc = (image ? vr_flow_run_image_space : vr_flow_run)(d, &ops, &c, units, P, NULL,
+                                                                      NULL, &st, &err);
+        assert_int_equal(rc, VR_OK);
+        assert_true(st.created == (uint64_t)(units * per_unit));
+        assert_true(st.finished == st.created);
+        assert_true(st.closest == st.created && st.shadow == 0);
+        assert_true(st.by_purpose[0] == st.created);
+        assert_int_equal(c.seen[0].rays + c.seen[1].rays, units * per_unit);
+        if (S > 1) assert_true(st.crossings > 0);
+        if (P == 1) assert_int_equal(c.seen[1].rays, 0);
+      }
+    vr_domains_destroy(d);
+  }
+  vr_geometry_destroy(g);
   vr_scene_destroy(s);
 }
 
@@ -231,6 +428,9 @@ static void test_empty_and_powerless(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_same_image_any_S_P),
+      cmocka_unit_test(test_image_space_same_image),
+      cmocka_unit_test(test_tiles_cover_image),
+      cmocka_unit_test(test_termination_many_spawned),
       cmocka_unit_test(test_rays_on_interfaces),
       cmocka_unit_test(test_only_needed_passes),
       cmocka_unit_test(test_empty_and_powerless),

@@ -4,7 +4,9 @@
  *     T = (1 - R)/(1 + R) per polarisation, averaged; the issue's figures);
  *   - an electrochromic pane at tint 0 and 1 transmits the visible fraction
  *     its state model gives: T_v = ∫ T(λ, s) S(λ) ȳ(λ) / ∫ S ȳ, the
- *     quantity vr-spectro metrics reports as Tvis for that material;
+ *     quantity vr-spectro metrics reports as Tvis for that material, and
+ *     its spectral transmittance per 10 nm bin (2 %) and the chromaticity
+ *     of D65 light through it (0.002 in xy) are the state model's;
  *   - a photochromic pane in the sun darkens more than one in the shade;
  *   - unknown materials and missing meshes are errors naming the line. */
 #include <math.h>
@@ -146,6 +148,74 @@ static void test_electrochromic_states(void **state) {
   }
 }
 
+/* The sensor's spectral irradiance under the normal sun with the pane
+ * (material != NULL) or without it; bins[] gets r->nbins values and nm[]
+ * their centres.  The same seed gives both runs the same wavelengths, so
+ * their ratio per bin is the pane's transmittance at those wavelengths. */
+static size_t sun_spectrum(const char *material, double *bins, double *nm, size_t cap) {
+  char scn[1024];
+  snprintf(scn, sizeof scn,
+           "%s\n"
+           "%s"
+           "light sun direction=0,0,1 illuminance=100000lx spectrum=D65 radius=0\n"
+           "sensor s point position=0,0,0 normal=0,0,1\n"
+           "render integrator=path sensor_samples=1024 film=400,700,10\n",
+           material ? material : "",
+           material ? "rect center=0,0,1 normal=0,0,1 size=2000,2000 material=pane\n" : "");
+  vr_render_result *r = NULL;
+  vr_error err = {0};
+  if (render_text(scn, &r, &err)) fail_msg("%s", err.message);
+  assert_true(r->nbins <= cap);
+  size_t n = r->nbins;
+  for (size_t b = 0; b < n; b++) bins[b] = r->sensor_spectral[b], nm[b] = r->bin_nm[b];
+  vr_render_result_destroy(r);
+  return n;
+}
+
+/* Transmitted colour: the pane's spectral transmittance per 10 nm bin from
+ * the render against the state model's D65-weighted mean over the same
+ * bin, and the chromaticity of D65 light through it. */
+static void test_electrochromic_colour(void **state) {
+  (void)state;
+  double open[64], through[64], nm[64];
+  size_t n = sun_spectrum(NULL, open, nm, 64);
+  vr_material *m = NULL;
+  vr_error err = {0};
+  assert_int_equal(vr_matdb_load(db, "ec-test", 0, &m, &err), VR_OK);
+  vr_spectrum *d65 = vr_illuminant("D65", &err);
+  for (int s = 0; s <= 1; s++) {
+    char mat[128];
+    snprintf(mat, sizeof mat, "material pane db:ec-test state=%d", s);
+    assert_int_equal(sun_spectrum(mat, through, nm, 64), n);
+    double xyz_r[3] = {0, 0, 0}, xyz_m[3] = {0, 0, 0}, worst = 0;
+    for (size_t b = 0; b < n; b++) {
+      double num = 0, den = 0;
+      for (double l = nm[b] - 4.5; l < nm[b] + 5; l += 1.0) {
+        double T, S = vr_spectrum_eval(d65, l, VR_INTERP_LINEAR);
+        assert_int_equal(vr_chromo_eval(m, s, l, &T, NULL, NULL, &err), VR_OK);
+        num += T * S;
+        den += S;
+      }
+      double want = num / den, got = through[b] / open[b];
+      worst = fmax(worst, fabs(got / want - 1));
+      if (fabs(got - want) > 0.02 * want + 1e-4)
+        fail_msg("tint %d, %g nm: rendered T %.5f, state model %.5f", s, nm[b], got, want);
+      double c[3];
+      vr_cmf_eval(VR_CIE1931_2DEG, nm[b], c);
+      double S = vr_spectrum_eval(d65, nm[b], VR_INTERP_LINEAR);
+      for (int k = 0; k < 3; k++) xyz_r[k] += c[k] * S * got, xyz_m[k] += c[k] * S * want;
+    }
+    double sr = xyz_r[0] + xyz_r[1] + xyz_r[2], sm = xyz_m[0] + xyz_m[1] + xyz_m[2];
+    double dx = xyz_r[0] / sr - xyz_m[0] / sm, dy = xyz_r[1] / sr - xyz_m[1] / sm;
+    printf("tint %d: worst bin %.3f %%, chromaticity off by %.5f\n", s, 100 * worst, hypot(dx, dy));
+    /* 0.002 in xy: below the size of MacAdam's (1942) ellipses in this region. */
+    if (hypot(dx, dy) > 0.002)
+      fail_msg("tint %d: transmitted chromaticity off by (%.4f, %.4f)", s, dx, dy);
+  }
+  vr_spectrum_destroy(d65);
+  vr_material_destroy(m);
+}
+
 static void test_photochromic_sun_and_shade(void **state) {
   (void)state;
   const char *scn =
@@ -230,6 +300,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_clear_pane),
       cmocka_unit_test(test_electrochromic_states),
+      cmocka_unit_test(test_electrochromic_colour),
       cmocka_unit_test(test_photochromic_sun_and_shade),
       cmocka_unit_test(test_sky_through_pane_once),
       cmocka_unit_test(test_bad_input),

@@ -44,7 +44,7 @@ static const char FULL[] =
     "sensor floor grid origin=0,0,0.85 u=4,0,0 v=0,3,0 n=8,6 normal=0,0,1\n"
     "render integrator=progressive spp=64 depth=12 spectral=bins wavelengths=8 range=380,780 "
     "photons=1e6 caustic_photons=500000 knn=100 radius=2cm final_gather=on gather_rays=64 "
-    "passes=32 alpha=0.7 sensor_samples=1000 seed=18446744073709551615 film=380,780,5\n";
+    "passes=32 alpha=0.7 sensor_samples=1000 sensors=photon seed=18446744073709551615 film=380,780,5\n";
 
 static void full_scene(void **state) {
   (void)state;
@@ -195,6 +195,7 @@ static void full_scene(void **state) {
   assert_int_equal(g->passes, 32);
   assert_near(g->alpha, 0.7, 0);
   assert_int_equal(g->sensor_samples, 1000);
+  assert_int_equal(g->sensors, VR_SENSORS_PHOTON);
   assert_true(g->seed == 18446744073709551615ULL);
   assert_near(g->film_min_nm, 380, 0);
   assert_near(g->film_max_nm, 780, 0);
@@ -203,6 +204,21 @@ static void full_scene(void **state) {
 }
 
 /* The defaults scene.h promises, from the smallest scene that renders. */
+/* Fixed bins default to the most wavelengths a path carries (8); a given
+ * count is kept. */
+static void bins_default(void **state) {
+  (void)state;
+  vr_scene *s = NULL;
+  vr_error err = {0};
+  assert_int_equal(parse("camera pinhole from=0,0,0 to=0,4,0\nrender spectral=bins", &s, &err), VR_OK);
+  assert_int_equal(s->settings.wavelengths, VR_SCENE_MAX_WAVELENGTHS);
+  assert_int_equal(VR_SCENE_MAX_WAVELENGTHS, 8);
+  vr_scene_destroy(s);
+  assert_int_equal(parse("camera pinhole from=0,0,0 to=0,4,0\nrender spectral=bins wavelengths=3", &s, &err), VR_OK);
+  assert_int_equal(s->settings.wavelengths, 3);
+  vr_scene_destroy(s);
+}
+
 static void defaults(void **state) {
   (void)state;
   vr_scene *s = NULL;
@@ -237,6 +253,7 @@ static void defaults(void **state) {
   assert_int_equal(g->passes, 16);
   assert_near(g->alpha, 2.0 / 3.0, 0);
   assert_int_equal(g->sensor_samples, 4096);
+  assert_int_equal(g->sensors, VR_SENSORS_PATH);
   assert_true(g->seed == 1);
   assert_near(g->film_min_nm, 400, 0);
   assert_near(g->film_max_nm, 700, 0);
@@ -387,6 +404,8 @@ static const error_case ERRORS[] = {
     ERROR_CASE("grid count zero", "sensor g grid origin=0,0,0 u=1,0,0 v=0,1,0 n=0,2 normal=0,0,1\n", "room.scn:1:44: ", "expected 2 integers in [1, 10000]"),
     ERROR_CASE("unknown camera model", "camera fisheye from=0,0,0 to=0,1,0\n", "room.scn:1:8: ", "unknown camera model"),
     ERROR_CASE("aperture on a pinhole", "camera pinhole from=0,0,0 to=0,1,0 aperture=1mm\n", "room.scn:1:36: ", "unknown option \"aperture\" for a pinhole camera"),
+    ERROR_CASE("too many wavelengths", "camera pinhole from=0,0,0 to=0,1,0\nrender wavelengths=9\n", "room.scn:2:8: ", "expected an integer in [1, 8]"),
+    ERROR_CASE("unknown sensor estimator", "camera pinhole from=0,0,0 to=0,1,0\nrender sensors=radiosity\n", "room.scn:2:8: ", "expected path, photon"),
     ERROR_CASE("unknown integrator", "camera pinhole from=0,0,0 to=0,1,0\nrender integrator=bdpt\n", "room.scn:2:8: ", "expected path, whitted, photon, progressive"),
     ERROR_CASE("fov 180", "camera pinhole from=0,0,0 to=0,1,0 fov=180\n", "room.scn:1:36: ", "must be in (0, 180)"),
     ERROR_CASE("rect up along its normal", "camera pinhole from=0,0,0 to=0,1,0\nmaterial m black\nrect center=0,0,0 normal=0,0,1 size=1,1 up=0,0,-3 material=m\n", "room.scn:3:41: ", "up is parallel to the normal"),
@@ -495,6 +514,7 @@ static void read_file(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(full_scene),      cmocka_unit_test(defaults),
+      cmocka_unit_test(bins_default),
       cmocka_unit_test(transform_order), cmocka_unit_test(errors),
       cmocka_unit_test(whole_file_errors), cmocka_unit_test(text_robustness),
       cmocka_unit_test(read_file)};

@@ -16,13 +16,22 @@
  * until its callback returns (after any rays it spawned were pushed), so
  * when every unit has been generated and nothing is in flight, the run is
  * over.  Rays created equals rays finished at the end, and both are in the
- * statistics.
+ * statistics.  The count is kept without a shared update per ray: each
+ * worker reserves in-flight count in chunks and gives back what it did not
+ * use when it runs out of work, so the shared count is never below the
+ * rays really in flight (flow.c explains why that suffices).
+ *
+ * The image-space scheduler (vr_flow_run_image_space) runs the same
+ * callbacks the classic way, for comparison: each worker claims whole units
+ * and traces every ray they make to its end on a private stack, walking
+ * the cells itself, with no queue and no hand-over.  vr-render uses it with
+ * one cell, i.e. every thread sees the whole scene.
  *
  * Extension points kept in the interface: a cell's queue and its scene are
  * reached only through the cell index, so loading cells on demand under a
  * memory budget, or sending a ray to the rank owning its cell, replaces
  * flow.c's queue push and the domains' scene lookup without touching the
- * integrators. */
+ * integrators (docs/vr-render.md, "Adding a memory budget and MPI ranks"). */
 #ifndef VR_FLOW_H
 #define VR_FLOW_H
 
@@ -67,6 +76,7 @@ typedef struct vr_flow_ops {
   void (*generate)(void *ctx, vr_flow_worker *w, long unit);
 } vr_flow_ops;
 
+/* Counted by each worker on its own and summed when the run ends. */
 typedef struct vr_flow_stats {
   uint64_t created, finished, crossings;
   uint64_t closest, shadow;           /* rays created of each kind */
@@ -81,12 +91,35 @@ vr_status vr_flow_run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, lo
                       int threads, void (*progress)(void *pctx, long done, long units),
                       void *pctx, vr_flow_stats *stats, vr_error *err);
 
-/* Queues a new ray (from a callback or generate).  tnear is where it
- * starts (usually 0, with the origin already offset from any surface). */
+/* The same run scheduled in image space: workers claim units from a shared
+ * counter, and the worker that generated a unit traces all its rays (and
+ * the rays they spawn) depth first on a stack of its own until none is
+ * left, walking from cell to cell itself when d has more than one.  Same
+ * callbacks, same arguments, same statistics (crossings count the cells
+ * walked into).  Each worker's stack holds at most the rays of one unit
+ * plus path depth times the rays a vertex spawns. */
+vr_status vr_flow_run_image_space(const vr_domains *d, const vr_flow_ops *ops, void *ctx,
+                                  long units, int threads,
+                                  void (*progress)(void *pctx, long done, long units),
+                                  void *pctx, vr_flow_stats *stats, vr_error *err);
+
+/* Queues a new ray (from a callback or generate): into its cell's queue in
+ * the queued flow, onto the calling worker's own stack in image space.
+ * tnear is where it starts (usually 0, with the origin already offset from
+ * any surface). */
 void vr_flow_push(vr_flow_worker *w, const vr_ray *r);
 
 /* Index of the calling worker (0 .. threads-1), for per-thread scratch. */
 int vr_flow_worker_index(const vr_flow_worker *w);
+
+/* Image work units: square tiles of VR_FLOW_TILE x VR_FLOW_TILE pixels,
+ * numbered row by row from the top left, the last column and row clipped
+ * at the image's edges.  vr_flow_tile gives unit's pixels [x0, x1) x
+ * [y0, y1).  Tiles rather than rows keep a unit's rays close together in
+ * the scene and its units the same size whatever the image's shape. */
+#define VR_FLOW_TILE 16
+long vr_flow_tiles(int width, int height);
+void vr_flow_tile(int width, int height, long unit, int *x0, int *y0, int *x1, int *y1);
 
 #ifdef __cplusplus
 }

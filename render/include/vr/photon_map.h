@@ -14,10 +14,26 @@
  * (3 um for a 100 m scene) however far the scene sits from the origin;
  * doubles would add 12 bytes a photon for precision a gather radius of
  * millimetres never uses.  Directions and normals are octahedral-encoded in
- * 2 x 16 bits (Cigolle et al., JCGT 2014; error < 0.004 degrees).  A built
- * map costs 24 + 4 nbins bytes a photon (vr_photon_map_bytes_per_photon);
- * before it, a staged photon takes 40 + 4 nbins bytes (rounded up to 8),
- * and the build briefly holds both plus 32 bytes a photon for sorting.
+ * 2 x 16 bits (Cigolle et al., JCGT 2014; error < 0.004 degrees).  Power:
+ * a dense map (vr_photon_map_create) keeps all nbins floats, P = 4 nbins
+ * bytes; a sparse map (vr_photon_map_create_sparse) keeps only the non-zero
+ * bins, as max_nonzero (power float, bin index) pairs, P = max_nonzero
+ * (4 + c) bytes with c = 1 for nbins <= 256, else 2 (when that is not less
+ * than 4 nbins it keeps the dense form instead).  A built map costs 24 + P
+ * bytes a photon (vr_photon_map_bytes_per_photon); before it, a staged
+ * photon takes 40 + P bytes rounded up to 8, and the build briefly holds
+ * both plus 32 bytes a photon for sorting.  For 10 nm bins over 400-700 or
+ * 360-830 nm (30 or 47 bins) and photons of 4 or 8 hero wavelengths:
+ *
+ *                          built (B/photon)     staged (B/photon)
+ *                          30 bins  47 bins     30 bins  47 bins
+ *   dense                    144      212         160      232
+ *   sparse, max_nonzero 4     44       44          64       64
+ *   sparse, max_nonzero 8     64       64          80       80
+ *
+ * Both forms give the same photons back (vr_photon_map_get) and
+ * bit-identical estimates: per bin, the same products are summed in the
+ * same photon order; a dense map only adds zeros besides.
  *
  * Threads: vr_photon_map_store may be called from several threads at once;
  * vr_photon_map_build runs alone; after it, queries are read-only and may
@@ -48,18 +64,28 @@ extern "C" {
 
 typedef struct vr_photon_map vr_photon_map;
 
-/* nbins spectral bins of equal width over [lambda_min, lambda_max] nm; each
- * photon carries its power per bin (W). */
+/* nbins spectral bins (1 to 65536) of equal width over [lambda_min,
+ * lambda_max] nm; each photon carries its power per bin (W).  Dense. */
 vr_photon_map *vr_photon_map_create(int nbins, double lambda_min, double lambda_max,
                                     vr_error *err);
+
+/* The same, sparse: each photon may have at most max_nonzero non-zero bins
+ * (a photon of n hero wavelengths has at most n), and only those are kept.
+ * max_nonzero >= 1 (VR_E_ARG otherwise); a value above nbins is taken as
+ * nbins.  Stores of photons with more non-zero bins are refused (see
+ * vr_photon_map_store).  Behaves as a dense map in every other way. */
+vr_photon_map *vr_photon_map_create_sparse(int nbins, double lambda_min, double lambda_max,
+                                           int max_nonzero, vr_error *err);
 void vr_photon_map_destroy(vr_photon_map *m);
 
 /* Stores one photon.  Thread-safe.  key orders photons deterministically.
  * dir_in: the direction the photon travelled (any length > 0); normal: the
  * geometric normal of the surface hit (any length > 0, either side); power:
- * nbins values >= 0.  Non-finite or negative values and coordinates
- * beyond 1e18 m are refused with VR_E_RANGE; NULL pointers, and stores
- * after the build, with VR_E_ARG.  A refused photon is not kept.  The
+ * nbins values >= 0 (a -0 is kept as +0).  Non-finite or negative values,
+ * coordinates beyond 1e18 m, and (sparse maps) more non-zero power bins
+ * than the map's max_nonzero are refused with VR_E_RANGE; NULL pointers,
+ * and stores after the build, with VR_E_ARG.  A refused photon is not kept
+ * (the map is unchanged; the error message says why).  The
  * normal is kept for callers (vr_photon_map_get), e.g. to precompute
  * irradiance at photon positions (Christensen 1999); the estimates below
  * use only the direction. */
@@ -76,6 +102,7 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err);
 size_t vr_photon_map_count(const vr_photon_map *m);
 int vr_photon_map_nbins(const vr_photon_map *m);
 bool vr_photon_map_built(const vr_photon_map *m);
+/* What a photon of the built map costs: 24 + P bytes (see the top). */
 size_t vr_photon_map_bytes_per_photon(const vr_photon_map *m);
 
 /* Flux density (irradiance) estimate at x on a surface of normal n (any
@@ -113,7 +140,8 @@ int vr_photon_map_locate(const vr_photon_map *m, const double x[3], const double
 
 /* Photon index (0 <= index < count, in the built map's order, which is the
  * same for any order of stores) as stored: position (float-rounded), unit
- * direction and normal (as decoded), power (nbins).  Any output may be NULL.
+ * direction and normal (as decoded), power (nbins, dense for sparse maps
+ * too).  Any output may be NULL.
  * VR_E_ARG before the build or for an index out of range. */
 vr_status vr_photon_map_get(const vr_photon_map *m, size_t index, double pos[3],
                             double dir_in[3], double normal[3], float *power);

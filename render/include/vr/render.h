@@ -28,7 +28,13 @@ typedef struct vr_matdb vr_matdb;
 typedef struct vr_render_options {
   int subdomains;     /* S >= 1, default 1 */
   int threads;        /* P >= 1, default 1 */
-  bool image_space;   /* tiles over a replicated scene (one cell) instead of the ray flow */
+  /* Image space, for comparison with the decomposed flow: the scene is one
+   * cell (subdomains is ignored) seen whole by every thread, and each
+   * thread claims work units (16 x 16 pixel tiles of the camera pass, the
+   * other passes' own units) and traces all their rays to the end on a
+   * stack of its own: no queues, no hand-over (vr_flow_run_image_space).
+   * Same image as the decomposed flow.  Default false. */
+  bool image_space;
   int spp;            /* > 0 overrides the scene's samples per pixel */
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
@@ -49,7 +55,7 @@ typedef struct vr_pass_record {
 } vr_pass_record;
 
 typedef struct vr_sensor_reading {
-  const char *sensor;     /* name in the scene */
+  const char *sensor;     /* name in the scene (a copy the result owns) */
   int i, j;               /* grid indices (0,0 for a point) */
   double position[3];
   double illuminance_lx;
@@ -67,6 +73,7 @@ typedef struct vr_render_result {
   size_t nreadings;
   vr_sensor_reading *readings;
   double *sensor_spectral; /* nreadings*nbins, W/(m² nm) */
+  char *sensor_names;     /* storage of the readings' names (freed with the result) */
   size_t npasses;
   vr_pass_record passes[VR_MAX_PASSES];
   uint64_t rays_camera, rays_shadow, rays_photon, rays_other, crossings;

@@ -194,12 +194,21 @@ typedef enum vr_integrator {
 
 typedef enum vr_spectral_mode { VR_SPECTRAL_HERO = 0, VR_SPECTRAL_BINS } vr_spectral_mode;
 
+/* How sensors estimate irradiance: path tracing from the sensor point (the
+ * reference, any sensor position), or density estimation in the direct,
+ * caustic and global photon maps (the sensor must lie on a diffuse
+ * surface, where photons are stored). */
+typedef enum vr_sensor_estimator { VR_SENSORS_PATH = 0, VR_SENSORS_PHOTON } vr_sensor_estimator;
+
+/* The most wavelengths one path carries. */
+#define VR_SCENE_MAX_WAVELENGTHS 8
+
 typedef struct vr_scene_settings {
   vr_integrator integrator;   /* default photon */
   int spp;                    /* samples per pixel, default 16 */
   int max_depth;              /* default 8 */
   vr_spectral_mode spectral;  /* default hero */
-  int wavelengths;            /* per path, default 4 (1..16) */
+  int wavelengths;            /* per path, default 4 (hero), VR_SCENE_MAX_WAVELENGTHS (bins) */
   double lambda_min, lambda_max; /* sampled range, default 360..830 nm */
   long photons;               /* global photons per pass, default 200000 */
   long caustic_photons;       /* default 200000 */
@@ -210,6 +219,7 @@ typedef struct vr_scene_settings {
   int passes;                 /* progressive: photon passes, default 16 */
   double alpha;               /* progressive radius reduction, default 2/3 */
   int sensor_samples;         /* paths per sensor point, default 4096 */
+  vr_sensor_estimator sensors;/* default path */
   unsigned long long seed;    /* default 1 */
   /* Spectral film: bins of the spectral EXR. */
   double film_min_nm, film_max_nm, film_step_nm; /* default 400, 700, 10 */
