@@ -136,4 +136,23 @@ check "an all-degenerate light mesh names its file" grep -q "flat.obj.*degenerat
 check "a light mesh with one degenerate triangle renders" test $rc -eq 0
 check "the dropped triangle is reported" grep -q "1 degenerate triangle" "$tmp/half.err"
 
+# A light of zero area (a sphere of radius 1e-200 m: its area underflows to
+# 0) carries no power: the render runs and reads 0 lx, in photon mapping
+# and in path tracing.
+for integ in photon path; do
+  cat > "$tmp/zero_$integ.scn" <<EOF
+camera pinhole from=0,-3,1 to=0,0,0 resolution=16x12
+material grey lambert reflectance=0.5
+material lamp black
+rect center=0,0,0 normal=0,0,1 size=4,4 material=grey
+sphere center=0,0,1 radius=1e-200 material=lamp emission=100cd/m2
+sensor s point position=0,0,0 normal=0,0,1
+render integrator=$integ spp=2 photons=10000 sensor_samples=256
+EOF
+  (cd "$tmp" && "$bin" "zero_$integ.scn" --quiet); rc=$?
+  check "a zero-area light renders ($integ)" test $rc -eq 0
+  check "a zero-area light gives 0 lx ($integ)" \
+    test "$(sed -n 2p "$tmp/zero_$integ.sensors.csv" | cut -d, -f7)" = "0"
+done
+
 finish
