@@ -50,3 +50,15 @@ void vr_exr_on_write_error(exr_const_context_t ctxt, exr_result_t code, const ch
   (void)code;
   (void)msg;
 }
+
+vr_status vr_exr_read_failed(vr_error *err, const char *path, const exr_stream *s,
+                             exr_result_t rv, const char *doing) {
+  return vr_error_at(err, VR_E_PARSE, path, 0, 0, "OpenEXR: %s: %s", doing,
+                     s->message[0] ? s->message : exr_get_default_error_message(rv));
+}
+
+int vr_exr_find_channel(const exr_attr_chlist_t *ch, const char *name) {
+  for (int i = 0; i < ch->num_channels; i++)
+    if (strcmp(ch->entries[i].name.str, name) == 0) return i;
+  return -1;
+}

@@ -10,6 +10,8 @@
 
 #include <openexr.h>
 
+#include "vr/error.h"
+
 typedef struct exr_stream {
   const unsigned char *buf; /* reading: the whole file */
   size_t len;
@@ -27,5 +29,12 @@ int64_t vr_exr_stream_write(exr_const_context_t ctxt, void *user, const void *bu
 void vr_exr_on_read_error(exr_const_context_t ctxt, exr_result_t code, const char *msg);
 /* Write contexts hold their lock while reporting: no call back into OpenEXR. */
 void vr_exr_on_write_error(exr_const_context_t ctxt, exr_result_t code, const char *msg);
+
+/* A read failure naming the file: OpenEXR's own message when the stream
+ * caught one, else its default text for rv. */
+vr_status vr_exr_read_failed(vr_error *err, const char *path, const exr_stream *s,
+                             exr_result_t rv, const char *doing);
+/* Index in the channel list of a channel called name, or -1. */
+int vr_exr_find_channel(const exr_attr_chlist_t *ch, const char *name);
 
 #endif

@@ -16,24 +16,13 @@
 #include "image_internal.h"
 #include "vr/atomic_file.h"
 
-static vr_status read_failed(vr_error *err, const char *path, const exr_stream *s,
-                             exr_result_t rv, const char *doing) {
-  return vr_error_at(err, VR_E_PARSE, path, 0, 0, "OpenEXR: %s: %s", doing,
-                     s->message[0] ? s->message : exr_get_default_error_message(rv));
-}
 
-/* Index in the channel list of a channel called name, or -1. */
-static int find_channel(const exr_attr_chlist_t *ch, const char *name) {
-  for (int i = 0; i < ch->num_channels; i++)
-    if (strcmp(ch->entries[i].name.str, name) == 0) return i;
-  return -1;
-}
 
 static vr_status decode_pixels(exr_context_t ctxt, const char *path, const exr_stream *s,
                                exr_attr_box2i_t dw, int grey, vr_image *out, vr_error *err) {
   int32_t lines = 0;
   exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines);
-  if (rv != EXR_ERR_SUCCESS || lines < 1) return read_failed(err, path, s, rv, "chunk layout");
+  if (rv != EXR_ERR_SUCCESS || lines < 1) return vr_exr_read_failed(err, path, s, rv, "chunk layout");
   exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
   int started = 0;
   vr_status st = VR_OK;
@@ -45,7 +34,7 @@ static vr_status decode_pixels(exr_context_t ctxt, const char *path, const exr_s
       rv = started ? exr_decoding_update(ctxt, 0, &cinfo, &dec)
                    : exr_decoding_initialize(ctxt, 0, &cinfo, &dec);
     if (rv != EXR_ERR_SUCCESS) {
-      st = read_failed(err, path, s, rv, "reading the scanlines");
+      st = vr_exr_read_failed(err, path, s, rv, "reading the scanlines");
       break;
     }
     float *row = out->data + (size_t)(cinfo.start_y - dw.min.y) * (size_t)w * 3;
@@ -65,7 +54,7 @@ static vr_status decode_pixels(exr_context_t ctxt, const char *path, const exr_s
       rv = exr_decoding_choose_default_routines(ctxt, 0, &dec);
     }
     if (rv == EXR_ERR_SUCCESS) rv = exr_decoding_run(ctxt, 0, &dec);
-    if (rv != EXR_ERR_SUCCESS) st = read_failed(err, path, s, rv, "decoding the scanlines");
+    if (rv != EXR_ERR_SUCCESS) st = vr_exr_read_failed(err, path, s, rv, "decoding the scanlines");
   }
   if (started) exr_decoding_destroy(ctxt, &dec);
   if (st == VR_OK && grey) {
@@ -79,7 +68,7 @@ static vr_status read_context(exr_context_t ctxt, const char *path, const exr_st
                               vr_image *out, vr_error *err) {
   exr_storage_t storage;
   exr_result_t rv = exr_get_storage(ctxt, 0, &storage);
-  if (rv != EXR_ERR_SUCCESS) return read_failed(err, path, s, rv, "storage type");
+  if (rv != EXR_ERR_SUCCESS) return vr_exr_read_failed(err, path, s, rv, "storage type");
   if (storage != EXR_STORAGE_SCANLINE)
     return vr_error_at(err, VR_E_PARSE, path, 0, 0,
                        "OpenEXR: only scanline images are read, this one is %s",
@@ -87,13 +76,13 @@ static vr_status read_context(exr_context_t ctxt, const char *path, const exr_st
   exr_attr_box2i_t dw;
   const exr_attr_chlist_t *ch = NULL;
   if ((rv = exr_get_data_window(ctxt, 0, &dw)) != EXR_ERR_SUCCESS)
-    return read_failed(err, path, s, rv, "data window");
+    return vr_exr_read_failed(err, path, s, rv, "data window");
   if ((rv = exr_get_channels(ctxt, 0, &ch)) != EXR_ERR_SUCCESS || !ch)
-    return read_failed(err, path, s, rv, "channel list");
-  int idx[3] = {find_channel(ch, "R"), find_channel(ch, "G"), find_channel(ch, "B")};
+    return vr_exr_read_failed(err, path, s, rv, "channel list");
+  int idx[3] = {vr_exr_find_channel(ch, "R"), vr_exr_find_channel(ch, "G"), vr_exr_find_channel(ch, "B")};
   int grey = 0;
   if (idx[0] < 0 || idx[1] < 0 || idx[2] < 0) {
-    int y = find_channel(ch, "Y");
+    int y = vr_exr_find_channel(ch, "Y");
     if (y < 0)
       return vr_error_at(err, VR_E_PARSE, path, 0, 0,
                          "OpenEXR: no R, G and B channels (nor a Y channel) among its %d "
@@ -142,7 +131,7 @@ vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *
   exr_context_t ctxt = NULL;
   exr_result_t rv = exr_start_read(&ctxt, path, &init);
   vr_status st = rv == EXR_ERR_SUCCESS ? read_context(ctxt, path, &s, out, err)
-                                       : read_failed(err, path, &s, rv, "header");
+                                       : vr_exr_read_failed(err, path, &s, rv, "header");
   if (ctxt) exr_finish(&ctxt);
   if (st != VR_OK) {
     vr_image_free(out);

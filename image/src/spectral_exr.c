@@ -457,17 +457,7 @@ static int band_cmp(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-static vr_status read_failed(vr_error *err, const char *name, const exr_stream *s,
-                             exr_result_t rv, const char *doing) {
-  return vr_error_at(err, VR_E_PARSE, name, 0, 0, "OpenEXR: %s: %s", doing,
-                     s->message[0] ? s->message : exr_get_default_error_message(rv));
-}
 
-static int find_channel(const exr_attr_chlist_t *ch, const char *n) {
-  for (int i = 0; i < ch->num_channels; i++)
-    if (strcmp(ch->entries[i].name.str, n) == 0) return i;
-  return -1;
-}
 
 /* Only half and full-resolution float can hold what the layout stores. */
 static vr_status check_channel(const exr_attr_chlist_entry_t *e, const char *name, vr_error *err) {
@@ -547,7 +537,7 @@ static vr_status find_layout(const exr_attr_chlist_t *ch, const char *name, int 
                          ch->entries[lay->bands[b].channel].name.str, lay->bands[b].nm);
   lay->rgb[0] = lay->rgb[1] = lay->rgb[2] = -1;
   if (want_rgb) {
-    int idx[3] = {find_channel(ch, "R"), find_channel(ch, "G"), find_channel(ch, "B")};
+    int idx[3] = {vr_exr_find_channel(ch, "R"), vr_exr_find_channel(ch, "G"), vr_exr_find_channel(ch, "B")};
     if (idx[0] >= 0 && idx[1] >= 0 && idx[2] >= 0)
       for (int c = 0; c < 3; c++) {
         vr_status st = check_channel(&ch->entries[idx[c]], name, err);
@@ -568,7 +558,7 @@ static vr_status check_chunks(exr_context_t ctxt, const char *name, const exr_st
     if (rv != EXR_ERR_SUCCESS) {
       char doing[64];
       snprintf(doing, sizeof doing, "truncated or corrupt at the chunk of line %" PRId64, y);
-      return read_failed(err, name, s, rv, doing);
+      return vr_exr_read_failed(err, name, s, rv, doing);
     }
   }
   return VR_OK;
@@ -598,7 +588,7 @@ static vr_status decode_pixels(exr_context_t ctxt, const char *name, const exr_s
       rv = started ? exr_decoding_update(ctxt, 0, &cinfo, &dec)
                    : exr_decoding_initialize(ctxt, 0, &cinfo, &dec);
     if (rv != EXR_ERR_SUCCESS) {
-      st = read_failed(err, name, s, rv, "reading the scanlines");
+      st = vr_exr_read_failed(err, name, s, rv, "reading the scanlines");
       break;
     }
     const size_t row = (size_t)(cinfo.start_y - dw.min.y);
@@ -606,7 +596,7 @@ static vr_status decode_pixels(exr_context_t ctxt, const char *name, const exr_s
       exr_coding_channel_info_t *ci = &dec.channels[c];
       int i = c < ch->num_channels && strcmp(ch->entries[c].name.str, ci->channel_name) == 0
                   ? c
-                  : find_channel(ch, ci->channel_name);
+                  : vr_exr_find_channel(ch, ci->channel_name);
       int32_t d = i < 0 ? SKIP : dest[i];
       if (d == SKIP) {
         ci->decode_to_ptr = NULL;
@@ -627,7 +617,7 @@ static vr_status decode_pixels(exr_context_t ctxt, const char *name, const exr_s
       rv = exr_decoding_choose_default_routines(ctxt, 0, &dec);
     }
     if (rv == EXR_ERR_SUCCESS) rv = exr_decoding_run(ctxt, 0, &dec);
-    if (rv != EXR_ERR_SUCCESS) st = read_failed(err, name, s, rv, "decoding the scanlines");
+    if (rv != EXR_ERR_SUCCESS) st = vr_exr_read_failed(err, name, s, rv, "decoding the scanlines");
   }
   if (started) exr_decoding_destroy(ctxt, &dec);
   free(dest);
@@ -638,7 +628,7 @@ static vr_status read_context(exr_context_t ctxt, const char *name, const exr_st
                               vr_spectral_image *out, vr_image *rgb, vr_error *err) {
   exr_storage_t storage;
   exr_result_t rv = exr_get_storage(ctxt, 0, &storage);
-  if (rv != EXR_ERR_SUCCESS) return read_failed(err, name, s, rv, "storage type");
+  if (rv != EXR_ERR_SUCCESS) return vr_exr_read_failed(err, name, s, rv, "storage type");
   if (storage != EXR_STORAGE_SCANLINE)
     return vr_error_at(err, VR_E_PARSE, name, 0, 0,
                        "OpenEXR: only scanline images are read, this one is %s",
@@ -647,11 +637,11 @@ static vr_status read_context(exr_context_t ctxt, const char *name, const exr_st
   const exr_attr_chlist_t *ch = NULL;
   int32_t lines = 0;
   if ((rv = exr_get_data_window(ctxt, 0, &dw)) != EXR_ERR_SUCCESS)
-    return read_failed(err, name, s, rv, "data window");
+    return vr_exr_read_failed(err, name, s, rv, "data window");
   if ((rv = exr_get_channels(ctxt, 0, &ch)) != EXR_ERR_SUCCESS || !ch)
-    return read_failed(err, name, s, rv, "channel list");
+    return vr_exr_read_failed(err, name, s, rv, "channel list");
   if ((rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines)) != EXR_ERR_SUCCESS || lines < 1)
-    return read_failed(err, name, s, rv, "chunk layout");
+    return vr_exr_read_failed(err, name, s, rv, "chunk layout");
   vr_status st = check_version(ctxt, name, err);
   if (st != VR_OK) return st;
   layout lay = {0};
@@ -722,7 +712,7 @@ vr_status vr_spectral_exr_read_memory(const void *buf, size_t len, const char *n
   exr_context_t ctxt = NULL;
   exr_result_t rv = exr_start_read(&ctxt, name, &init);
   vr_status st = rv == EXR_ERR_SUCCESS ? read_context(ctxt, name, &s, out, rgb_or_null, err)
-                                       : read_failed(err, name, &s, rv, "header");
+                                       : vr_exr_read_failed(err, name, &s, rv, "header");
   if (ctxt) exr_finish(&ctxt);
   if (st != VR_OK) {
     vr_spectral_image_free(out);
