@@ -8,11 +8,11 @@ cd "$root"
 scripts/install-deps.sh
 
 echo "== normal build"
-scripts/build.sh build
+scripts/build.sh build -DVR_WERROR=ON
 (cd build && ctest --output-on-failure -j "$(nproc)")
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"
-scripts/build.sh build-asan -DVR_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
+scripts/build.sh build-asan -DVR_WERROR=ON -DVR_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
    LSAN_OPTIONS=suppressions="$root/tests/lsan.supp" \
    ctest --output-on-failure -j "$(nproc)")

@@ -25,6 +25,9 @@ static double single_pass(vr_complex n, vr_complex beta, double d, double lambda
 static vr_status group(const vr_layer *L, size_t a, size_t b, vr_complex beta, double lambda,
                        vr_pol pol, double *Rf, double *Tf, double *Rb, double *Tb,
                        vr_error *err) {
+  /* Defined on every path, so a caller never reads an unset value (and
+   * -O3's -Wmaybe-uninitialized sees that). */
+  *Rf = *Tf = *Rb = *Tb = NAN;
   size_t m = b - a + 1;
   vr_layer small[16], *rev = small;
   if (m > 16 && !(rev = malloc(m * sizeof *rev)))

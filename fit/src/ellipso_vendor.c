@@ -105,7 +105,7 @@ static vr_status parse_sentech(lines *L, char *header, const char *name, const c
     double w;
     vr_status st = number(name, L->line, "wavelength", tok[0], &w, err);
     for (size_t j = 0; !st && j < na; j++) {
-      vr_ellipso_point *p;
+      vr_ellipso_point *p = NULL;
       if ((st = push(d, &cap, &p, err))) break;
       p->line = L->line;
       p->aoi_deg = aoi[j];
@@ -211,7 +211,7 @@ vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *nam
                        trig ? "tan(Psi), cos(Delta)" : "Psi, Delta", fields);
       goto done;
     }
-    vr_ellipso_point *p;
+    vr_ellipso_point *p = NULL;
     if ((st = push(d, &cap, &p, err))) goto done;
     double w, v[4] = {0, 0, VR_ELLIPSO_DEFAULT_SIGMA_DEG, VR_ELLIPSO_DEFAULT_SIGMA_DEG};
     const char *names[4] = {trig ? "tan(psi)" : "psi", trig ? "cos(delta)" : "delta", "sigma_psi", "sigma_delta"};

@@ -143,7 +143,7 @@ vr_status vr_slab_invert_angles(const vr_slab_obs *obs, size_t count, double d_n
 
 vr_status vr_slab_angular(double T0, double R0, double d_nm, double lambda_nm, double angle_deg,
                           double *T, double *R, double pol[4], int *flags, vr_error *err) {
-  vr_slab_nk nk;
+  vr_slab_nk nk = {.flags = VR_SLAB_NO_ROOT}; /* what an early error return leaves */
   vr_status st = vr_slab_invert_normal(T0, R0, d_nm, lambda_nm, &nk, err);
   if (st) return st;
   if (flags) *flags = nk.flags;

@@ -264,7 +264,7 @@ static vr_status make_spectral(const vr_render_result *r, vr_spectral_image *sp,
 
 vr_status vr_film_write(const vr_render_result *r, const char *prefix, const char *tonemap,
                         vr_error *err) {
-  vr_tonemap tm;
+  vr_tonemap tm = VR_TONEMAP_CLIP;
   vr_status st = vr_tonemap_parse(tonemap, &tm, err);
   if (st) return st;
   if (!prefix || !*prefix) return vr_error_set(err, VR_E_ARG, "film: no output prefix");

@@ -85,7 +85,7 @@ static vr_status length_unit(const scn_parser *p, const char *word, const char *
 /* One number in s[0..n), a length with its unit when `length`. */
 static vr_status one(const scn_parser *p, const char *word, const char *s, size_t n, bool length,
                      double *out) {
-  size_t used;
+  size_t used = 0;
   vr_status st = lead_number(p, word, s, n, out, &used);
   if (st) return st;
   if (length) {

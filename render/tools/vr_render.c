@@ -233,7 +233,7 @@ static int run(const vr_args *a) {
       !int_option(a, "photons", 1, 1000000000000L, &photons))
     return 2;
   const char *tonemap = vr_args_get(a, "tonemap");
-  vr_tonemap tm;
+  vr_tonemap tm = VR_TONEMAP_CLIP;
   if (vr_tonemap_parse(tonemap, &tm, NULL))
     return usage_error("--tonemap '%s': expected clip or reinhard", tonemap);
   ui u = {.quiet = vr_args_flag(a, "quiet")};
