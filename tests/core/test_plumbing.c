@@ -5,6 +5,7 @@
 #include "vr/atomic_file.h"
 #include "vr/error.h"
 #include "vr/progress.h"
+#include "vr/hash64.h"
 #include "vr/sha256.h"
 
 #include <sys/stat.h>
@@ -131,6 +132,54 @@ static void sha256_fips_vectors(void **state) {
   assert_string_equal(hex, "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
 }
 
+/* XXH64 of one input three ways: one call, one update, byte by byte. */
+static void check_xxh64(const void *data, size_t len, uint64_t seed, uint64_t want) {
+  assert_true(vr_hash64_buffer(data, len, seed) == want);
+  vr_hash64 h;
+  vr_hash64_init(&h, seed);
+  vr_hash64_update(&h, data, len);
+  assert_true(vr_hash64_final(&h) == want);
+  vr_hash64_init(&h, seed);
+  for (size_t i = 0; i < len; i++) vr_hash64_update(&h, (const char *)data + i, 1);
+  assert_true(vr_hash64_final(&h) == want);
+}
+
+static void xxh64_reference_vectors(void **state) {
+  (void)state;
+  /* xxHash's own sanity check (Cyan4973/xxHash, xxhsum.c, BMK_sanityCheck):
+   * a 101-byte buffer from a 32-bit squaring generator, hashed whole and
+   * in prefixes of 1 and 14 bytes, with seeds 0 and 2654435761. */
+  const uint32_t prime = 2654435761u;
+  unsigned char buf[101];
+  uint32_t gen = prime;
+  for (int i = 0; i < 101; i++) {
+    buf[i] = (unsigned char)(gen >> 24);
+    gen *= gen;
+  }
+  check_xxh64(NULL, 0, 0, 0xEF46DB3751D8E999ull);
+  check_xxh64(NULL, 0, prime, 0xAC75FDA2929B17EFull);
+  check_xxh64(buf, 1, 0, 0x4FCE394CC88952D8ull);
+  check_xxh64(buf, 1, prime, 0x739840CB819FA723ull);
+  check_xxh64(buf, 14, 0, 0xCFFA8DB881BC3A3Dull);
+  check_xxh64(buf, 14, prime, 0x5B9611585EFCC9CBull);
+  check_xxh64(buf, 101, 0, 0x0EAB543384F878ADull);
+  check_xxh64(buf, 101, prime, 0xCAA65939306F1E21ull);
+  /* Text vectors published with the format (xxhsum of the strings). */
+  check_xxh64("abc", 3, 0, 0x44BC2CF5AD770999ull);
+  const char *text = "Nobody inspects the spammish repetition";
+  check_xxh64(text, strlen(text), 0, 0xFBCEA83C8A378BF1ull);
+  /* Any single flipped bit of a 4 KiB block changes the sum: what the
+   * geometry cache relies on to refuse a damaged file. */
+  static unsigned char block[4096];
+  for (size_t i = 0; i < sizeof block; i++) block[i] = (unsigned char)(i * 131u + 7u);
+  uint64_t base = vr_hash64_buffer(block, sizeof block, 0);
+  for (size_t bit = 0; bit < 8 * sizeof block; bit += 37) {
+    block[bit / 8] ^= (unsigned char)(1u << (bit % 8));
+    assert_true(vr_hash64_buffer(block, sizeof block, 0) != base);
+    block[bit / 8] ^= (unsigned char)(1u << (bit % 8));
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(error_messages),
@@ -138,6 +187,7 @@ int main(void) {
       cmocka_unit_test(progress_line),
       cmocka_unit_test(arguments),
       cmocka_unit_test(sha256_fips_vectors),
+      cmocka_unit_test(xxh64_reference_vectors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
