@@ -14,60 +14,19 @@
  * same photon order; the dense form also adds w * 0 = +-0 to the other bins,
  * which changes no sum (no sum is ever -0: each starts at +0, and
  * +0 + -0 = +0), so the two give bit-identical estimates. */
-#include "vr/photon_map.h"
+#include "photon_map_internal.h"
 
-#include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
-#include <string.h>
 
-#define LEAF 8
 #define POS_MAX 1e18
-/* kNN heaps up to this size live on the stack. */
-#define STACK_HEAP 256
-
-/* One photon of the tree: 16 bytes, so four share a cache line.  The rank
- * is the photon's place in key order, which breaks ties in distance and in
- * the median splits; the split axis of an inner node sits in the low bits. */
-typedef struct node {
-  float p[3]; /* position - centre */
-  uint32_t rank_axis;
-} node;
-
-struct vr_photon_map {
-  int nbins;
-  double lambda_min, lambda_max;
-  int max_nz;    /* non-zero bins a photon may have (nbins for vr_photon_map_create) */
-  int slots;     /* (power, bin) pairs a photon keeps; 0: dense */
-  int bin_bytes; /* 1 or 2, sparse only */
-  size_t spec_size; /* bytes of a photon's power record */
-
-  /* Staging, before the build: records of rec_size bytes, each
-   * key (u64) | pos (3 double) | dir (u32) | normal (u32) | power record | 0-padding. */
-  pthread_mutex_t lock;
-  unsigned char *stage;
-  size_t nstage, capstage, rec_size;
-
-  /* The built map. */
-  bool built;
-  size_t n;
-  double centre[3];
-  node *nodes;
-  uint32_t *dir, *nrm; /* octahedral, 2 x 16 bits */
-  unsigned char *spec; /* n power records of spec_size bytes */
-};
-
-enum { OFF_POS = 8, OFF_DIR = 32, OFF_NRM = 36, OFF_POW = 40 };
 
 /* --- octahedral unit vectors (Cigolle et al., JCGT 3(2), 2014) --------- */
-
-static double sign_nz(double v) { return v < 0.0 ? -1.0 : 1.0; }
 
 static uint32_t oct_encode(const double v[3]) {
   double s = fabs(v[0]) + fabs(v[1]) + fabs(v[2]);
   double px = v[0] / s, py = v[1] / s;
   if (v[2] < 0.0) {
-    double qx = (1.0 - fabs(py)) * sign_nz(px), qy = (1.0 - fabs(px)) * sign_nz(py);
+    double qx = (1.0 - fabs(py)) * pm_sign_nz(px), qy = (1.0 - fabs(px)) * pm_sign_nz(py);
     px = qx;
     py = qy;
   }
@@ -77,24 +36,8 @@ static uint32_t oct_encode(const double v[3]) {
   return ux | uy << 16;
 }
 
-/* The decoded vector before normalisation: enough for the sign of a dot
- * product, which is all the side rule asks. */
-static void oct_decode_raw(uint32_t code, double v[3]) {
-  double px = (double)(code & 0xffffu) * (2.0 / 65535.0) - 1.0;
-  double py = (double)(code >> 16) * (2.0 / 65535.0) - 1.0;
-  double pz = 1.0 - fabs(px) - fabs(py);
-  if (pz < 0.0) {
-    double qx = (1.0 - fabs(py)) * sign_nz(px), qy = (1.0 - fabs(px)) * sign_nz(py);
-    px = qx;
-    py = qy;
-  }
-  v[0] = px;
-  v[1] = py;
-  v[2] = pz;
-}
-
 static void oct_decode(uint32_t code, double v[3]) {
-  oct_decode_raw(code, v);
+  pm_oct_decode_raw(code, v);
   double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   v[0] /= l;
   v[1] /= l;
@@ -161,12 +104,9 @@ void vr_photon_map_destroy(vr_photon_map *m) {
   free(m->nodes);
   free(m->dir);
   free(m->nrm);
+  free(m->keys);
   free(m->spec);
   free(m);
-}
-
-static bool finite3(const double v[3]) {
-  return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
 }
 
 static bool nonzero3(const double v[3]) { return v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0; }
@@ -177,15 +117,15 @@ vr_status vr_photon_map_store(vr_photon_map *m, uint64_t key, const double pos[3
   if (!m || !pos || !dir_in || !normal || !power)
     return vr_error_set(err, VR_E_ARG, "photon map store: NULL argument");
   /* Positions become floats about the centre: keep them far inside float range. */
-  if (!finite3(pos) || fabs(pos[0]) > POS_MAX || fabs(pos[1]) > POS_MAX || fabs(pos[2]) > POS_MAX)
+  if (!pm_finite3(pos) || fabs(pos[0]) > POS_MAX || fabs(pos[1]) > POS_MAX || fabs(pos[2]) > POS_MAX)
     return vr_error_set(err, VR_E_RANGE,
                         "photon map store: position (%g, %g, %g) is not finite or beyond 1e18 m",
                         pos[0], pos[1], pos[2]);
-  if (!finite3(dir_in) || !nonzero3(dir_in))
+  if (!pm_finite3(dir_in) || !nonzero3(dir_in))
     return vr_error_set(err, VR_E_RANGE,
                         "photon map store: direction (%g, %g, %g) is not a finite non-zero vector",
                         dir_in[0], dir_in[1], dir_in[2]);
-  if (!finite3(normal) || !nonzero3(normal))
+  if (!pm_finite3(normal) || !nonzero3(normal))
     return vr_error_set(err, VR_E_RANGE,
                         "photon map store: normal (%g, %g, %g) is not a finite non-zero vector",
                         normal[0], normal[1], normal[2]);
@@ -269,32 +209,17 @@ typedef struct keyed {
   uint64_t idx;
 } keyed;
 
-/* Bin and power of slot s of a sparse power record. */
-static int slot_bin(const vr_photon_map *m, const unsigned char *spec, int s) {
-  const unsigned char *bins = spec + 4u * (size_t)m->slots;
-  if (m->bin_bytes == 1) return bins[s];
-  uint16_t b;
-  memcpy(&b, bins + 2 * s, 2);
-  return b;
-}
-
-static float slot_power(const unsigned char *spec, int s) {
-  float v;
-  memcpy(&v, spec + 4 * s, 4);
-  return v;
-}
-
 /* A sparse record against another in the order memcmp gives their dense
  * forms (bins in turn, the bytes of each float in memory order), so a
  * sparse map orders photons of equal keys as a dense map does. */
 static int sparse_cmp(const vr_photon_map *m, const unsigned char *a, const unsigned char *b) {
   int i = 0, j = 0;
   for (;;) {
-    int ba = i < m->slots && slot_power(a, i) != 0.0f ? slot_bin(m, a, i) : m->nbins;
-    int bb = j < m->slots && slot_power(b, j) != 0.0f ? slot_bin(m, b, j) : m->nbins;
+    int ba = i < m->slots && pm_slot_power(a, i) != 0.0f ? pm_slot_bin(m, a, i) : m->nbins;
+    int bb = j < m->slots && pm_slot_power(b, j) != 0.0f ? pm_slot_bin(m, b, j) : m->nbins;
     if (ba == m->nbins && bb == m->nbins) return 0;
     int bin = ba < bb ? ba : bb;
-    float fa = ba == bin ? slot_power(a, i++) : 0.0f, fb = bb == bin ? slot_power(b, j++) : 0.0f;
+    float fa = ba == bin ? pm_slot_power(a, i++) : 0.0f, fb = bb == bin ? pm_slot_power(b, j++) : 0.0f;
     int c = memcmp(&fa, &fb, 4);
     if (c) return c;
   }
@@ -330,12 +255,10 @@ static bool sort_records(const vr_photon_map *m, keyed *v, size_t n) {
   return true;
 }
 
-static uint32_t rank_of(const node *a) { return a->rank_axis >> 2; }
-static int axis_of(const node *a) { return (int)(a->rank_axis & 3u); }
 
 /* A strict total order along an axis: coordinate, then rank. */
 static bool node_less(const node *a, const node *b, int ax) {
-  return a->p[ax] < b->p[ax] || (a->p[ax] == b->p[ax] && rank_of(a) < rank_of(b));
+  return a->p[ax] < b->p[ax] || (a->p[ax] == b->p[ax] && pm_rank(a) < pm_rank(b));
 }
 
 static void swap_nodes(node *a, node *b) {
@@ -398,8 +321,9 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err) {
   node *nodes = malloc((n ? n : 1) * sizeof *nodes);
   uint32_t *dir = malloc((n ? n : 1) * sizeof *dir);
   uint32_t *nrm = malloc((n ? n : 1) * sizeof *nrm);
+  uint64_t *keys = malloc((n ? n : 1) * sizeof *keys);
   unsigned char *spec = n <= SIZE_MAX / sz ? malloc((n ? n : 1) * sz) : NULL;
-  if (!order || !nodes || !dir || !nrm || !spec) goto nomem;
+  if (!order || !nodes || !dir || !nrm || !keys || !spec) goto nomem;
   for (size_t i = 0; i < n; i++) {
     memcpy(&order[i].key, m->stage + i * m->rec_size, 8);
     order[i].idx = i;
@@ -416,17 +340,27 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err) {
       if (i == 0 || p[a] > hi[a]) hi[a] = p[a];
     }
   }
-  for (int a = 0; a < 3; a++) m->centre[a] = 0.5 * lo[a] + 0.5 * hi[a];
+  if (!m->centre_given)
+    for (int a = 0; a < 3; a++) m->centre[a] = 0.5 * lo[a] + 0.5 * hi[a];
 
+  for (int a = 0; a < 3; a++) {
+    m->lo[a] = INFINITY;
+    m->hi[a] = -INFINITY;
+  }
   for (size_t r = 0; r < n; r++) {
     double p[3];
     memcpy(p, m->stage + order[r].idx * m->rec_size + OFF_POS, 24);
-    for (int a = 0; a < 3; a++) nodes[r].p[a] = (float)(p[a] - m->centre[a]);
+    for (int a = 0; a < 3; a++) {
+      nodes[r].p[a] = (float)(p[a] - m->centre[a]);
+      if (nodes[r].p[a] < m->lo[a]) m->lo[a] = nodes[r].p[a];
+      if (nodes[r].p[a] > m->hi[a]) m->hi[a] = nodes[r].p[a];
+    }
     nodes[r].rank_axis = (uint32_t)r << 2;
   }
   build_tree(nodes, 0, n);
   for (size_t i = 0; i < n; i++) {
-    const unsigned char *rec = m->stage + order[rank_of(&nodes[i])].idx * m->rec_size;
+    const unsigned char *rec = m->stage + order[pm_rank(&nodes[i])].idx * m->rec_size;
+    keys[i] = order[pm_rank(&nodes[i])].key;
     memcpy(&dir[i], rec + OFF_DIR, 4);
     memcpy(&nrm[i], rec + OFF_NRM, 4);
     memcpy(spec + i * sz, rec + OFF_POW, sz);
@@ -438,6 +372,7 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err) {
   m->nodes = nodes;
   m->dir = dir;
   m->nrm = nrm;
+  m->keys = keys;
   m->spec = spec;
   m->n = n;
   m->built = true;
@@ -448,6 +383,7 @@ nomem:
   free(nodes);
   free(dir);
   free(nrm);
+  free(keys);
   free(spec);
   return vr_error_set(err, VR_E_NOMEM, "photon map build: out of memory for %zu photons", n);
 }
@@ -468,7 +404,34 @@ int vr_photon_map_nbins(const vr_photon_map *m) { return m ? m->nbins : 0; }
 bool vr_photon_map_built(const vr_photon_map *m) { return m && m->built; }
 
 size_t vr_photon_map_bytes_per_photon(const vr_photon_map *m) {
-  return m ? sizeof(node) + 2 * sizeof(uint32_t) + m->spec_size : 0;
+  return m ? sizeof(node) + sizeof(uint64_t) + 2 * sizeof(uint32_t) + m->spec_size : 0;
+}
+
+size_t vr_photon_map_bytes(const vr_photon_map *m) {
+  if (!m) return 0;
+  if (m->built) return sizeof *m + m->n * vr_photon_map_bytes_per_photon(m);
+  vr_photon_map *w = (vr_photon_map *)m; /* the lock is not part of the value */
+  pthread_mutex_lock(&w->lock);
+  size_t b = sizeof *m + w->capstage * w->rec_size;
+  pthread_mutex_unlock(&w->lock);
+  return b;
+}
+
+vr_status vr_photon_map_set_centre(vr_photon_map *m, const double centre[3], vr_error *err) {
+  if (!m || !centre) return vr_error_set(err, VR_E_ARG, "photon map: NULL argument");
+  if (!pm_finite3(centre))
+    return vr_error_set(err, VR_E_RANGE, "photon map: centre (%g, %g, %g) is not finite",
+                        centre[0], centre[1], centre[2]);
+  pthread_mutex_lock(&m->lock);
+  vr_status st = VR_OK;
+  if (m->built || m->nstage)
+    st = vr_error_set(err, VR_E_ARG, "photon map: the centre is set before the first store");
+  else {
+    memcpy(m->centre, centre, sizeof m->centre);
+    m->centre_given = true;
+  }
+  pthread_mutex_unlock(&m->lock);
+  return st;
 }
 
 vr_status vr_photon_map_get(const vr_photon_map *m, size_t index, double pos[3],
@@ -484,8 +447,8 @@ vr_status vr_photon_map_get(const vr_photon_map *m, size_t index, double pos[3],
       memcpy(power, spec, m->spec_size);
     } else {
       memset(power, 0, sizeof(float) * (size_t)m->nbins);
-      for (int s = 0; s < m->slots && slot_power(spec, s) != 0.0f; s++)
-        power[slot_bin(m, spec, s)] = slot_power(spec, s);
+      for (int s = 0; s < m->slots && pm_slot_power(spec, s) != 0.0f; s++)
+        power[pm_slot_bin(m, spec, s)] = pm_slot_power(spec, s);
     }
   }
   return VR_OK;
@@ -505,206 +468,3 @@ bool vr_photon_map_bin_range(const vr_photon_map *m, int bin, double *lo_nm, dou
   return true;
 }
 
-/* --- queries ------------------------------------------------------------- */
-
-/* One candidate: g2 is the squared "disc distance"
- * max(|p - x|, |dot(p - x, n)| / DISC)^2, the smallest squared radius whose
- * disc holds the photon. */
-typedef struct cand {
-  double g2, d2;
-  uint32_t rank, idx;
-} cand;
-
-/* sum[b] += w power[b] for the bins of photon i. */
-static void accumulate(const vr_photon_map *m, size_t i, double w, double *sum) {
-  const unsigned char *spec = m->spec + i * m->spec_size;
-  if (!m->slots) {
-    const float *pw = (const float *)spec; /* spec_size is a multiple of 4 */
-    for (int b = 0; b < m->nbins; b++) sum[b] += w * (double)pw[b];
-  } else if (m->bin_bytes == 1) {
-    const unsigned char *bins = spec + 4u * (size_t)m->slots;
-    for (int s = 0; s < m->slots; s++) {
-      float v = slot_power(spec, s);
-      if (v == 0.0f) break;
-      sum[bins[s]] += w * (double)v;
-    }
-  } else {
-    for (int s = 0; s < m->slots; s++) {
-      float v = slot_power(spec, s);
-      if (v == 0.0f) break;
-      sum[slot_bin(m, spec, s)] += w * (double)v;
-    }
-  }
-}
-
-static bool cand_less(const cand *a, const cand *b) {
-  return a->g2 < b->g2 || (a->g2 == b->g2 && a->rank < b->rank);
-}
-
-typedef struct query {
-  const vr_photon_map *m;
-  double x[3], n[3]; /* x relative to the centre; n unit */
-  double rmax2;
-  /* kNN: a max-heap of the best k so far (Jensen 2001, sec. 6.3). */
-  int k, found;
-  cand *heap;
-  /* fixed radius: running sums */
-  double *sum, kcr; /* kcr = kc r, 0 for the box filter */
-} query;
-
-static void heap_sift_down(cand *h, int n, int i) {
-  for (;;) {
-    int l = 2 * i + 1, r = l + 1, big = i;
-    if (l < n && cand_less(&h[big], &h[l])) big = l;
-    if (r < n && cand_less(&h[big], &h[r])) big = r;
-    if (big == i) return;
-    cand t = h[i];
-    h[i] = h[big];
-    h[big] = t;
-    i = big;
-  }
-}
-
-static void consider(query *q, uint32_t i) {
-  const node *p = &q->m->nodes[i];
-  double dx = (double)p->p[0] - q->x[0], dy = (double)p->p[1] - q->x[1],
-         dz = (double)p->p[2] - q->x[2];
-  double d2 = dx * dx + dy * dy + dz * dz;
-  bool full = q->heap && q->found == q->k;
-  double bound = full ? q->heap[0].g2 : q->rmax2;
-  if (d2 > bound) return;
-  double t = (dx * q->n[0] + dy * q->n[1] + dz * q->n[2]) * (1.0 / VR_PHOTON_MAP_DISC);
-  cand c = {d2 > t * t ? d2 : t * t, d2, rank_of(p), i};
-  if (c.g2 > bound) return;
-  if (full && !cand_less(&c, &q->heap[0])) return;
-  double dir[3];
-  oct_decode_raw(q->m->dir[i], dir);
-  if (!(dir[0] * q->n[0] + dir[1] * q->n[1] + dir[2] * q->n[2] < 0.0)) return;
-
-  if (!q->heap) { /* fixed radius: add it now */
-    double w = q->kcr > 0.0 ? 1.0 - sqrt(d2) / q->kcr : 1.0;
-    accumulate(q->m, i, w, q->sum);
-    q->found++;
-  } else if (!full) {
-    int j = q->found++;
-    q->heap[j] = c;
-    while (j > 0 && cand_less(&q->heap[(j - 1) / 2], &q->heap[j])) {
-      cand tmp = q->heap[j];
-      q->heap[j] = q->heap[(j - 1) / 2];
-      q->heap[(j - 1) / 2] = tmp;
-      j = (j - 1) / 2;
-    }
-  } else {
-    q->heap[0] = c;
-    heap_sift_down(q->heap, q->k, 0);
-  }
-}
-
-static void visit(query *q, size_t lo, size_t hi) {
-  if (hi - lo <= LEAF) {
-    for (size_t i = lo; i < hi; i++) consider(q, (uint32_t)i);
-    return;
-  }
-  size_t mid = lo + (hi - lo) / 2;
-  const node *s = &q->m->nodes[mid];
-  int ax = axis_of(s);
-  double delta = q->x[ax] - (double)s->p[ax];
-  /* Nearer side first, so the heap tightens early.  The lower side holds
-   * coordinates <= the split, the upper side >= it; "<=" below keeps
-   * photons tied in distance with the k-th in reach. */
-  size_t nlo = delta < 0.0 ? lo : mid + 1, nhi = delta < 0.0 ? mid : hi;
-  size_t flo = delta < 0.0 ? mid + 1 : lo, fhi = delta < 0.0 ? hi : mid;
-  visit(q, nlo, nhi);
-  consider(q, (uint32_t)mid);
-  double bound = q->heap && q->found == q->k ? q->heap[0].g2 : q->rmax2;
-  if (delta * delta <= bound) visit(q, flo, fhi);
-}
-
-/* Checks the arguments common to both queries and sets up q. */
-static bool query_init(query *q, const vr_photon_map *m, const double x[3], const double n[3],
-                       double radius_max) {
-  if (!m || !m->built || !x || !n || !finite3(x) || !finite3(n)) return false;
-  if (!isfinite(radius_max) || !(radius_max > 0.0)) return false;
-  double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  if (!(l > 0.0) || !isfinite(l)) return false;
-  memset(q, 0, sizeof *q);
-  q->m = m;
-  for (int a = 0; a < 3; a++) {
-    q->x[a] = x[a] - m->centre[a];
-    q->n[a] = n[a] / l;
-  }
-  q->rmax2 = radius_max * radius_max;
-  return true;
-}
-
-/* The k nearest into q->heap[0 .. found): in heap order, which depends on
- * the tree alone, or sorted nearest first (ties by key). */
-static void knn(query *q, bool sorted) {
-  if (q->m->n) visit(q, 0, q->m->n);
-  if (!sorted) return;
-  for (int end = q->found - 1; end > 0; end--) { /* heap sort, in place */
-    cand t = q->heap[0];
-    q->heap[0] = q->heap[end];
-    q->heap[end] = t;
-    heap_sift_down(q->heap, end, 0);
-  }
-}
-
-int vr_photon_map_irradiance(const vr_photon_map *m, const double x[3], const double n[3],
-                             int k, double radius_max, double kc, double *out,
-                             double *r_used) {
-  if (!out) return -1;
-  if (m) memset(out, 0, sizeof *out * (size_t)m->nbins);
-  if (r_used) *r_used = 0.0;
-  query q;
-  if (k < 0 || isnan(kc) || (kc > 0.0 && kc < 1.0) || !query_init(&q, m, x, n, radius_max))
-    return -1;
-  double norm = kc > 0.0 ? 1.0 - 2.0 / (3.0 * kc) : 1.0;
-  double r = radius_max;
-
-  if (k == 0) {
-    q.sum = out;
-    q.kcr = kc > 0.0 ? kc * r : 0.0;
-    if (m->n) visit(&q, 0, m->n);
-  } else {
-    cand stack_heap[STACK_HEAP];
-    q.k = k;
-    q.heap = k <= STACK_HEAP ? stack_heap : malloc((size_t)k * sizeof(cand));
-    if (!q.heap) return -1;
-    knn(&q, false);
-    if (q.found == k) r = sqrt(q.heap[0].g2);
-    if (!(r > 0.0)) {
-      if (q.heap != stack_heap) free(q.heap);
-      return -1;
-    }
-    for (int j = 0; j < q.found; j++) {
-      double w = kc > 0.0 ? 1.0 - sqrt(q.heap[j].d2) / (kc * r) : 1.0;
-      accumulate(m, q.heap[j].idx, w, out);
-    }
-    if (q.heap != stack_heap) free(q.heap);
-  }
-  double scale = 1.0 / (norm * M_PI * r * r);
-  for (int b = 0; b < m->nbins; b++) out[b] *= scale;
-  if (r_used) *r_used = r;
-  return q.found;
-}
-
-int vr_photon_map_locate(const vr_photon_map *m, const double x[3], const double n[3], int k,
-                         double radius_max, vr_photon_hit *hits, double *r_used) {
-  if (r_used) *r_used = 0.0;
-  query q;
-  if (!hits || k <= 0 || !query_init(&q, m, x, n, radius_max)) return -1;
-  cand stack_heap[STACK_HEAP];
-  q.k = k;
-  q.heap = k <= STACK_HEAP ? stack_heap : malloc((size_t)k * sizeof(cand));
-  if (!q.heap) return -1;
-  knn(&q, true);
-  double r = q.found == k ? sqrt(q.heap[k - 1].g2) : radius_max;
-  for (int j = 0; j < q.found; j++) {
-    hits[j].index = q.heap[j].idx;
-    hits[j].dist = sqrt(q.heap[j].d2);
-  }
-  if (q.heap != stack_heap) free(q.heap);
-  if (r_used) *r_used = r;
-  return q.found;
-}

@@ -19,17 +19,18 @@
  * bytes; a sparse map (vr_photon_map_create_sparse) keeps only the non-zero
  * bins, as max_nonzero (power float, bin index) pairs, P = max_nonzero
  * (4 + c) bytes with c = 1 for nbins <= 256, else 2 (when that is not less
- * than 4 nbins it keeps the dense form instead).  A built map costs 24 + P
- * bytes a photon (vr_photon_map_bytes_per_photon); before it, a staged
+ * than 4 nbins it keeps the dense form instead).  A built map costs 32 + P
+ * bytes a photon (vr_photon_map_bytes_per_photon: 16 of tree node, 8 of
+ * key, 8 of direction and normal); before it, a staged
  * photon takes 40 + P bytes rounded up to 8, and the build briefly holds
  * both plus 32 bytes a photon for sorting.  For 10 nm bins over 400-700 or
  * 360-830 nm (30 or 47 bins) and photons of 4 or 8 hero wavelengths:
  *
  *                          built (B/photon)     staged (B/photon)
  *                          30 bins  47 bins     30 bins  47 bins
- *   dense                    144      212         160      232
- *   sparse, max_nonzero 4     44       44          64       64
- *   sparse, max_nonzero 8     64       64          80       80
+ *   dense                    152      220         160      232
+ *   sparse, max_nonzero 4     52       52          64       64
+ *   sparse, max_nonzero 8     72       72          80       80
  *
  * Both forms give the same photons back (vr_photon_map_get) and
  * bit-identical estimates: per bin, the same products are summed in the
@@ -102,8 +103,17 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err);
 size_t vr_photon_map_count(const vr_photon_map *m);
 int vr_photon_map_nbins(const vr_photon_map *m);
 bool vr_photon_map_built(const vr_photon_map *m);
-/* What a photon of the built map costs: 24 + P bytes (see the top). */
+/* What a photon of the built map costs: 32 + P bytes (see the top). */
 size_t vr_photon_map_bytes_per_photon(const vr_photon_map *m);
+/* Bytes the map holds now: its photons (built) or its staging buffer. */
+size_t vr_photon_map_bytes(const vr_photon_map *m);
+
+/* Positions are stored as floats relative to this point instead of the
+ * middle of the photons' bounding box.  Maps that are to answer as one
+ * (vr/photon_set.h) share a centre, so that a photon's distance to a query
+ * point comes out bit for bit the same whichever map holds it.  Before the
+ * first store only (VR_E_ARG after); VR_E_RANGE for a non-finite centre. */
+vr_status vr_photon_map_set_centre(vr_photon_map *m, const double centre[3], vr_error *err);
 
 /* Flux density (irradiance) estimate at x on a surface of normal n (any
  * length > 0).  Only photons arriving from the side n points to count
@@ -145,6 +155,45 @@ int vr_photon_map_locate(const vr_photon_map *m, const double x[3], const double
  * VR_E_ARG before the build or for an index out of range. */
 vr_status vr_photon_map_get(const vr_photon_map *m, size_t index, double pos[3],
                             double dir_in[3], double normal[3], float *power);
+
+/* --- Gathering, for several maps answering as one ------------------------
+ *
+ * A candidate photon of a query at x with normal n: its squared disc
+ * distance g2 = max(|p - x|, |dot(p - x, n)| / VR_PHOTON_MAP_DISC)^2 (the
+ * smallest squared radius whose disc holds it), its squared distance d2,
+ * its key, its index in its map and the caller's label for the map.  The
+ * k nearest of a map are the k first in the order (g2, key), which is the
+ * order vr_photon_map_irradiance breaks ties in when keys are distinct. */
+typedef struct vr_photon_cand {
+  double g2, d2;
+  uint64_t key;
+  uint32_t index, map;
+} vr_photon_cand;
+
+/* A growable list of candidates.  It may start on a caller's buffer
+ * (borrowed = true: never freed here, copied out when it must grow). */
+typedef struct vr_photon_list {
+  vr_photon_cand *c;
+  size_t n, cap;
+  bool borrowed;
+} vr_photon_list;
+bool vr_photon_list_reserve(vr_photon_list *l, size_t cap);
+void vr_photon_list_free(vr_photon_list *l);
+
+/* Appends the photons of m that arrive from n's side and lie in the disc
+ * of squared radius bound2 around x (g2 <= bound2): all of them when
+ * k == 0, else the k first in (g2, key) order.  Returns how many were
+ * appended, or -1 (nothing appended) on a bad argument, a map not built,
+ * or memory exhaustion. */
+long vr_photon_map_gather(const vr_photon_map *m, uint32_t label, const double x[3],
+                          const double n[3], int k, double bound2, vr_photon_list *out);
+/* Squared distance from x to the bounding box of m's photons, INFINITY
+ * for an empty or unbuilt map.  It is never above the d2 that a gather at
+ * x computes for any photon of m, so a map whose box_d2 exceeds a bound
+ * has no photon within it. */
+double vr_photon_map_box_d2(const vr_photon_map *m, const double x[3]);
+/* sum[b] += w power[b] over the bins of photon `index`. */
+void vr_photon_map_add(const vr_photon_map *m, uint32_t index, double w, double *sum);
 
 /* Bin of a wavelength (lambda_max falls in the last bin), -1 outside
  * [lambda_min, lambda_max] or NaN; and the wavelength range of a bin, for

@@ -1,0 +1,168 @@
+/* Per-cell photon maps answering as one (vr/photon_set.h, which holds the
+ * proof that the answer is the single map's). */
+#include "vr/photon_set.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Candidates a query keeps on its own stack before it needs the heap. */
+#define STACK_CANDS 1024
+/* Maps a query orders on its own stack. */
+#define STACK_MAPS 64
+
+struct vr_photon_set {
+  int nmaps;
+  vr_photon_map **maps;
+};
+
+vr_photon_set *vr_photon_set_create(int nmaps, int nbins, double lambda_min, double lambda_max,
+                                    int max_nonzero, const double centre[3], vr_error *err) {
+  if (nmaps < 1) {
+    vr_error_set(err, VR_E_ARG, "photon set: %d maps, expected at least 1", nmaps);
+    return NULL;
+  }
+  vr_photon_set *s = calloc(1, sizeof *s);
+  if (!s || !(s->maps = calloc((size_t)nmaps, sizeof *s->maps))) {
+    free(s);
+    vr_error_set(err, VR_E_NOMEM, "photon set: out of memory");
+    return NULL;
+  }
+  s->nmaps = nmaps;
+  for (int i = 0; i < nmaps; i++) {
+    s->maps[i] = vr_photon_map_create_sparse(nbins, lambda_min, lambda_max, max_nonzero, err);
+    if (!s->maps[i] || vr_photon_map_set_centre(s->maps[i], centre, err)) {
+      vr_photon_set_destroy(s);
+      return NULL;
+    }
+  }
+  return s;
+}
+
+void vr_photon_set_destroy(vr_photon_set *s) {
+  if (!s) return;
+  for (int i = 0; s->maps && i < s->nmaps; i++) vr_photon_map_destroy(s->maps[i]);
+  free(s->maps);
+  free(s);
+}
+
+vr_status vr_photon_set_store(vr_photon_set *s, int map, uint64_t key, const double pos[3],
+                              const double dir_in[3], const double normal[3],
+                              const float *power, vr_error *err) {
+  if (!s || map < 0 || map >= s->nmaps)
+    return vr_error_set(err, VR_E_ARG, "photon set store: map %d out of range", map);
+  return vr_photon_map_store(s->maps[map], key, pos, dir_in, normal, power, err);
+}
+
+vr_status vr_photon_set_build(vr_photon_set *s, vr_error *err) {
+  for (int i = 0; i < s->nmaps; i++) {
+    vr_status st = vr_photon_map_build(s->maps[i], err);
+    if (st) return st;
+  }
+  return VR_OK;
+}
+
+int vr_photon_set_count_maps(const vr_photon_set *s) { return s ? s->nmaps : 0; }
+
+const vr_photon_map *vr_photon_set_map(const vr_photon_set *s, int map) {
+  return s && map >= 0 && map < s->nmaps ? s->maps[map] : NULL;
+}
+
+size_t vr_photon_set_count(const vr_photon_set *s) {
+  size_t n = 0;
+  for (int i = 0; s && i < s->nmaps; i++) n += vr_photon_map_count(s->maps[i]);
+  return n;
+}
+
+size_t vr_photon_set_bytes(const vr_photon_set *s) {
+  size_t n = s ? sizeof *s + (size_t)s->nmaps * sizeof *s->maps : 0;
+  for (int i = 0; s && i < s->nmaps; i++) n += vr_photon_map_bytes(s->maps[i]);
+  return n;
+}
+
+/* The order in which the k nearest are chosen: (g2, key), then the map for
+ * equal keys, which only a caller storing one key twice can make. */
+static int by_distance(const void *a, const void *b) {
+  const vr_photon_cand *x = a, *y = b;
+  if (x->g2 != y->g2) return x->g2 < y->g2 ? -1 : 1;
+  if (x->key != y->key) return x->key < y->key ? -1 : 1;
+  return (x->map > y->map) - (x->map < y->map);
+}
+
+/* The order of the sum: by key, whatever map a photon came from. */
+static int by_key(const void *a, const void *b) {
+  const vr_photon_cand *x = a, *y = b;
+  if (x->key != y->key) return x->key < y->key ? -1 : 1;
+  if (x->map != y->map) return x->map < y->map ? -1 : 1;
+  return (x->index > y->index) - (x->index < y->index);
+}
+
+typedef struct near_map {
+  double d2;
+  int map;
+} near_map;
+
+static int by_box(const void *a, const void *b) {
+  const near_map *x = a, *y = b;
+  if (x->d2 != y->d2) return x->d2 < y->d2 ? -1 : 1;
+  return (x->map > y->map) - (x->map < y->map);
+}
+
+int vr_photon_set_irradiance(const vr_photon_set *s, const double x[3], const double n[3], int k,
+                             double radius_max, double kc, double *out, double *r_used) {
+  if (!out) return -1;
+  if (r_used) *r_used = 0.0;
+  if (!s) return -1;
+  int nbins = vr_photon_map_nbins(s->maps[0]);
+  memset(out, 0, sizeof *out * (size_t)nbins);
+  if (k < 0 || isnan(kc) || (kc > 0.0 && kc < 1.0) || !x || !n || !isfinite(radius_max) ||
+      !(radius_max > 0.0))
+    return -1;
+  for (int i = 0; i < s->nmaps; i++)
+    if (!vr_photon_map_built(s->maps[i])) return -1;
+  double rmax2 = radius_max * radius_max, bound2 = rmax2;
+
+  /* The maps by distance from x to their photons' boxes; those beyond
+   * rmax can hold nothing. */
+  near_map stack_maps[STACK_MAPS], *order = stack_maps;
+  if (s->nmaps > STACK_MAPS && !(order = malloc((size_t)s->nmaps * sizeof *order))) return -1;
+  int nm = 0;
+  for (int i = 0; i < s->nmaps; i++) {
+    double d2 = vr_photon_map_box_d2(s->maps[i], x);
+    if (d2 <= rmax2) order[nm++] = (near_map){d2, i};
+  }
+  qsort(order, (size_t)nm, sizeof *order, by_box);
+
+  vr_photon_cand stack_cands[STACK_CANDS];
+  vr_photon_list L = {stack_cands, 0, STACK_CANDS, true};
+  int rc = -1;
+  for (int j = 0; j < nm; j++) {
+    if (order[j].d2 > bound2) break; /* sorted: the rest are farther still */
+    long got = vr_photon_map_gather(s->maps[order[j].map], (uint32_t)order[j].map, x, n, k,
+                                    bound2, &L);
+    if (got < 0) goto done;
+    if (k > 0 && got > 0) {
+      qsort(L.c, L.n, sizeof *L.c, by_distance);
+      if (L.n > (size_t)k) L.n = (size_t)k;
+      if (L.n == (size_t)k) bound2 = L.c[k - 1].g2;
+    }
+  }
+  double r = radius_max;
+  if (k > 0 && L.n == (size_t)k) r = sqrt(L.c[k - 1].g2);
+  if (!(r > 0.0)) goto done; /* the k nearest all at x: no density */
+  qsort(L.c, L.n, sizeof *L.c, by_key);
+  double norm = kc > 0.0 ? 1.0 - 2.0 / (3.0 * kc) : 1.0;
+  for (size_t i = 0; i < L.n; i++) {
+    double w = kc > 0.0 ? 1.0 - sqrt(L.c[i].d2) / (kc * r) : 1.0;
+    vr_photon_map_add(s->maps[L.c[i].map], L.c[i].index, w, out);
+  }
+  double scale = 1.0 / (norm * M_PI * r * r);
+  for (int b = 0; b < nbins; b++) out[b] *= scale;
+  if (r_used) *r_used = r;
+  rc = (int)L.n;
+done:
+  if (rc < 0) memset(out, 0, sizeof *out * (size_t)nbins);
+  vr_photon_list_free(&L);
+  if (order != stack_maps) free(order);
+  return rc;
+}
