@@ -1,195 +1,305 @@
-/* Sub-domains: the kd-tree of cells, one Embree scene per cell, and the
- * parameter-based walk of a ray through them (see vr/domains.h for why the
- * walk uses no epsilon and why the hit is the same for any number of cells). */
+/* Sub-domains (vr/domains.h): the geometry cache opened and checked (or
+ * built), the kd-tree walk of a ray through the cells, and cells loaded
+ * and unloaded on demand with exact accounting of what they hold.
+ *
+ * Memory.  A loaded cell holds its payload (the cache file's arrays, used in
+ * place) and its Embree scene.  Embree reports every allocation of the
+ * device to on_memory, which keeps the device's running total; builds and
+ * releases happen one at a time under build_lock, so the change of the
+ * total across one build is that cell's, exactly.  The cache folder is
+ * locked (flock) exclusively while it is checked or built and shared while
+ * it is in use, so another process never rebuilds it under a render. */
+#define _GNU_SOURCE /* mkdtemp */
 #include "vr/domains.h"
 
-#include <float.h>
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
 #include <embree3/rtcore.h>
 
-typedef struct kd_node {
-  int axis;       /* -1 for a leaf */
-  double split;
-  int child[2];   /* nodes below (0) and above (1) the split */
-  int cell;       /* leaf: cell index */
-} kd_node;
+#include "cache_build.h"
+#include "cache_format.h"
+#include "cache_key.h"
+#include "cell_data.h"
 
-typedef struct cell {
-  double lo[3], hi[3];   /* box used to assign primitives (infinite sides clipped to the scene) */
-  size_t ntris, nspheres;
-  uint32_t *tris;        /* global triangle indices */
-  uint32_t *spheres;     /* global sphere indices */
+#define DIRMAX 4000
+#define PATHMAX 4200
+
+typedef struct dcell {
+  const vr_cell_meta *meta;
+  void *payload;
+  vr_cell_view view;
   RTCScene scene;
-} cell;
+  _Atomic bool loaded;
+  bool loading;
+  size_t embree;   /* what its scene holds (measured at the last load) */
+  size_t peak;     /* Embree's most during that build */
+} dcell;
 
 struct vr_domains {
-  const vr_geometry *g;
+  vr_cache_manifest *m;
+  dcell *cells;
   RTCDevice device;
-  float *verts;          /* padded copy: Embree reads 16 bytes at the last vertex */
-  int ncells;
-  cell *cells;
-  int nnodes;
-  kd_node *nodes;
-  int error_code;
+  char dir[DIRMAX + 64];      /* the folder of this S's cells */
+  char root[DIRMAX];          /* the cache folder */
+  bool private_root;          /* made here; removed by destroy */
+  int lock_fd;
+  void (*log)(void *, const char *);
+  void *user;
+  /* Embree's running total and the most it reached during the current build. */
+  _Atomic long long embree_now, build_peak;
+  pthread_mutex_t build_lock; /* builds, releases and the counters below */
+  pthread_cond_t loaded_cv;
+  size_t geometry_now, peak_geometry, peak_embree, peak_cells;
+  uint64_t loads, unloads, bytes_read;
+  double load_seconds;
+  bool cache_built;
+  char cache_reason[1024];
+  double cache_seconds;
 };
 
-static void tri_bounds(const vr_geometry *g, uint32_t t, double lo[3], double hi[3]) {
-  for (int a = 0; a < 3; a++) {
-    lo[a] = INFINITY;
-    hi[a] = -INFINITY;
-  }
-  for (int k = 0; k < 3; k++) {
-    const float *v = g->verts + 3 * (size_t)g->tris[3 * (size_t)t + k];
-    for (int a = 0; a < 3; a++) {
-      if (v[a] < lo[a]) lo[a] = v[a];
-      if (v[a] > hi[a]) hi[a] = v[a];
-    }
-  }
+static double now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static void sphere_bounds(const vr_geometry *g, uint32_t s, double lo[3], double hi[3]) {
-  const double *c = g->spheres + 4 * (size_t)s;
-  for (int a = 0; a < 3; a++) {
-    lo[a] = c[a] - c[3];
-    hi[a] = c[a] + c[3];
-  }
+static void say(const vr_domains *d, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void say(const vr_domains *d, const char *fmt, ...) {
+  if (!d->log) return;
+  char line[1024];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(line, sizeof line, fmt, ap);
+  va_end(ap);
+  d->log(d->user, line);
 }
 
-static bool overlaps(const double lo[3], const double hi[3], const double blo[3],
-                     const double bhi[3]) {
-  for (int a = 0; a < 3; a++)
-    if (hi[a] < blo[a] || lo[a] > bhi[a]) return false;
+void vr_domains_options_default(vr_domains_options *o) {
+  memset(o, 0, sizeof *o);
+  o->subdomains = 1;
+  o->threads = 1;
+  o->mesh_cache_bytes = (size_t)256 << 20;
+}
+
+/* ---- Embree's memory ---- */
+
+static bool on_memory(void *user, ssize_t bytes, bool post) {
+  (void)post;
+  vr_domains *d = user;
+  long long v = atomic_fetch_add(&d->embree_now, (long long)bytes) + (long long)bytes;
+  long long p = atomic_load(&d->build_peak);
+  while (v > p && !atomic_compare_exchange_weak(&d->build_peak, &p, v)) {
+  }
   return true;
 }
 
-/* Centroid coordinate of primitive i (triangles first, then spheres). */
-static double centroid(const vr_geometry *g, const cell *c, size_t i, int axis) {
-  double lo[3], hi[3];
-  if (i < c->ntris)
-    tri_bounds(g, c->tris[i], lo, hi);
-  else
-    sphere_bounds(g, c->spheres[i - c->ntris], lo, hi);
-  return 0.5 * (lo[axis] + hi[axis]);
+/* Builds v's scene under build_lock (held by the caller) and measures it. */
+static vr_status build_measured(vr_domains *d, const vr_cell_view *v, RTCScene *scene,
+                                size_t *retained, size_t *peak, vr_error *err) {
+  long long before = atomic_load(&d->embree_now);
+  atomic_store(&d->build_peak, before);
+  vr_status st = vr_cell_scene_build(d->device, v, scene, err);
+  long long after = atomic_load(&d->embree_now), top = atomic_load(&d->build_peak);
+  *retained = after > before ? (size_t)(after - before) : 0;
+  *peak = top > before ? (size_t)(top - before) : 0;
+  return st;
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
+static vr_status measure(void *ctx, const void *payload, const vr_cell_meta *meta,
+                         uint64_t *retained, uint64_t *peak, vr_error *err) {
+  vr_domains *d = ctx;
+  vr_cell_view v;
+  vr_cell_view_of(payload, meta, &v);
+  RTCScene scene = NULL;
+  size_t r = 0, p = 0;
+  pthread_mutex_lock(&d->build_lock);
+  vr_status st = build_measured(d, &v, &scene, &r, &p, err);
+  if (scene) rtcReleaseScene(scene);
+  pthread_mutex_unlock(&d->build_lock);
+  *retained = r;
+  *peak = p;
+  return st;
 }
 
-/* Distributes the primitives of parent into the child box lo..hi. */
-static vr_status fill_child(const vr_geometry *g, const cell *parent, cell *child, vr_error *err) {
-  child->tris = malloc((parent->ntris + 1) * sizeof *child->tris);
-  child->spheres = malloc((parent->nspheres + 1) * sizeof *child->spheres);
-  if (!child->tris || !child->spheres) return vr_error_set(err, VR_E_NOMEM, "sub-domains: out of memory");
-  child->ntris = child->nspheres = 0;
-  double lo[3], hi[3];
-  for (size_t i = 0; i < parent->ntris; i++) {
-    tri_bounds(g, parent->tris[i], lo, hi);
-    if (overlaps(lo, hi, child->lo, child->hi)) child->tris[child->ntris++] = parent->tris[i];
+/* ---- the cache folder ---- */
+
+static vr_status make_dirs(const char *path, vr_error *err) {
+  char p[DIRMAX];
+  snprintf(p, sizeof p, "%s", path);
+  for (char *s = p + 1; *s; s++)
+    if (*s == '/') {
+      *s = '\0';
+      if (mkdir(p, 0755) != 0 && errno != EEXIST)
+        return vr_error_set(err, VR_E_IO, "cache folder %s: cannot create %s: %s", path, p,
+                            strerror(errno));
+      *s = '/';
+    }
+  if (mkdir(p, 0755) != 0 && errno != EEXIST)
+    return vr_error_set(err, VR_E_IO, "cache folder %s: cannot create: %s", path, strerror(errno));
+  return VR_OK;
+}
+
+/* Removes a private cache: its S folders' files, the folders, lock files. */
+static void remove_private(const char *root) {
+  DIR *d = opendir(root);
+  if (!d) return;
+  struct dirent *e;
+  char p[PATHMAX];
+  while ((e = readdir(d))) {
+    if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+    snprintf(p, sizeof p, "%s/%s", root, e->d_name);
+    DIR *sub = opendir(p);
+    if (sub) {
+      struct dirent *f;
+      char q[PATHMAX + 256];
+      while ((f = readdir(sub)))
+        if (strcmp(f->d_name, ".") && strcmp(f->d_name, "..")) {
+          snprintf(q, sizeof q, "%s/%s", p, f->d_name);
+          unlink(q);
+        }
+      closedir(sub);
+      rmdir(p);
+    } else {
+      unlink(p);
+    }
   }
-  for (size_t i = 0; i < parent->nspheres; i++) {
-    sphere_bounds(g, parent->spheres[i], lo, hi);
-    if (overlaps(lo, hi, child->lo, child->hi)) child->spheres[child->nspheres++] = parent->spheres[i];
+  closedir(d);
+  rmdir(root);
+}
+
+/* Checks the cache in d->dir against key; NULL manifest and a reason when
+ * it must be built. */
+static vr_cache_manifest *check_cache(vr_domains *d, const uint8_t key[32], int S, char *why,
+                                      size_t nwhy) {
+  char path[PATHMAX];
+  snprintf(path, sizeof path, "%s/manifest.vrm", d->dir);
+  vr_cache_manifest *m = NULL;
+  vr_error e = {0};
+  vr_status st = vr_cache_manifest_read(path, &m, &e);
+  if (st == VR_E_IO) {
+    snprintf(why, nwhy, "no cache yet");
+    return NULL;
+  }
+  if (st) {
+    snprintf(why, nwhy, "%s", e.message);
+    return NULL;
+  }
+  if (memcmp(m->key, key, 32) || m->ncells != S) {
+    snprintf(why, nwhy, "the geometry changed since the cache was built");
+    vr_cache_manifest_free(m);
+    return NULL;
+  }
+  for (int c = 0; c < m->ncells; c++) {
+    snprintf(path, sizeof path, "%s/cell-%05d.vrc", d->dir, c);
+    if (vr_cell_file_check(path, (uint32_t)c, key, &m->cells[c], &e)) {
+      snprintf(why, nwhy, "%s", e.message);
+      vr_cache_manifest_free(m);
+      return NULL;
+    }
+  }
+  return m;
+}
+
+static vr_status open_common(vr_domains *d, const vr_domains_options *o, const vr_scene *scene,
+                             const vr_geometry *g, const uint8_t key[32], vr_error *err) {
+  int S = o->subdomains;
+  d->log = o->log;
+  d->user = o->user;
+  d->lock_fd = -1;
+  pthread_mutex_init(&d->build_lock, NULL);
+  pthread_cond_init(&d->loaded_cv, NULL);
+  char cfg[64];
+  snprintf(cfg, sizeof cfg, "threads=%d,verbose=0", o->threads > 0 ? o->threads : 1);
+  d->device = rtcNewDevice(cfg);
+  if (!d->device)
+    return vr_error_set(err, VR_E_NUMERIC, "Embree: cannot create a device (error %d)",
+                        (int)rtcGetDeviceError(NULL));
+  rtcSetDeviceMemoryMonitorFunction(d->device, on_memory, d);
+  /* The folder. */
+  if (o->cache_dir) {
+    if (strlen(o->cache_dir) + 16 >= DIRMAX)
+      return vr_error_set(err, VR_E_ARG, "cache folder %s: name too long", o->cache_dir);
+    snprintf(d->root, sizeof d->root, "%s", o->cache_dir);
+    vr_status st = make_dirs(d->root, err);
+    if (st) return st;
+  } else {
+    const char *tmp = getenv("TMPDIR");
+    snprintf(d->root, sizeof d->root, "%s/vr-cache-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (!mkdtemp(d->root))
+      return vr_error_set(err, VR_E_IO, "cannot create a temporary cache folder %s: %s", d->root,
+                          strerror(errno));
+    d->private_root = true;
+  }
+  snprintf(d->dir, sizeof d->dir, "%s/S%d", d->root, S);
+  char lock[PATHMAX];
+  snprintf(lock, sizeof lock, "%s/S%d.lock", d->root, S);
+  d->lock_fd = open(lock, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (d->lock_fd < 0)
+    return vr_error_set(err, VR_E_IO, "cache folder %s: cannot write in it (%s): give a writable "
+                        "one with --cache", d->root, strerror(errno));
+  while (flock(d->lock_fd, LOCK_EX) != 0)
+    if (errno != EINTR)
+      return vr_error_set(err, VR_E_IO, "cache %s: cannot lock: %s", lock, strerror(errno));
+  double t0 = now();
+  char why[1024];
+  d->m = check_cache(d, key, S, why, sizeof why);
+  if (d->m) {
+    snprintf(d->cache_reason, sizeof d->cache_reason, "reused");
+    say(d, "cache: %s holds the %d sub-domain%s of this geometry, checked in %.2f s", d->dir, S,
+        S == 1 ? "" : "s", now() - t0);
+  } else {
+    snprintf(d->cache_reason, sizeof d->cache_reason, "%s", why);
+    if (!d->private_root) say(d, "cache: building %s (%s)", d->dir, why);
+    vr_cache_build b = {.dir = d->dir, .key = key, .subdomains = S, .scene = scene,
+                        .geometry = g, .mesh_cache_bytes = o->mesh_cache_bytes,
+                        .measure = measure, .measure_ctx = d, .log = o->log, .user = o->user};
+    vr_status st = vr_cache_build_run(&b, &d->m, err);
+    if (st) return st;
+    d->cache_built = true;
+  }
+  d->cache_seconds = now() - t0;
+  /* Shared from now on: other renders may use it, nobody may rebuild it. */
+  flock(d->lock_fd, LOCK_SH);
+  d->cells = calloc((size_t)d->m->ncells, sizeof *d->cells);
+  if (!d->cells) return vr_error_set(err, VR_E_NOMEM, "sub-domains: out of memory");
+  for (int c = 0; c < d->m->ncells; c++) {
+    d->cells[c].meta = &d->m->cells[c];
+    d->cells[c].embree = (size_t)d->m->cells[c].embree_bytes;
+    d->cells[c].peak = (size_t)d->m->cells[c].embree_peak;
   }
   return VR_OK;
 }
 
-/* Splits cell ci into itself (below) and a new cell (above). */
-static vr_status split_cell(vr_domains *d, int ci, int leaf_node, vr_error *err) {
-  const vr_geometry *g = d->g;
-  cell *c = &d->cells[ci];
-  int axis = 0;
-  for (int a = 1; a < 3; a++)
-    if (c->hi[a] - c->lo[a] > c->hi[axis] - c->lo[axis]) axis = a;
-  size_t n = c->ntris + c->nspheres;
-  double split = 0.5 * (c->lo[axis] + c->hi[axis]);
-  if (n > 0) {
-    double *cs = malloc(n * sizeof *cs);
-    if (!cs) return vr_error_set(err, VR_E_NOMEM, "sub-domains: out of memory");
-    for (size_t i = 0; i < n; i++) cs[i] = centroid(g, c, i, axis);
-    qsort(cs, n, sizeof *cs, cmp_double);
-    double med = cs[n / 2];
-    free(cs);
-    /* A median on the box's face would leave one side without volume. */
-    if (med > c->lo[axis] && med < c->hi[axis]) split = med;
-  }
-  cell below = {0}, above = {0};
-  memcpy(below.lo, c->lo, sizeof below.lo);
-  memcpy(below.hi, c->hi, sizeof below.hi);
-  memcpy(above.lo, c->lo, sizeof above.lo);
-  memcpy(above.hi, c->hi, sizeof above.hi);
-  below.hi[axis] = split;
-  above.lo[axis] = split;
-  vr_status st = fill_child(g, c, &below, err);
-  if (!st) st = fill_child(g, c, &above, err);
+vr_status vr_domains_open(const vr_scene *scene, const vr_domains_options *o, vr_domains **out,
+                          vr_error *err) {
+  *out = NULL;
+  if (!scene || !o) return vr_error_set(err, VR_E_ARG, "vr_domains_open: NULL argument");
+  if (o->subdomains < 1 || o->subdomains > 4096)
+    return vr_error_set(err, VR_E_ARG, "sub-domains: S = %d, expected 1 to 4096", o->subdomains);
+  uint8_t key[32];
+  vr_status st = vr_cache_key_scene(scene, o->subdomains, key, err);
+  if (st) return st;
+  vr_domains *d = calloc(1, sizeof *d);
+  if (!d) return vr_error_set(err, VR_E_NOMEM, "sub-domains: out of memory");
+  st = open_common(d, o, scene, NULL, key, err);
   if (st) {
-    free(below.tris), free(below.spheres), free(above.tris), free(above.spheres);
+    vr_domains_destroy(d);
     return st;
   }
-  free(c->tris);
-  free(c->spheres);
-  int ai = d->ncells++;
-  d->cells[ci] = below;
-  d->cells[ai] = above;
-  int nb = d->nnodes++, na = d->nnodes++;
-  d->nodes[nb] = (kd_node){.axis = -1, .cell = ci};
-  d->nodes[na] = (kd_node){.axis = -1, .cell = ai};
-  d->nodes[leaf_node] = (kd_node){.axis = axis, .split = split, .child = {nb, na}, .cell = -1};
-  return VR_OK;
-}
-
-static void on_embree_error(void *user, enum RTCError code, const char *str) {
-  (void)str;
-  vr_domains *d = user;
-  if (!d->error_code) d->error_code = (int)code;
-}
-
-static vr_status build_scene(vr_domains *d, cell *c, vr_error *err) {
-  c->scene = rtcNewScene(d->device);
-  if (!c->scene) return vr_error_set(err, VR_E_NOMEM, "Embree: cannot create a scene");
-  /* Robust mode makes the triangle test watertight, so a ray never slips
-   * through the shared edge of two triangles. */
-  rtcSetSceneFlags(c->scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(c->scene, RTC_BUILD_QUALITY_HIGH);
-  const vr_geometry *g = d->g;
-  if (c->ntris) {
-    RTCGeometry geom = rtcNewGeometry(d->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, d->verts, 0,
-                               3 * sizeof(float), g->nverts);
-    unsigned *idx = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                            3 * sizeof(unsigned), c->ntris);
-    if (!idx) {
-      rtcReleaseGeometry(geom);
-      return vr_error_set(err, VR_E_NOMEM, "Embree: cannot allocate an index buffer");
-    }
-    for (size_t i = 0; i < c->ntris; i++)
-      for (int k = 0; k < 3; k++) idx[3 * i + k] = g->tris[3 * (size_t)c->tris[i] + k];
-    rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(c->scene, geom, 0);
-    rtcReleaseGeometry(geom);
-  }
-  if (c->nspheres) {
-    RTCGeometry geom = rtcNewGeometry(d->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    float *v = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                       4 * sizeof(float), c->nspheres);
-    if (!v) {
-      rtcReleaseGeometry(geom);
-      return vr_error_set(err, VR_E_NOMEM, "Embree: cannot allocate a sphere buffer");
-    }
-    for (size_t i = 0; i < c->nspheres; i++)
-      for (int k = 0; k < 4; k++) v[4 * i + k] = (float)g->spheres[4 * (size_t)c->spheres[i] + k];
-    rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(c->scene, geom, 1);
-    rtcReleaseGeometry(geom);
-  }
-  rtcCommitScene(c->scene);
-  if (d->error_code)
-    return vr_error_set(err, VR_E_NUMERIC, "Embree: error %d while building a sub-domain",
-                        d->error_code);
+  *out = d;
   return VR_OK;
 }
 
@@ -197,97 +307,67 @@ vr_status vr_domains_build(const vr_geometry *g, int S, vr_domains **out, vr_err
   *out = NULL;
   if (S < 1 || S > 4096)
     return vr_error_set(err, VR_E_ARG, "sub-domains: S = %d, expected 1 to 4096", S);
+  uint8_t key[32];
+  vr_cache_key_geometry(g, S, key);
+  vr_domains_options o;
+  vr_domains_options_default(&o);
+  o.subdomains = S;
   vr_domains *d = calloc(1, sizeof *d);
   if (!d) return vr_error_set(err, VR_E_NOMEM, "sub-domains: out of memory");
-  d->g = g;
-  vr_status st = VR_OK;
-  d->cells = calloc((size_t)S, sizeof *d->cells);
-  d->nodes = calloc(2 * (size_t)S, sizeof *d->nodes);
-  d->verts = malloc((3 * g->nverts + 4) * sizeof(float));
-  if (!d->cells || !d->nodes || !d->verts) {
-    st = vr_error_set(err, VR_E_NOMEM, "sub-domains: out of memory");
-    goto fail;
-  }
-  if (g->nverts) memcpy(d->verts, g->verts, 3 * g->nverts * sizeof(float));
-  memset(d->verts + 3 * g->nverts, 0, 4 * sizeof(float));
-  d->device = rtcNewDevice("threads=1,verbose=0");
-  if (!d->device) {
-    st = vr_error_set(err, VR_E_NUMERIC, "Embree: cannot create a device (error %d)",
-                      (int)rtcGetDeviceError(NULL));
-    goto fail;
-  }
-  rtcSetDeviceErrorFunction(d->device, on_embree_error, d);
-
-  cell *root = &d->cells[0];
-  memcpy(root->lo, g->bmin, sizeof root->lo);
-  memcpy(root->hi, g->bmax, sizeof root->hi);
-  root->ntris = g->ntris;
-  root->nspheres = g->nspheres;
-  root->tris = malloc((g->ntris + 1) * sizeof *root->tris);
-  root->spheres = malloc((g->nspheres + 1) * sizeof *root->spheres);
-  if (!root->tris || !root->spheres) {
-    st = vr_error_set(err, VR_E_NOMEM, "sub-domains: out of memory");
-    goto fail;
-  }
-  for (size_t i = 0; i < g->ntris; i++) root->tris[i] = (uint32_t)i;
-  for (size_t i = 0; i < g->nspheres; i++) root->spheres[i] = (uint32_t)i;
-  d->ncells = 1;
-  d->nnodes = 1;
-  d->nodes[0] = (kd_node){.axis = -1, .cell = 0};
-  while (d->ncells < S) {
-    /* The leaf with the most primitives; the lowest index among equals. */
-    int best = 0;
-    for (int n = 0; n < d->nnodes; n++) {
-      if (d->nodes[n].axis >= 0) continue;
-      const cell *c = &d->cells[d->nodes[n].cell];
-      const cell *b = &d->cells[d->nodes[best].cell];
-      if (d->nodes[best].axis >= 0 || c->ntris + c->nspheres > b->ntris + b->nspheres) best = n;
-    }
-    st = split_cell(d, d->nodes[best].cell, best, err);
-    if (st) goto fail;
-  }
-  for (int i = 0; i < d->ncells; i++) {
-    st = build_scene(d, &d->cells[i], err);
-    if (st) goto fail;
+  vr_status st = open_common(d, &o, NULL, g, key, err);
+  if (!st) st = vr_domains_load_all(d, err);
+  if (st) {
+    vr_domains_destroy(d);
+    return st;
   }
   *out = d;
   return VR_OK;
-fail:
-  vr_domains_destroy(d);
-  return st;
 }
 
 void vr_domains_destroy(vr_domains *d) {
   if (!d) return;
-  for (int i = 0; d->cells && i < d->ncells; i++) {
-    if (d->cells[i].scene) rtcReleaseScene(d->cells[i].scene);
-    free(d->cells[i].tris);
-    free(d->cells[i].spheres);
+  for (int c = 0; d->cells && c < d->m->ncells; c++) {
+    if (d->cells[c].scene) rtcReleaseScene(d->cells[c].scene);
+    free(d->cells[c].payload);
   }
-  if (d->device) rtcReleaseDevice(d->device);
   free(d->cells);
-  free(d->nodes);
-  free(d->verts);
+  if (d->device) rtcReleaseDevice(d->device);
+  vr_cache_manifest_free(d->m);
+  if (d->lock_fd >= 0) close(d->lock_fd); /* releases the lock */
+  if (d->private_root) remove_private(d->root);
+  pthread_mutex_destroy(&d->build_lock);
+  pthread_cond_destroy(&d->loaded_cv);
   free(d);
 }
 
-int vr_domains_count(const vr_domains *d) { return d->ncells; }
+/* ---- what the manifest knows ---- */
+
+int vr_domains_count(const vr_domains *d) { return d->m->ncells; }
 
 size_t vr_domains_cell_primitives(const vr_domains *d, int cell) {
-  return d->cells[cell].ntris + d->cells[cell].nspheres;
+  const vr_cell_meta *m = &d->m->cells[cell];
+  return (size_t)(m->ntris + m->nspheres);
 }
 
 void vr_domains_cell_bounds(const vr_domains *d, int cell, double lo[3], double hi[3]) {
-  memcpy(lo, d->cells[cell].lo, 3 * sizeof *lo);
-  memcpy(hi, d->cells[cell].hi, 3 * sizeof *hi);
+  memcpy(lo, d->m->cells[cell].lo, 3 * sizeof *lo);
+  memcpy(hi, d->m->cells[cell].hi, 3 * sizeof *hi);
 }
+
+const uint32_t *vr_domains_cell_objects(const vr_domains *d, int cell, size_t *n) {
+  *n = d->m->cells[cell].nobjects;
+  return d->m->cells[cell].objects;
+}
+
+const vr_scene_tables *vr_domains_tables(const vr_domains *d) { return &d->m->tables; }
 
 int vr_domains_locate(const vr_domains *d, const double org[3], const double dir[3], double t,
                       double *t_exit) {
+  const vr_kd_node *nodes = d->m->nodes;
   double te = INFINITY;
   int n = 0;
-  while (d->nodes[n].axis >= 0) {
-    const kd_node *k = &d->nodes[n];
+  while (nodes[n].axis >= 0) {
+    const vr_kd_node *k = &nodes[n];
     int a = k->axis, side;
     if (dir[a] == 0.0) {
       side = org[a] >= k->split; /* in the plane: the upper side, always */
@@ -303,95 +383,127 @@ int vr_domains_locate(const vr_domains *d, const double org[3], const double dir
     n = k->child[side];
   }
   *t_exit = te;
-  return d->nodes[n].cell;
+  return nodes[n].cell;
 }
 
-static void normalise(double v[3]) {
-  double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  if (l > 0)
-    for (int a = 0; a < 3; a++) v[a] /= l;
-}
-
-bool vr_domains_intersect(const vr_domains *d, int ci, const double org[3], const double dir[3],
+bool vr_domains_intersect(const vr_domains *d, int cell, const double org[3], const double dir[3],
                           double tnear, double tfar, vr_hit *hit) {
-  const cell *c = &d->cells[ci];
-  if (!c->ntris && !c->nspheres) return false;
-  if (!(tfar >= tnear)) return false;
-  struct RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  struct RTCRayHit rh;
-  rh.ray.org_x = (float)org[0];
-  rh.ray.org_y = (float)org[1];
-  rh.ray.org_z = (float)org[2];
-  rh.ray.dir_x = (float)dir[0];
-  rh.ray.dir_y = (float)dir[1];
-  rh.ray.dir_z = (float)dir[2];
-  rh.ray.tnear = (float)tnear;
-  rh.ray.tfar = isinf(tfar) ? INFINITY : (float)tfar;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(c->scene, &ctx, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-
-  const vr_geometry *g = d->g;
-  hit->t = rh.ray.tfar;
-  for (int a = 0; a < 3; a++) hit->p[a] = org[a] + hit->t * dir[a];
-  if (rh.hit.geomID == 0) {
-    uint32_t t = c->tris[rh.hit.primID];
-    hit->sphere = false;
-    hit->prim = t;
-    hit->object = g->tri_object[t];
-    const uint32_t *ix = g->tris + 3 * (size_t)t;
-    const float *v0 = g->verts + 3 * (size_t)ix[0], *v1 = g->verts + 3 * (size_t)ix[1],
-                *v2 = g->verts + 3 * (size_t)ix[2];
-    double e1[3], e2[3];
-    for (int a = 0; a < 3; a++) {
-      e1[a] = (double)v1[a] - v0[a];
-      e2[a] = (double)v2[a] - v0[a];
-    }
-    hit->ng[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    hit->ng[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    hit->ng[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    normalise(hit->ng);
-    double u = rh.hit.u, v = rh.hit.v, w = 1.0 - u - v;
-    const float *n0 = NULL, *n1 = NULL, *n2 = NULL;
-    if (g->vnormals) {
-      n0 = g->vnormals + 3 * (size_t)ix[0];
-      n1 = g->vnormals + 3 * (size_t)ix[1];
-      n2 = g->vnormals + 3 * (size_t)ix[2];
-    }
-    /* A vertex without a normal holds (0,0,0): the triangle is flat then. */
-    if (n0 && (n0[0] || n0[1] || n0[2]) && (n1[0] || n1[1] || n1[2]) && (n2[0] || n2[1] || n2[2])) {
-      for (int a = 0; a < 3; a++) hit->ns[a] = w * n0[a] + u * n1[a] + v * n2[a];
-      normalise(hit->ns);
-      /* Interpolated normals may lean across the geometric one; keep the side. */
-      if (hit->ns[0] * hit->ng[0] + hit->ns[1] * hit->ng[1] + hit->ns[2] * hit->ng[2] <= 0)
-        memcpy(hit->ns, hit->ng, sizeof hit->ns);
-    } else {
-      memcpy(hit->ns, hit->ng, sizeof hit->ns);
-    }
-    if (g->tri_uv) {
-      const float *q = g->tri_uv + 6 * (size_t)t;
-      hit->uv[0] = w * q[0] + u * q[2] + v * q[4];
-      hit->uv[1] = w * q[1] + u * q[3] + v * q[5];
-    } else {
-      hit->uv[0] = hit->uv[1] = 0.0;
-    }
-  } else {
-    uint32_t s = c->spheres[rh.hit.primID];
-    const double *sc = g->spheres + 4 * (size_t)s;
-    hit->sphere = true;
-    hit->prim = s;
-    hit->object = g->sphere_object[s];
-    for (int a = 0; a < 3; a++) hit->ng[a] = hit->p[a] - sc[a];
-    normalise(hit->ng);
-    memcpy(hit->ns, hit->ng, sizeof hit->ns);
-    hit->uv[0] = 0.5 + atan2(hit->ng[1], hit->ng[0]) / (2.0 * M_PI);
-    hit->uv[1] = acos(fmax(-1.0, fmin(1.0, hit->ng[2]))) / M_PI;
-  }
+  const dcell *c = &d->cells[cell];
+  if (!vr_cell_intersect(c->scene, &c->view, org, dir, tnear, tfar, hit)) return false;
+  hit->cell = cell;
   return true;
+}
+
+/* ---- loading ---- */
+
+size_t vr_domains_cell_bytes(const vr_domains *d, int cell) {
+  return (size_t)d->cells[cell].meta->payload_bytes + d->cells[cell].embree;
+}
+
+size_t vr_domains_cell_load_peak(const vr_domains *d, int cell) {
+  return (size_t)d->cells[cell].meta->payload_bytes + d->cells[cell].peak;
+}
+
+bool vr_domains_loaded(const vr_domains *d, int cell) {
+  return atomic_load(&((vr_domains *)d)->cells[cell].loaded);
+}
+
+static void note_peaks(vr_domains *d) {
+  size_t e = (size_t)(atomic_load(&d->embree_now) > 0 ? atomic_load(&d->embree_now) : 0);
+  if (d->geometry_now > d->peak_geometry) d->peak_geometry = d->geometry_now;
+  if (e > d->peak_embree) d->peak_embree = e;
+  if (d->geometry_now + e > d->peak_cells) d->peak_cells = d->geometry_now + e;
+}
+
+vr_status vr_domains_load(vr_domains *d, int cell, vr_error *err) {
+  if (cell < 0 || cell >= d->m->ncells)
+    return vr_error_set(err, VR_E_ARG, "sub-domain %d out of range", cell);
+  dcell *c = &d->cells[cell];
+  pthread_mutex_lock(&d->build_lock);
+  while (c->loading) pthread_cond_wait(&d->loaded_cv, &d->build_lock);
+  if (atomic_load(&c->loaded)) {
+    pthread_mutex_unlock(&d->build_lock);
+    return VR_OK;
+  }
+  c->loading = true;
+  pthread_mutex_unlock(&d->build_lock);
+
+  /* Reading and checking run outside the lock: other loads go on. */
+  double t0 = now();
+  char path[PATHMAX];
+  snprintf(path, sizeof path, "%s/cell-%05d.vrc", d->dir, cell);
+  void *payload = NULL;
+  vr_status st = vr_cell_file_read(path, (uint32_t)cell, d->m->key, c->meta, &payload, err);
+  if (st == VR_E_PARSE || st == VR_E_IO)
+    vr_error_prefix(err, "sub-domain %d changed on disk during the render: ", cell);
+
+  pthread_mutex_lock(&d->build_lock);
+  if (!st) {
+    vr_cell_view_of(payload, c->meta, &c->view);
+    size_t retained = 0, peak = 0;
+    st = build_measured(d, &c->view, &c->scene, &retained, &peak, err);
+    if (!st) {
+      c->payload = payload;
+      c->embree = retained;
+      if (peak > c->peak) c->peak = peak;
+      d->geometry_now += (size_t)c->meta->payload_bytes;
+      d->loads++;
+      d->bytes_read += VR_CELL_HEADER + c->meta->payload_bytes;
+      atomic_store(&c->loaded, true);
+    } else {
+      free(payload);
+    }
+  }
+  d->load_seconds += now() - t0;
+  note_peaks(d);
+  c->loading = false;
+  pthread_cond_broadcast(&d->loaded_cv);
+  pthread_mutex_unlock(&d->build_lock);
+  return st;
+}
+
+void vr_domains_unload(vr_domains *d, int cell) {
+  dcell *c = &d->cells[cell];
+  pthread_mutex_lock(&d->build_lock);
+  while (c->loading) pthread_cond_wait(&d->loaded_cv, &d->build_lock);
+  if (atomic_load(&c->loaded)) {
+    atomic_store(&c->loaded, false);
+    if (c->scene) rtcReleaseScene(c->scene);
+    c->scene = NULL;
+    free(c->payload);
+    c->payload = NULL;
+    memset(&c->view, 0, sizeof c->view);
+    d->geometry_now -= (size_t)c->meta->payload_bytes;
+    d->unloads++;
+  }
+  pthread_mutex_unlock(&d->build_lock);
+}
+
+vr_status vr_domains_load_all(vr_domains *d, vr_error *err) {
+  for (int c = 0; c < d->m->ncells; c++) {
+    vr_status st = vr_domains_load(d, c, err);
+    if (st) return st;
+  }
+  return VR_OK;
+}
+
+void vr_domains_get_stats(const vr_domains *d, vr_domains_stats *out) {
+  vr_domains *w = (vr_domains *)d; /* the lock is not part of the value */
+  memset(out, 0, sizeof *out);
+  pthread_mutex_lock(&w->build_lock);
+  out->loads = d->loads;
+  out->unloads = d->unloads;
+  out->bytes_read = d->bytes_read;
+  out->load_seconds = d->load_seconds;
+  out->geometry_bytes = d->geometry_now;
+  long long e = atomic_load(&w->embree_now);
+  out->embree_bytes = e > 0 ? (size_t)e : 0;
+  out->peak_geometry = d->peak_geometry;
+  out->peak_embree = d->peak_embree;
+  out->peak_cells = d->peak_cells;
+  pthread_mutex_unlock(&w->build_lock);
+  out->cache_built = d->cache_built;
+  snprintf(out->cache_reason, sizeof out->cache_reason, "%s", d->cache_reason);
+  out->cache_seconds = d->cache_seconds;
+  for (int c = 0; c < d->m->ncells; c++) out->cache_bytes += d->m->cells[c].payload_bytes;
 }

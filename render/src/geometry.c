@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "mesh_assimp.h"
+#include "mesh_cache.h"
 
 /* Relative tolerance of "uniform scale" for a sphere's transform: rotations
  * built from degrees are orthogonal to ~1e-16, so this only rejects scales
@@ -29,6 +30,7 @@ typedef struct builder {
   size_t vcap, tcap, scap;
   size_t obj_begin; /* first triangle of the object being built */
   bool any_normals;
+  vr_mesh_cache *meshes; /* NULL: every mesh read from its file */
 } builder;
 
 static const char *shape_word(vr_shape_kind k) {
@@ -372,16 +374,18 @@ static vr_status build_mesh_data(builder *b, uint32_t object, const vr_scene_obj
 }
 
 static vr_status build_mesh(builder *b, uint32_t object, const vr_scene_object *o, bool flip) {
-  vr_mesh_data md;
-  vr_status st = vr_mesh_read(o->mesh_path, &md, b->err);
+  vr_mesh_data own;
+  const vr_mesh_data *md = &own;
+  vr_status st = b->meshes ? vr_mesh_cache_get(b->meshes, o->mesh_path, &md, b->err)
+                           : vr_mesh_read(o->mesh_path, &own, b->err);
   if (st != VR_OK) {
     /* vr_mesh_read's message already says "mesh 'PATH': ...". */
     vr_error_prefix(b->err, "%s:%ld: ", b->scene->path ? b->scene->path : "<input>",
                     o->loc.line);
     return st;
   }
-  st = build_mesh_data(b, object, o, flip, &md);
-  vr_mesh_data_free(&md);
+  st = build_mesh_data(b, object, o, flip, md);
+  if (!b->meshes) vr_mesh_data_free(&own);
   return st;
 }
 
@@ -459,14 +463,23 @@ void vr_geometry_destroy(vr_geometry *g) {
 }
 
 vr_status vr_geometry_build(const vr_scene *scene, vr_geometry **out, vr_error *err) {
+  return vr_geometry_build_range(scene, 0, scene ? scene->nobjects : 0, NULL, out, err);
+}
+
+vr_status vr_geometry_build_range(const vr_scene *scene, size_t first, size_t last,
+                                  struct vr_mesh_cache *meshes, vr_geometry **out,
+                                  vr_error *err) {
   if (!out) return vr_error_set(err, VR_E_ARG, "vr_geometry_build: no output");
   *out = NULL;
   if (!scene) return vr_error_set(err, VR_E_ARG, "vr_geometry_build: no scene");
+  if (first > last || last > scene->nobjects)
+    return vr_error_set(err, VR_E_ARG, "vr_geometry_build: objects [%zu, %zu) of %zu", first,
+                        last, scene->nobjects);
   if (scene->nobjects >= UINT32_MAX)
     return vr_error_set(err, VR_E_RANGE, "geometry: %zu objects, too many", scene->nobjects);
   vr_geometry *g = calloc(1, sizeof *g);
   if (!g) return vr_error_set(err, VR_E_NOMEM, "geometry: out of memory");
-  builder b = {.g = g, .scene = scene, .err = err};
+  builder b = {.g = g, .scene = scene, .err = err, .meshes = meshes};
   size_t n = scene->nobjects;
   g->nobjects = n;
   if (n) {
@@ -479,7 +492,8 @@ vr_status vr_geometry_build(const vr_scene *scene, vr_geometry **out, vr_error *
       return vr_error_set(err, VR_E_NOMEM, "geometry: out of memory");
     }
   }
-  for (size_t i = 0; i < n; i++) {
+  for (size_t i = 0; i < n; i++) g->object_sphere[i] = SIZE_MAX;
+  for (size_t i = first; i < last; i++) {
     vr_status st = build_object(&b, (uint32_t)i);
     if (st != VR_OK) {
       vr_geometry_destroy(g);

@@ -62,6 +62,17 @@ typedef struct vr_geometry {
  * normal falls back to the parser's default (world z, or world y when the
  * normal is within ~2.6 degrees of vertical). */
 vr_status vr_geometry_build(const vr_scene *scene, vr_geometry **out, vr_error *err);
+
+/* The same for objects [first, last) only: the per-object arrays still have
+ * one entry per object of the scene (zero area and no triangles for the
+ * others), triangles keep their objects' scene indices, and the bounds are
+ * those of what was built.  This is how the geometry cache reads a scene
+ * larger than memory: one object at a time.  meshes (may be NULL) keeps
+ * mesh files read once for later objects that name them again. */
+struct vr_mesh_cache;
+vr_status vr_geometry_build_range(const vr_scene *scene, size_t first, size_t last,
+                                  struct vr_mesh_cache *meshes, vr_geometry **out,
+                                  vr_error *err);
 void vr_geometry_destroy(vr_geometry *g);
 
 /* Uniform area sampling of an emissive object (triangles by area, then
