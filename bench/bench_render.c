@@ -220,7 +220,7 @@ static void fl_generate(void *ctx, vr_flow_worker *w, long unit) {
 }
 static const vr_flow_ops flow_ops = {fl_closest, fl_shadow_hit, fl_shadow_done, fl_generate};
 
-static double run_flow(const vr_domains *dm, const bounds *b, int threads, bool image_space,
+static double run_flow(vr_domains *dm, const bounds *b, int threads, bool image_space,
                        float *t, long *hits, uint64_t *crossings) {
   flow_ctx c = {.b = *b, .t = t};
   vr_flow_stats st = {0};

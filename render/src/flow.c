@@ -6,68 +6,25 @@
  * worker in its own cache line and summed when the run ends; the count of
  * rays in flight is kept by reservation (see reserve below), so a worker
  * touches the shared counter once per CREDIT rays; queues are filled and
- * drained in batches of BATCH rays under their lock. */
-#include "vr/flow.h"
+ * drained in batches of BATCH rays under their lock.  The queues themselves
+ * (and their spill files) are in flow_queue.c, the choice of a cell (and
+ * loading cells under a budget) in flow_sched.c. */
+#include "flow_internal.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <sched.h>
-#include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
-/* A worker pushes into a private buffer per cell and hands it to the cell's
- * queue in one locked step when it is full or when the worker moves on, so
- * the locks are taken once per batch, not once per ray. */
-#define BATCH 256
-/* Generate more work only while fewer rays than this wait in the queues:
- * it bounds memory whatever the image size. */
-#define LOW_WATER 65536
-/* Rays of in-flight count a worker reserves at a time. */
-#define CREDIT 1024
-#define LINE 64
+#define BATCH VR_FLOW_BATCH
+#define LOW_WATER VR_FLOW_LOW_WATER
+#define CREDIT VR_FLOW_CREDIT
+#define LINE VR_FLOW_LINE
 
-typedef struct queue {
-  _Alignas(LINE) pthread_mutex_t lock; /* one cache line per queue: no false sharing */
-  vr_ray *rays;
-  size_t n, cap;
-  _Atomic long pending; /* = n, readable without the lock to choose a cell */
-} queue;
-
-typedef struct flow {
-  const vr_domains *d;
-  const vr_flow_ops *ops;
-  void *ctx;
-  int ncells;
-  bool image_space;
-  queue *q;
-  long units;
-  pthread_mutex_t progress_lock;
-  void (*progress)(void *, long, long);
-  void *pctx;
-  /* The shared counters, each in its own cache line. */
-  _Alignas(LINE) _Atomic long next_unit;
-  _Alignas(LINE) _Atomic long done_units;
-  _Alignas(LINE) _Atomic long queued;
-  /* Rays in flight plus the workers' unused reservations: never below the
-   * true number of rays in flight (see reserve). */
-  _Alignas(LINE) _Atomic long in_flight;
-  _Alignas(LINE) _Atomic int failed;
-} flow;
-
-struct vr_flow_worker {
-  _Alignas(LINE) flow *f; /* workers sit in separate cache lines */
-  int index;
-  bool oom;
-  long credit;        /* reserved in f->in_flight and not yet used; >= 0 */
-  vr_flow_stats st;   /* this worker's share of the statistics */
-  /* Queued flow: BATCH rays per cell waiting to go to the cell's queue. */
-  vr_ray *out;
-  int *nout;
-  /* Image space: the private depth-first stack. */
-  vr_ray *stack;
-  size_t top, cap;
-};
+typedef vr_flow flow;
+typedef vr_flow_queue queue;
 
 int vr_flow_worker_index(const vr_flow_worker *w) { return w->index; }
 
@@ -126,45 +83,29 @@ static void finish(vr_flow_worker *w, long n) {
   }
 }
 
-static void queue_put(flow *f, int c, const vr_ray *rays, int n, vr_flow_worker *w) {
-  queue *q = &f->q[c];
-  pthread_mutex_lock(&q->lock);
-  if (q->n + (size_t)n > q->cap) {
-    size_t cap = q->cap ? q->cap : 1024;
-    while (cap < q->n + (size_t)n) cap *= 2;
-    vr_ray *r = realloc(q->rays, cap * sizeof *r);
-    if (!r) {
-      pthread_mutex_unlock(&q->lock);
-      w->oom = true;
-      atomic_store(&f->failed, 1);
-      /* The rays are lost: count them finished so the run still ends. */
-      finish(w, n);
-      return;
-    }
-    q->rays = r;
-    q->cap = cap;
-  }
-  memcpy(q->rays + q->n, rays, (size_t)n * sizeof *rays);
-  q->n += (size_t)n;
-  atomic_fetch_add(&q->pending, n);
-  atomic_fetch_add(&f->queued, n);
-  pthread_mutex_unlock(&q->lock);
+/* Hands n rays to cell c's queue; if neither memory nor disk can take
+ * them they are lost, so they are counted finished and the run fails. */
+static void put(vr_flow_worker *w, int c, const vr_ray *rays, int n) {
+  if (vr_flow_queue_put(w->f, c, rays, n, w)) return;
+  w->oom = true;
+  atomic_store(&w->f->failed, 1);
+  finish(w, n);
 }
 
 static void flush(vr_flow_worker *w) {
   if (!w->nout) return;
   for (int c = 0; c < w->f->ncells; c++) {
-    if (w->nout[c]) queue_put(w->f, c, w->out + (size_t)c * BATCH, w->nout[c], w);
+    if (w->nout[c]) put(w, c, w->out + (size_t)c * w->f->batch, w->nout[c]);
     w->nout[c] = 0;
   }
 }
 
 /* Queues r for cell c (the ray's tnear and cell already set). */
 static void enqueue(vr_flow_worker *w, const vr_ray *r) {
-  int c = r->cell;
-  w->out[(size_t)c * BATCH + (size_t)w->nout[c]++] = *r;
-  if (w->nout[c] == BATCH) {
-    queue_put(w->f, c, w->out + (size_t)c * BATCH, BATCH, w);
+  int c = r->cell, b = w->f->batch;
+  w->out[(size_t)c * b + (size_t)w->nout[c]++] = *r;
+  if (w->nout[c] == b) {
+    put(w, c, w->out + (size_t)c * b, b);
     w->nout[c] = 0;
   }
 }
@@ -195,7 +136,7 @@ void vr_flow_push(vr_flow_worker *w, const vr_ray *r0) {
     w->st.closest++;
   w->st.by_purpose[r0->purpose & 7]++;
   /* Copied once, straight to where it waits. */
-  vr_ray *r = f->image_space ? stack_slot(w) : &w->out[(size_t)c * BATCH + (size_t)w->nout[c]];
+  vr_ray *r = f->image_space ? stack_slot(w) : &w->out[(size_t)c * f->batch + (size_t)w->nout[c]];
   if (!r) {
     /* The stack cannot grow: the ray is lost, the run fails. */
     w->oom = true;
@@ -208,8 +149,8 @@ void vr_flow_push(vr_flow_worker *w, const vr_ray *r0) {
   r->crossings = 0;
   if (f->image_space) {
     w->top++;
-  } else if (++w->nout[c] == BATCH) {
-    queue_put(f, c, w->out + (size_t)c * BATCH, BATCH, w);
+  } else if (++w->nout[c] == f->batch) {
+    put(w, c, w->out + (size_t)c * f->batch, f->batch);
     w->nout[c] = 0;
   }
 }
@@ -271,32 +212,6 @@ static void trace(vr_flow_worker *w, vr_ray *r, bool walk) {
   }
 }
 
-/* The cell with the most pending rays, or -1. */
-static int busiest(flow *f) {
-  int best = -1;
-  long most = 0;
-  for (int c = 0; c < f->ncells; c++) {
-    long p = atomic_load_explicit(&f->q[c].pending, memory_order_relaxed);
-    if (p > most) {
-      most = p;
-      best = c;
-    }
-  }
-  return best;
-}
-
-static int take(flow *f, int c, vr_ray *batch) {
-  queue *q = &f->q[c];
-  pthread_mutex_lock(&q->lock);
-  int n = q->n < BATCH ? (int)q->n : BATCH;
-  q->n -= (size_t)n;
-  memcpy(batch, q->rays + q->n, (size_t)n * sizeof *batch);
-  atomic_fetch_sub(&q->pending, n);
-  atomic_fetch_sub(&f->queued, n);
-  pthread_mutex_unlock(&q->lock);
-  return n;
-}
-
 static void report_progress(flow *f) {
   if (!f->progress) return;
   if (pthread_mutex_trylock(&f->progress_lock) != 0) return;
@@ -307,9 +222,10 @@ static void report_progress(flow *f) {
 static void *queued_worker(vr_flow_worker *w) {
   flow *f = w->f;
   vr_ray batch[BATCH];
+  int idle = 0;
   for (;;) {
     if (atomic_load_explicit(&f->failed, memory_order_relaxed)) break;
-    bool low = atomic_load_explicit(&f->queued, memory_order_relaxed) < LOW_WATER;
+    bool low = atomic_load_explicit(&f->queued, memory_order_relaxed) < f->max_pending;
     long u = -1;
     if (low && atomic_load_explicit(&f->next_unit, memory_order_relaxed) < f->units) {
       u = atomic_fetch_add(&f->next_unit, 1);
@@ -322,11 +238,13 @@ static void *queued_worker(vr_flow_worker *w) {
       report_progress(f);
       continue;
     }
-    int c = busiest(f);
+    int c = vr_flow_sched_pick(f, w);
     if (c >= 0) {
-      int n = take(f, c, batch);
+      int n = vr_flow_queue_take(f, c, batch, w);
       for (int i = 0; i < n; i++) trace(w, &batch[i], false);
+      vr_flow_sched_release(f, c);
       flush(w);
+      idle = 0;
       continue;
     }
     /* Out of work, with every ray of ours flushed: give the credit back,
@@ -336,7 +254,12 @@ static void *queued_worker(vr_flow_worker *w) {
      * that will reach the queues. */
     give_back(w);
     if (atomic_load(&f->done_units) >= f->units && atomic_load(&f->in_flight) == 0) break;
-    sched_yield();
+    /* Others hold the work (or load a cell): yield, then nap, so that a
+     * long load does not cost a spinning core. */
+    if (++idle < 64)
+      sched_yield();
+    else
+      nanosleep(&(struct timespec){0, 200000}, NULL);
   }
   flush(w);
   give_back(w);
@@ -389,37 +312,67 @@ static void add_stats(vr_flow_stats *to, const vr_flow_stats *s) {
   to->closest += s->closest;
   to->shadow += s->shadow;
   to->traversals += s->traversals;
+  to->spilled += s->spilled;
   for (int i = 0; i < 8; i++) to->by_purpose[i] += s->by_purpose[i];
 }
 
-static vr_status run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
-                     int threads, bool image_space, void (*progress)(void *, long, long),
-                     void *pctx, vr_flow_stats *stats, vr_error *err) {
+void vr_flow_options_default(vr_flow_options *o) {
+  memset(o, 0, sizeof *o);
+  o->threads = 1;
+}
+
+static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
+                     const vr_flow_options *o, bool image_space, vr_flow_stats *stats,
+                     vr_error *err) {
+  int threads = o->threads;
   if (threads < 1 || threads > 1024)
     return vr_error_set(err, VR_E_ARG, "threads = %d, expected 1 to 1024", threads);
   flow f = {.d = d, .ops = ops, .ctx = ctx, .units = units, .image_space = image_space,
-            .progress = progress, .pctx = pctx};
+            .progress = o->progress, .pctx = o->pctx, .threads = threads, .batch = BATCH,
+            .budget = o->memory_budget, .spill_dir = o->spill_dir, .held = o->held,
+            .hctx = o->hctx};
   f.ncells = vr_domains_count(d);
+  f.max_pending = o->max_pending > 0 ? o->max_pending
+                  : f.budget         ? VR_FLOW_BUDGET_PENDING
+                                     : LOW_WATER;
+  pthread_mutex_init(&f.progress_lock, NULL);
+  pthread_mutex_init(&f.sched_lock, NULL);
   f.q = image_space ? NULL : alloc_lines((size_t)f.ncells, sizeof *f.q);
+  f.pins = calloc((size_t)f.ncells, sizeof *f.pins);
+  f.loading = calloc((size_t)f.ncells, sizeof *f.loading);
   vr_flow_worker *ws = alloc_lines((size_t)threads, sizeof *ws);
   pthread_t *tids = calloc((size_t)threads, sizeof *tids);
   vr_status st = VR_OK;
-  pthread_mutex_init(&f.progress_lock, NULL);
-  for (int c = 0; f.q && c < f.ncells; c++) pthread_mutex_init(&f.q[c].lock, NULL);
-  if ((!image_space && !f.q) || !ws || !tids) {
+  for (int c = 0; f.q && c < f.ncells; c++) vr_flow_queue_init(&f.q[c]);
+  if ((!image_space && !f.q) || !ws || !tids || !f.pins || !f.loading) {
     st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory");
     goto done;
   }
+  if (f.budget && image_space) {
+    st = vr_error_set(err, VR_E_ARG,
+                      "image space keeps the whole scene in every thread; it cannot run under a "
+                      "memory budget");
+    goto done;
+  }
+  if (f.budget) {
+    st = vr_flow_budget_plan(&f, err);
+  } else {
+    /* No budget: every cell loaded, all along. */
+    st = vr_domains_load_all(d, err);
+  }
+  if (st) goto done;
   for (int i = 0; i < threads; i++) {
     ws[i].f = &f;
     ws[i].index = i;
     if (image_space) continue;
-    ws[i].out = malloc((size_t)f.ncells * BATCH * sizeof(vr_ray));
+    ws[i].out = malloc((size_t)f.ncells * (size_t)f.batch * sizeof(vr_ray));
     ws[i].nout = calloc((size_t)f.ncells, sizeof(int));
     if (!ws[i].out || !ws[i].nout) {
       st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory");
       goto done;
     }
+    vr_flow_note_bytes(&f.queue_bytes, &f.peak_queue_bytes,
+                       (long long)((size_t)f.ncells * (size_t)f.batch * sizeof(vr_ray)));
   }
   int started = 0;
   for (int i = 1; i < threads; i++) {
@@ -428,13 +381,19 @@ static vr_status run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, lon
   }
   worker_main(&ws[0]);
   for (int i = 1; i <= started; i++) pthread_join(tids[i], NULL);
-  if (atomic_load(&f.failed))
-    st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory in a %s",
-                      image_space ? "worker's ray stack" : "queue");
-  if (progress) progress(pctx, atomic_load(&f.done_units), units);
+  if (atomic_load(&f.failed)) {
+    if (f.fail_err.status)
+      st = vr_error_set(err, f.fail_err.status, "%s", f.fail_err.message);
+    else
+      st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory in a %s",
+                        image_space ? "worker's ray stack" : "queue (and its spill file)");
+  }
+  if (f.progress) f.progress(f.pctx, atomic_load(&f.done_units), units);
   if (stats) {
     memset(stats, 0, sizeof *stats);
     for (int i = 0; i < threads; i++) add_stats(stats, &ws[i].st);
+    stats->peak_queue_bytes = (size_t)atomic_load(&f.peak_queue_bytes);
+    stats->peak_spill_bytes = (size_t)atomic_load(&f.peak_spill_bytes);
   }
 done:
   for (int i = 0; ws && i < threads; i++) {
@@ -442,26 +401,41 @@ done:
     free(ws[i].nout);
     free(ws[i].stack);
   }
-  for (int c = 0; f.q && c < f.ncells; c++) {
-    free(f.q[c].rays);
-    pthread_mutex_destroy(&f.q[c].lock);
-  }
+  for (int c = 0; f.q && c < f.ncells; c++) vr_flow_queue_free(&f.q[c]);
   free(f.q);
+  free(f.pins);
+  free(f.loading);
   pthread_mutex_destroy(&f.progress_lock);
+  pthread_mutex_destroy(&f.sched_lock);
   free(ws);
   free(tids);
   return st;
 }
 
-vr_status vr_flow_run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
-                      int threads, void (*progress)(void *, long, long), void *pctx,
-                      vr_flow_stats *stats, vr_error *err) {
-  return run(d, ops, ctx, units, threads, false, progress, pctx, stats, err);
+vr_status vr_flow_run_with(vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
+                           const vr_flow_options *o, vr_flow_stats *stats, vr_error *err) {
+  return run(d, ops, ctx, units, o, false, stats, err);
 }
 
-vr_status vr_flow_run_image_space(const vr_domains *d, const vr_flow_ops *ops, void *ctx,
+vr_status vr_flow_run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
+                      int threads, void (*progress)(void *, long, long), void *pctx,
+                      vr_flow_stats *stats, vr_error *err) {
+  vr_flow_options o;
+  vr_flow_options_default(&o);
+  o.threads = threads;
+  o.progress = progress;
+  o.pctx = pctx;
+  return run(d, ops, ctx, units, &o, false, stats, err);
+}
+
+vr_status vr_flow_run_image_space(vr_domains *d, const vr_flow_ops *ops, void *ctx,
                                   long units, int threads,
                                   void (*progress)(void *, long, long), void *pctx,
                                   vr_flow_stats *stats, vr_error *err) {
-  return run(d, ops, ctx, units, threads, true, progress, pctx, stats, err);
+  vr_flow_options o;
+  vr_flow_options_default(&o);
+  o.threads = threads;
+  o.progress = progress;
+  o.pctx = pctx;
+  return run(d, ops, ctx, units, &o, true, stats, err);
 }

@@ -45,11 +45,12 @@ static void spawn_origin(const double p[3], const double ng[3], const double dir
 
 double vr_hit_state(const rscene *rs, const vr_hit *hit) {
   const robject *o = &rs->obj[hit->object];
-  if (o->state) {
+  const double *map = o->nu ? vr_cell_state_map(rs, hit->cell, hit->object) : NULL;
+  if (map) {
     int i = (int)(hit->uv[0] * o->nu), j = (int)(hit->uv[1] * o->nv);
     i = i < 0 ? 0 : i >= o->nu ? o->nu - 1 : i;
     j = j < 0 ? 0 : j >= o->nv ? o->nv - 1 : j;
-    return o->state[j * o->nu + i];
+    return map[j * o->nu + i];
   }
   return rs->mat[o->material].state;
 }
@@ -174,14 +175,15 @@ static void sensor_f(const void *u, const double wi[3], double *fc) {
   for (int k = 0; k < VR_MAX_WL; k++) fc[k] = c > 0 ? c : 0.0;
 }
 
-static void photon_estimate(const pass_ctx *c, const vr_photon_map *m, const double x[3],
+static void photon_estimate(const pass_ctx *c, const vr_photon_set *ps, const double x[3],
                             const double n[3], int nwl, const double *wl, double *E) {
   for (int k = 0; k < nwl; k++) E[k] = 0;
-  if (!m || !vr_photon_map_count(m)) return;
+  if (!ps || !vr_photon_set_count(ps)) return;
+  const vr_photon_map *m = vr_photon_set_map(ps, 0); /* for its bins: all maps share them */
   int nb = vr_photon_map_nbins(m);
   double bins[512], r;
   if (nb > 512) return;
-  int got = vr_photon_map_irradiance(m, x, n, c->fixed_radius ? 0 : c->knn, c->radius, 1.1,
+  int got = vr_photon_set_irradiance(ps, x, n, c->fixed_radius ? 0 : c->knn, c->radius, 1.1,
                                      bins, &r);
   if (got <= 0) return;
   for (int k = 0; k < nwl; k++) {
@@ -284,7 +286,7 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
     if (dot3(n, wo) < 0)
       for (int a = 0; a < 3; a++) n[a] = -n[a];
     double E[VR_MAX_WL], Et[VR_MAX_WL] = {0}, fc[VR_MAX_WL];
-    const vr_photon_map *maps[3] = {c->direct, c->caustic, c->global};
+    const vr_photon_set *maps[3] = {c->direct, c->caustic, c->global};
     for (int i = 0; i < 3; i++) {
       photon_estimate(c, maps[i], hit->p, n, p.nwl, p.wl, E);
       for (int k = 0; k < p.nwl; k++) Et[k] += E[k];

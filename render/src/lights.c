@@ -107,7 +107,7 @@ bool vr_light_sample_emitter(const rscene *rs, const double x[3], int nwl, const
   if (!(p_pick > 0)) return false;
   uint32_t obj = rs->emitters[e];
   double y[3], ny[3];
-  vr_geometry_sample_object(rs->g, obj, vr_rng(key, VR_DIM_LIGHT_U), vr_rng(key, VR_DIM_LIGHT_V),
+  vr_scene_tables_sample_object(rs->t, obj, vr_rng(key, VR_DIM_LIGHT_U), vr_rng(key, VR_DIM_LIGHT_V),
                             vr_rng(key, VR_DIM_LIGHT_W), y, ny);
   double d[3], r2 = 0;
   for (int a = 0; a < 3; a++) {
@@ -119,7 +119,7 @@ bool vr_light_sample_emitter(const rscene *rs, const double x[3], int nwl, const
   for (int a = 0; a < 3; a++) out->dir[a] = d[a] / r;
   double cos_y = -(out->dir[0] * ny[0] + out->dir[1] * ny[1] + out->dir[2] * ny[2]);
   if (!(cos_y > 0)) return false; /* emitters emit from their front side */
-  double area = rs->g->object_area[obj];
+  double area = rs->t->object_area[obj];
   double g = cos_y * area / (r2 * p_pick);
   const robject *o = &rs->obj[obj];
   for (int k = 0; k < nwl; k++) out->L[k] = rspd_at(&o->emission, wl[k]) * g;
@@ -265,14 +265,14 @@ bool vr_light_emit_photon(const rscene *rs, size_t source, int nwl, const double
   if (source < rs->nemitters) {
     uint32_t obj = rs->emitters[source];
     double n[3];
-    vr_geometry_sample_object(rs->g, obj, u1, u2, vr_rng(key, VR_DIM_EMIT_Y), out->org, n);
+    vr_scene_tables_sample_object(rs->t, obj, u1, u2, vr_rng(key, VR_DIM_EMIT_Y), out->org, n);
     /* Cosine-weighted direction: L cos / (cos/pi) per unit area, times area. */
     double t[3], b[3];
     frame(n, t, b);
     double r = sqrt(u3), ph = 2 * M_PI * u4, z = sqrt(fmax(0, 1 - u3));
     for (int a = 0; a < 3; a++)
       out->dir[a] = z * n[a] + r * (cos(ph) * t[a] + sin(ph) * b[a]);
-    double f = M_PI * rs->g->object_area[obj];
+    double f = M_PI * rs->t->object_area[obj];
     double off = 1e-5 * (1 + fmax(fabs(out->org[0]), fmax(fabs(out->org[1]), fabs(out->org[2]))));
     for (int a = 0; a < 3; a++) out->org[a] += off * n[a];
     for (int k = 0; k < nwl; k++) out->power[k] = rspd_at(&rs->obj[obj].emission, wl[k]) * f;

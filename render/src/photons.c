@@ -11,7 +11,9 @@
  * A pane crossed straight does not make a caustic: its transmitted sunlight
  * is direct light, found by shadow rays through the pane.
  * Photon power is stored per spectral bin; the estimate divides by the bin
- * width, so the maps answer in W/(m² nm) at any wavelength. */
+ * width, so the maps answer in W/(m² nm) at any wavelength.  Each map is a
+ * vr_photon_set: a photon is stored in the map of the cell where it
+ * landed, and estimates gather across cells as one map would. */
 #include <math.h>
 #include <string.h>
 
@@ -60,9 +62,11 @@ static void photon_generate(void *ctx, vr_flow_worker *w, long unit) {
   }
 }
 
-static void store(pass_ctx *c, vr_photon_map *m, const payload *p, const vr_hit *hit,
+/* Into the map of the cell where the photon landed. */
+static void store(pass_ctx *c, vr_photon_set *ps, const payload *p, const vr_hit *hit,
                   const double dir[3]) {
-  if (!m) return;
+  if (!ps) return;
+  const vr_photon_map *m = vr_photon_set_map(ps, hit->cell);
   int nb = vr_photon_map_nbins(m);
   float power[512];
   if (nb > 512) return;
@@ -76,7 +80,7 @@ static void store(pass_ctx *c, vr_photon_map *m, const payload *p, const vr_hit 
   }
   if (!any) return;
   uint64_t key = p->stream * 64u + p->depth;
-  vr_photon_map_store(m, key, hit->p, dir, hit->ng, power, NULL);
+  vr_photon_set_store(ps, hit->cell, key, hit->p, dir, hit->ng, power, NULL);
   (void)c;
 }
 
@@ -93,7 +97,7 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
   const rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   unsigned lobes = vr_bsdf_lobes(m->bsdf);
   if (lobes & VR_LOBE_DIFFUSE) {
-    vr_photon_map *map = (p.flags & FLAG_HAS_DIFFUSE)    ? c->global
+    vr_photon_set *map = (p.flags & FLAG_HAS_DIFFUSE)    ? c->global
                          : (p.flags & FLAG_HAS_SPECULAR) ? c->caustic
                                                          : c->direct;
     store(c, map, &p, hit, r->dir);

@@ -50,9 +50,7 @@ static needs analyse(const rscene *rs) {
 }
 
 static vr_status uv_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
-  size_t nt = 0;
-  for (size_t i = 0; i < rs->s->nobjects; i++)
-    if (rs->obj[i].state) nt += (size_t)rs->obj[i].nu * (size_t)rs->obj[i].nv;
+  size_t nt = rs->ntexels;
   c->ntexels = nt;
   c->texel_object = calloc(nt + 1, sizeof *c->texel_object);
   c->texel_index = calloc(nt + 1, sizeof *c->texel_index);
@@ -65,7 +63,7 @@ static vr_status uv_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
   }
   size_t k = 0;
   for (size_t i = 0; i < rs->s->nobjects; i++)
-    for (int t = 0; rs->obj[i].state && t < rs->obj[i].nu * rs->obj[i].nv; t++) {
+    for (int t = 0; t < rs->obj[i].nu * rs->obj[i].nv; t++) {
       c->texel_object[k] = (uint32_t)i;
       c->texel_index[k++] = (uint32_t)t;
     }
@@ -84,13 +82,21 @@ static vr_status uv_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
     double E = vr_atomic_get(&acc.texel_uv[t]), s;
     st = vr_chromo_steady_state(m->db, E, m->temperature_K, &s, err);
     if (st) break;
-    o->state[c->texel_index[t]] = s;
     res->photochromic_state[t] = s;
     if (s < res->photochromic_state_min) res->photochromic_state_min = s;
     if (s > res->photochromic_state_max) res->photochromic_state_max = s;
   }
   vr_accum_destroy(&acc);
   c->acc = NULL;
+  /* Each cell's copy of each map it holds takes the states. */
+  for (int cell = 0; !st && cell < vr_domains_count(rs->d); cell++) {
+    const rcell *rc = &rs->cells[cell];
+    for (size_t k = 0; k < rc->nmaps; k++) {
+      const robject *o = &rs->obj[rc->map_object[k]];
+      memcpy(rc->map[k], res->photochromic_state + o->texel0,
+             (size_t)o->nu * (size_t)o->nv * sizeof *rc->map[k]);
+    }
+  }
   return st;
 }
 
@@ -106,7 +112,17 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   pass_ctx c = {0};
   accum acc = {0};
   double t0 = vr_run_now();
-  vr_status st = vr_rscene_create(s, db, S, &rs, err);
+  if (opt->memory_budget && opt->image_space) {
+    free(res);
+    return vr_error_set(err, VR_E_ARG,
+                        "image space keeps the whole scene in every thread; it cannot run under "
+                        "a memory budget");
+  }
+  res->subdomains = S;
+  res->memory_budget = opt->memory_budget;
+  vr_status st = vr_rscene_create(s, db, opt, S, &rs, err);
+  /* Without a budget every cell is loaded now, as the passes start. */
+  if (!st && !opt->memory_budget) st = vr_domains_load_all(rs->d, err);
   if (st) goto done;
   /* The film's bins, for the camera's spectral film and the sensors' spectra. */
   res->nbins = rs->nbins;
@@ -117,11 +133,13 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
     goto done;
   }
   for (size_t b = 0; b < rs->nbins; b++) res->bin_nm[b] = rs->film_lo + (b + 0.5) * rs->film_step;
-  res->degenerate_triangles = rs->g->degenerate_dropped;
-  if (rs->g->degenerate_dropped)
-    vr_run_say(&r, "warning: %zu degenerate triangles dropped from meshes", rs->g->degenerate_dropped);
-  vr_run_say(&r, "scene: %zu objects, %zu triangles, %zu spheres, %zu lights%s, %d sub-domain%s",
-      s->nobjects, rs->g->ntris, rs->g->nspheres, rs->nlights, rs->has_sky ? " + sky" : "", S,
+  res->degenerate_triangles = (size_t)rs->t->degenerate_dropped;
+  if (rs->t->degenerate_dropped)
+    vr_run_say(&r, "warning: %zu degenerate triangles dropped from meshes",
+               (size_t)rs->t->degenerate_dropped);
+  vr_run_say(&r, "scene: %zu objects, %llu triangles, %llu spheres, %zu lights%s, %d sub-domain%s",
+      s->nobjects, (unsigned long long)rs->t->ntris, (unsigned long long)rs->t->nspheres,
+      rs->nlights, rs->has_sky ? " + sky" : "", S,
       S == 1 ? "" : "s");
   vr_pass_record *prep = vr_run_record(&r, "prepare", true, "materials from the database, geometry, %d sub-domain%s",
                                 S, S == 1 ? "" : "s");
@@ -255,6 +273,21 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   for (size_t i = 0; i < px * rs->nbins; i++) res->spectral[i] = vr_atomic_get(&acc.bins[i]) / passes;
 
 done:
+  if (rs && rs->d) {
+    vr_domains_stats ds;
+    vr_domains_get_stats(rs->d, &ds);
+    res->cell_loads = ds.loads;
+    res->cell_unloads = ds.unloads;
+    res->cell_bytes_read = ds.bytes_read;
+    res->cell_load_seconds = ds.load_seconds;
+    res->peak_cells_bytes = ds.peak_cells;
+    res->peak_geometry_bytes = ds.peak_geometry;
+    res->peak_embree_bytes = ds.peak_embree;
+    res->cache_built = ds.cache_built;
+    snprintf(res->cache_reason, sizeof res->cache_reason, "%s", ds.cache_reason);
+    res->cache_seconds = ds.cache_seconds;
+    res->cache_bytes = ds.cache_bytes;
+  }
   vr_accum_destroy(&acc);
   vr_run_free_maps(&c);
   free(c.points);

@@ -17,6 +17,8 @@
 #include "vr/rng.h"
 #include "vr/scene.h"
 #include "vr/photon_map.h"
+#include "vr/photon_set.h"
+#include "vr/scene_tables.h"
 #include "vr/sky.h"
 
 #define VR_MAX_WL VR_SCENE_MAX_WAVELENGTHS /* wavelengths carried by one path */
@@ -45,11 +47,20 @@ typedef struct robject {
   int material;
   rspd emission;           /* radiance W/(m² sr nm), n = 0 if not emissive */
   double emitted_power;    /* W over the sampled range */
-  /* Photochromic state map (rect objects), or a single state. */
+  /* Photochromic glass (a rect): its state map of nu x nv texels, held by
+   * each cell the rect reaches (rcell); nu = 0: the material's own state. */
   int nu, nv;
-  double *state;           /* nu*nv, or NULL: the material's own state */
+  size_t texel0;           /* its first texel in the UV pass's numbering */
   double corner[3], eu[3], ev[3], normal[3]; /* rect: point = corner + u eu + v ev */
 } robject;
+
+/* What the renderer keeps per cell besides its geometry (which vr_domains
+ * loads and unloads): the state maps of the photochromic objects in it. */
+typedef struct rcell {
+  size_t nmaps;
+  uint32_t *map_object;    /* increasing */
+  double **map;            /* nu*nv states of that object */
+} rcell;
 
 typedef struct rmaterial {
   vr_bsdf *bsdf;
@@ -61,8 +72,10 @@ typedef struct rmaterial {
 
 typedef struct rscene {
   const vr_scene *s;
-  vr_geometry *g;
   vr_domains *d;
+  const vr_scene_tables *t; /* the replicated tables, owned by d */
+  rcell *cells;             /* one per sub-domain */
+  size_t ntexels;           /* photochromic texels of all objects */
   double lmin, lmax;       /* sampled range */
   int nwl;                 /* wavelengths per path */
   bool bins_mode;          /* fixed bins instead of hero sampling */
@@ -93,9 +106,12 @@ typedef struct rscene {
   uint64_t seed;
 } rscene;
 
-/* Resolution of the scene (resolve.c). */
-vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, int subdomains, rscene **out,
-                           vr_error *err);
+/* Resolution of the scene (resolve.c): materials, lights, the sky, and the
+ * sub-domains opened through the geometry cache (none loaded yet). */
+vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_options *opt,
+                           int subdomains, rscene **out, vr_error *err);
+/* Bytes of the photochromic state maps held by the cells. */
+size_t vr_rscene_map_bytes(const rscene *rs);
 void vr_rscene_destroy(rscene *rs);
 
 /* A relative spectrum by reference (db:NAME, a CIE name, bb:T; NULL: dflt)
@@ -206,8 +222,8 @@ typedef struct pass_ctx {
   /* Sensor points, flattened. */
   size_t npoints;
   double (*points)[6];         /* position, normal */
-  /* Photon maps (photon integrators). */
-  vr_photon_map *direct, *caustic, *global;
+  /* Photon maps (photon integrators): one per cell in each set. */
+  vr_photon_set *direct, *caustic, *global;
   long photons_per_unit, photon_units;
   double photon_scale;         /* 1 / total photons emitted */
   int knn;
@@ -229,7 +245,10 @@ extern const vr_flow_ops vr_sensor_ops;  /* sensor points */
 void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit);
 void vr_sensor_generate(void *ctx, vr_flow_worker *w, long unit);
 
-/* The chromogenic state at a hit (texel map or the material's). */
+/* The chromogenic state at a hit: the texel of the hit cell's own state
+ * map of the object, or the material's state. */
 double vr_hit_state(const rscene *rs, const vr_hit *hit);
+/* The state map of object o held by cell c, or NULL. */
+double *vr_cell_state_map(const rscene *rs, int c, uint32_t o);
 
 #endif

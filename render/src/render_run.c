@@ -43,6 +43,16 @@ static void progress_cb(void *u, long done, long total) {
   if (r->opt->progress) r->opt->progress(r->opt->user, r->pass, done, total);
 }
 
+/* What the render holds besides cells and queues: photon maps (growing
+ * while a photon pass fills them) and the state maps. */
+static size_t held(void *u) {
+  const pass_ctx *c = u;
+  size_t b = vr_rscene_map_bytes(c->rs);
+  b += vr_photon_set_bytes(c->direct) + vr_photon_set_bytes(c->caustic) +
+       vr_photon_set_bytes(c->global);
+  return b;
+}
+
 static void add_stats(vr_render_result *res, const vr_flow_stats *st) {
   res->rays_camera += st->by_purpose[PURPOSE_CAMERA] + st->by_purpose[PURPOSE_GATHER];
   res->rays_shadow += st->by_purpose[PURPOSE_SHADOW];
@@ -51,6 +61,9 @@ static void add_stats(vr_render_result *res, const vr_flow_stats *st) {
   res->crossings += st->crossings;
   res->rays_created += st->created;
   res->rays_finished += st->finished;
+  res->rays_spilled += st->spilled;
+  if (st->peak_queue_bytes > res->peak_queue_bytes) res->peak_queue_bytes = st->peak_queue_bytes;
+  if (st->peak_spill_bytes > res->peak_spill_bytes) res->peak_spill_bytes = st->peak_spill_bytes;
 }
 
 /* The camera pass's units are the image's tiles (vr_camera_generate reads
@@ -61,8 +74,25 @@ vr_status vr_run_flow(run *r, rscene *rs, const vr_flow_ops *ops, pass_ctx *c, l
                       const char *name, vr_error *err) {
   vr_flow_stats st = {0};
   r->pass = name;
-  vr_status s = (r->opt->image_space ? vr_flow_run_image_space : vr_flow_run)(
-      rs->d, ops, c, units, r->opt->threads, progress_cb, r, &st, err);
+  vr_status s;
+  size_t maps = held(c);
+  if (maps > r->res->peak_map_bytes) r->res->peak_map_bytes = maps;
+  if (r->opt->image_space) {
+    s = vr_flow_run_image_space(rs->d, ops, c, units, r->opt->threads, progress_cb, r, &st, err);
+  } else {
+    vr_flow_options o;
+    vr_flow_options_default(&o);
+    o.threads = r->opt->threads;
+    o.memory_budget = r->opt->memory_budget;
+    o.held = held;
+    o.hctx = c;
+    o.spill_dir = r->opt->cache_dir;
+    o.progress = progress_cb;
+    o.pctx = r;
+    s = vr_flow_run_with(rs->d, ops, c, units, &o, &st, err);
+  }
+  maps = held(c);
+  if (maps > r->res->peak_map_bytes) r->res->peak_map_bytes = maps;
   add_stats(r->res, &st);
   return s;
 }
@@ -73,36 +103,35 @@ vr_status vr_run_photon_pass(run *r, rscene *rs, pass_ctx *c, long photons, bool
                              bool global, bool direct, vr_error *err) {
   int nb = (int)ceil((rs->lmax - rs->lmin) / 10.0);
   if (nb < 1) nb = 1;
-  if (global) {
-    c->global = vr_photon_map_create_sparse(nb, rs->lmin, rs->lmax, rs->nwl, err);
-    if (!c->global) return err ? err->status : VR_E_NOMEM;
-  }
-  if (direct) {
-    c->direct = vr_photon_map_create_sparse(nb, rs->lmin, rs->lmax, rs->nwl, err);
-    if (!c->direct) return err ? err->status : VR_E_NOMEM;
-  }
-  if (caustic) {
-    c->caustic = vr_photon_map_create_sparse(nb, rs->lmin, rs->lmax, rs->nwl, err);
-    if (!c->caustic) return err ? err->status : VR_E_NOMEM;
+  /* One map per cell, positions about the scene's centre (vr/photon_set.h). */
+  int S = vr_domains_count(rs->d);
+  vr_photon_set **sets[3] = {&c->global, &c->direct, &c->caustic};
+  bool want[3] = {global, direct, caustic};
+  for (int i = 0; i < 3; i++) {
+    if (!want[i]) continue;
+    *sets[i] = vr_photon_set_create(S, nb, rs->lmin, rs->lmax, rs->nwl, rs->scene_centre, err);
+    if (!*sets[i]) return err ? err->status : VR_E_NOMEM;
   }
   c->photons_per_unit = 1024;
   long units = (photons + c->photons_per_unit - 1) / c->photons_per_unit;
   c->photon_scale = 1.0 / (double)(units * c->photons_per_unit);
   vr_status st = vr_run_flow(r, rs, &vr_photon_ops, c, units, "photons", err);
-  vr_photon_map *maps[3] = {c->global, c->direct, c->caustic};
+  /* Building needs the staged photons and the built ones at once. */
+  size_t staged = held(c);
+  if (staged > r->res->peak_map_bytes) r->res->peak_map_bytes = staged;
   for (int i = 0; !st && i < 3; i++)
-    if (maps[i]) st = vr_photon_map_build(maps[i], err);
+    if (*sets[i]) st = vr_photon_set_build(*sets[i], err);
   if (!st) {
-    r->res->photons_global += c->global ? vr_photon_map_count(c->global) : 0;
-    r->res->photons_direct += c->direct ? vr_photon_map_count(c->direct) : 0;
-    r->res->photons_caustic += c->caustic ? vr_photon_map_count(c->caustic) : 0;
+    r->res->photons_global += c->global ? vr_photon_set_count(c->global) : 0;
+    r->res->photons_direct += c->direct ? vr_photon_set_count(c->direct) : 0;
+    r->res->photons_caustic += c->caustic ? vr_photon_set_count(c->caustic) : 0;
   }
   return st;
 }
 
 void vr_run_free_maps(pass_ctx *c) {
-  vr_photon_map_destroy(c->global);
-  vr_photon_map_destroy(c->direct);
-  vr_photon_map_destroy(c->caustic);
+  vr_photon_set_destroy(c->global);
+  vr_photon_set_destroy(c->direct);
+  vr_photon_set_destroy(c->caustic);
   c->global = c->direct = c->caustic = NULL;
 }

@@ -120,14 +120,15 @@ static vr_status photon_sensors(run *r, rscene *rs, pass_ctx *c, long photons, d
   vr_render_result *res = r->res;
   vr_status st = vr_run_photon_pass(r, rs, c, photons, true, true, true, err);
   if (st) return st;
-  vr_photon_map *maps[3] = {c->direct, c->caustic, c->global};
-  int nb = vr_photon_map_nbins(c->global);
+  vr_photon_set *maps[3] = {c->direct, c->caustic, c->global};
+  const vr_photon_map *bins_of = vr_photon_set_map(c->global, 0); /* every map has these bins */
+  int nb = vr_photon_map_nbins(bins_of);
   double *bins = calloc((size_t)nb, sizeof *bins), *E = calloc((size_t)nb, sizeof *E);
   double *V = calloc((size_t)nb, sizeof *V), *lo = calloc((size_t)nb, sizeof *lo),
          *hi = calloc((size_t)nb, sizeof *hi);
   if (!bins || !E || !V || !lo || !hi) st = vr_error_set(err, VR_E_NOMEM, "out of memory");
   for (int b = 0; !st && b < nb; b++) {
-    vr_photon_map_bin_range(c->global, b, &lo[b], &hi[b]);
+    vr_photon_map_bin_range(bins_of, b, &lo[b], &hi[b]);
     V[b] = luminous_weight(lo[b], hi[b]);
   }
   for (size_t k = 0; !st && k < c->npoints; k++) {
@@ -135,8 +136,8 @@ static vr_status photon_sensors(run *r, rscene *rs, pass_ctx *c, long photons, d
     memset(E, 0, (size_t)nb * sizeof *E);
     double lx = 0, var = 0;
     for (int m = 0; m < 3; m++) {
-      if (!vr_photon_map_count(maps[m])) continue;
-      int got = vr_photon_map_irradiance(maps[m], x, n, fixed ? 0 : c->knn, radius, 0.0, bins, NULL);
+      if (!vr_photon_set_count(maps[m])) continue;
+      int got = vr_photon_set_irradiance(maps[m], x, n, fixed ? 0 : c->knn, radius, 0.0, bins, NULL);
       if (got <= 0) continue; /* no photon near, or all at x: nothing to add */
       double lm = 0;
       for (int b = 0; b < nb; b++) {
@@ -154,7 +155,7 @@ static vr_status photon_sensors(run *r, rscene *rs, pass_ctx *c, long photons, d
       double a = rs->film_lo + fb * rs->film_step, sum = 0;
       int cnt = 0;
       for (double nm = a + 0.5; nm < a + rs->film_step; nm += 1.0, cnt++) {
-        int b = vr_photon_map_bin(c->global, nm);
+        int b = vr_photon_map_bin(bins_of, nm);
         if (b >= 0) sum += E[b];
       }
       res->sensor_spectral[k * rs->nbins + fb] = cnt ? sum / cnt : 0.0;

@@ -267,7 +267,7 @@ static vr_status resolve_objects(rscene *rs, vr_matdb *db, vr_error *err) {
         st = vr_rscene_normalise(rs, &o->emission, so->emission, is_photometric(so->emission.unit),
                               &so->loc, "emission", err);
       if (st) return st;
-      double area = rs->g->object_area[i];
+      double area = rs->t->object_area[i];
       if (!(area > 0)) {
         /* A zero-area emitter emits nothing; it is not an error. */
         rspd_free(&o->emission);
@@ -285,29 +285,74 @@ static vr_status resolve_objects(rscene *rs, vr_matdb *db, vr_error *err) {
                            "the rectangle)");
       o->nu = so->texels[0] > 0 ? so->texels[0] : 16;
       o->nv = so->texels[1] > 0 ? so->texels[1] : 16;
-      o->state = calloc((size_t)o->nu * (size_t)o->nv, sizeof *o->state);
-      if (!o->state) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-      /* The rectangle's frame from its two triangles' corners. */
-      size_t t0 = rs->g->object_tri_begin[i];
-      const uint32_t *ix = rs->g->tris + 3 * t0;
-      const float *uv = rs->g->tri_uv + 6 * t0;
-      double P[3][3];
-      for (int k = 0; k < 3; k++)
-        for (int a = 0; a < 3; a++) P[k][a] = rs->g->verts[3 * (size_t)ix[k] + a];
-      /* Solve p = c + u eu + v ev from three corners with known (u, v). */
-      double du1 = uv[2] - uv[0], dv1 = uv[3] - uv[1], du2 = uv[4] - uv[0], dv2 = uv[5] - uv[1];
-      double det = du1 * dv2 - du2 * dv1;
-      for (int a = 0; a < 3; a++) {
-        double d1 = P[1][a] - P[0][a], d2 = P[2][a] - P[0][a];
-        o->eu[a] = (d1 * dv2 - d2 * dv1) / det;
-        o->ev[a] = (du1 * d2 - du2 * d1) / det;
-        o->corner[a] = P[0][a] - uv[0] * o->eu[a] - uv[1] * o->ev[a];
-      }
+      o->texel0 = rs->ntexels;
+      rs->ntexels += (size_t)o->nu * (size_t)o->nv;
+      /* The rectangle's frame, from the replicated tables. */
+      const double *f = rs->t->rect_frame[i];
+      memcpy(o->corner, f, sizeof o->corner);
+      memcpy(o->eu, f + 3, sizeof o->eu);
+      memcpy(o->ev, f + 6, sizeof o->ev);
       memcpy(o->normal, so->normal, sizeof o->normal);
     }
   }
   for (size_t e = 0; e < rs->nemitters; e++) rs->emitter_cdf[e] /= acc > 0 ? acc : 1;
   return VR_OK;
+}
+
+/* Each cell holds the state maps of the photochromic objects it has
+ * primitives of, starting at the material's own state. */
+static vr_status cell_maps(rscene *rs, vr_error *err) {
+  int S = vr_domains_count(rs->d);
+  rs->cells = calloc((size_t)S, sizeof *rs->cells);
+  if (!rs->cells) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (int c = 0; c < S; c++) {
+    size_t n;
+    const uint32_t *objs = vr_domains_cell_objects(rs->d, c, &n);
+    rcell *rc = &rs->cells[c];
+    for (size_t i = 0; i < n; i++) rc->nmaps += rs->obj[objs[i]].nu > 0;
+    if (!rc->nmaps) continue;
+    rc->map_object = calloc(rc->nmaps, sizeof *rc->map_object);
+    rc->map = calloc(rc->nmaps, sizeof *rc->map);
+    if (!rc->map_object || !rc->map) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++) {
+      const robject *o = &rs->obj[objs[i]];
+      if (!o->nu) continue;
+      size_t nt = (size_t)o->nu * (size_t)o->nv;
+      rc->map_object[k] = objs[i];
+      if (!(rc->map[k] = malloc(nt * sizeof **rc->map)))
+        return vr_error_set(err, VR_E_NOMEM, "out of memory");
+      for (size_t t = 0; t < nt; t++) rc->map[k][t] = rs->mat[o->material].state;
+      k++;
+    }
+  }
+  return VR_OK;
+}
+
+double *vr_cell_state_map(const rscene *rs, int c, uint32_t o) {
+  const rcell *rc = &rs->cells[c];
+  size_t lo = 0, hi = rc->nmaps;
+  while (lo < hi) {
+    size_t mid = lo + (hi - lo) / 2;
+    if (rc->map_object[mid] < o)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo < rc->nmaps && rc->map_object[lo] == o ? rc->map[lo] : NULL;
+}
+
+size_t vr_rscene_map_bytes(const rscene *rs) {
+  size_t b = 0;
+  for (int c = 0; rs->cells && c < vr_domains_count(rs->d); c++) {
+    const rcell *rc = &rs->cells[c];
+    b += rc->nmaps * (sizeof *rc->map_object + sizeof *rc->map);
+    for (size_t k = 0; k < rc->nmaps; k++) {
+      const robject *o = &rs->obj[rc->map_object[k]];
+      b += (size_t)o->nu * (size_t)o->nv * sizeof **rc->map;
+    }
+  }
+  return b;
 }
 
 static void camera_frame(rscene *rs) {
@@ -345,8 +390,8 @@ static vr_status resolve_sources(rscene *rs, vr_error *err) {
   return VR_OK;
 }
 
-vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, int subdomains, rscene **out,
-                           vr_error *err) {
+vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_options *opt,
+                           int subdomains, rscene **out, vr_error *err) {
   *out = NULL;
   rscene *rs = calloc(1, sizeof *rs);
   if (!rs) return vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -367,22 +412,30 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, int subdomains, rsce
     goto fail;
   }
   if (rs->nbins < 1) rs->nbins = 1;
-  st = vr_geometry_build(s, &rs->g, err);
+  vr_domains_options dopt;
+  vr_domains_options_default(&dopt);
+  dopt.subdomains = subdomains;
+  dopt.cache_dir = opt->cache_dir;
+  dopt.threads = opt->threads > 0 ? opt->threads : 1;
+  dopt.log = opt->log;
+  dopt.user = opt->user;
+  st = vr_domains_open(s, &dopt, &rs->d, err);
   if (st) goto fail;
+  rs->t = vr_domains_tables(rs->d);
   for (int a = 0; a < 3; a++) {
-    rs->scene_lo[a] = rs->g->bmin[a];
-    rs->scene_hi[a] = rs->g->bmax[a];
-    rs->scene_centre[a] = 0.5 * (rs->g->bmin[a] + rs->g->bmax[a]);
+    rs->scene_lo[a] = rs->t->bmin[a];
+    rs->scene_hi[a] = rs->t->bmax[a];
+    rs->scene_centre[a] = 0.5 * (rs->t->bmin[a] + rs->t->bmax[a]);
   }
   {
     double d2 = 0;
-    for (int a = 0; a < 3; a++) d2 += pow(rs->g->bmax[a] - rs->g->bmin[a], 2);
+    for (int a = 0; a < 3; a++) d2 += pow(rs->t->bmax[a] - rs->t->bmin[a], 2);
     rs->scene_radius = fmax(0.5 * sqrt(d2), 1e-3);
   }
-  st = vr_domains_build(rs->g, subdomains, &rs->d, err);
   if (!st) st = resolve_materials(rs, db, err);
   if (!st) st = resolve_lights(rs, db, err);
   if (!st) st = resolve_objects(rs, db, err);
+  if (!st) st = cell_maps(rs, err);
   if (!st) st = vr_light_sky_create(rs, db, err);
   if (!st) st = resolve_sources(rs, err);
   if (st) goto fail;
@@ -404,10 +457,13 @@ void vr_rscene_destroy(rscene *rs) {
     rspd_free(&rs->lights[i].spd);
     vr_ies_destroy(rs->lights[i].ies);
   }
-  for (size_t i = 0; rs->obj && i < rs->s->nobjects; i++) {
-    rspd_free(&rs->obj[i].emission);
-    free(rs->obj[i].state);
+  for (size_t i = 0; rs->obj && i < rs->s->nobjects; i++) rspd_free(&rs->obj[i].emission);
+  for (int c = 0; rs->cells && c < vr_domains_count(rs->d); c++) {
+    for (size_t k = 0; k < rs->cells[c].nmaps; k++) free(rs->cells[c].map[k]);
+    free(rs->cells[c].map);
+    free(rs->cells[c].map_object);
   }
+  free(rs->cells);
   vr_light_sky_destroy(rs);
   free(rs->mat);
   free(rs->lights);
@@ -416,6 +472,5 @@ void vr_rscene_destroy(rscene *rs) {
   free(rs->emitter_cdf);
   free(rs->source_cdf);
   vr_domains_destroy(rs->d);
-  vr_geometry_destroy(rs->g);
   free(rs);
 }

@@ -27,11 +27,14 @@
  * the cells itself, with no queue and no hand-over.  vr-render uses it with
  * one cell, i.e. every thread sees the whole scene.
  *
- * Extension points kept in the interface: a cell's queue and its scene are
- * reached only through the cell index, so loading cells on demand under a
- * memory budget, or sending a ray to the rank owning its cell, replaces
- * flow.c's queue push and the domains' scene lookup without touching the
- * integrators (docs/vr-render.md, "Adding a memory budget and MPI ranks"). */
+ * Under a memory budget (vr_flow_options.memory_budget, docs/ddm.md) the
+ * workers also decide which cells are loaded: a worker loads the cell with
+ * the most pending rays that fits, unloading cells no worker is tracing in
+ * and for which fewer rays wait; rays for a cell that is not loaded wait in
+ * its queue, and queues that outgrow their share of the budget spill to an
+ * unnamed file.  Without a budget every cell is loaded before the run and
+ * stays loaded.  The integrators see none of this: a cell is reached only
+ * through its index. */
 #ifndef VR_FLOW_H
 #define VR_FLOW_H
 
@@ -82,12 +85,39 @@ typedef struct vr_flow_stats {
   uint64_t closest, shadow;           /* rays created of each kind */
   uint64_t traversals;                /* cell intersection queries */
   uint64_t by_purpose[8];             /* rays created per purpose tag (0..7) */
+  uint64_t spilled;                   /* rays written to a queue's spill file */
+  size_t peak_queue_bytes;            /* rays held in memory by queues and push buffers */
+  size_t peak_spill_bytes;            /* rays waiting on disk */
 } vr_flow_stats;
 
-/* Runs units 0..units-1 through the cells of d on `threads` worker threads
- * (>= 1; the calling thread is one of them).  progress, if given, is called
- * from one thread at a time with the units done so far. */
-vr_status vr_flow_run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
+typedef struct vr_flow_options {
+  int threads;            /* worker threads, >= 1 (the calling thread is one) */
+  /* Bytes the run may hold in loaded cells (vr_domains_cell_bytes), ray
+   * queues and what `held` reports; 0: no budget, every cell loaded. */
+  size_t memory_budget;
+  /* Bytes held besides, which may grow during the run (photon maps being
+   * filled, state maps); NULL: none.  Called under the scheduler's lock. */
+  size_t (*held)(void *hctx);
+  void *hctx;
+  const char *spill_dir;  /* where queues spill (NULL: $TMPDIR, else /tmp) */
+  long max_pending;       /* rays waiting before no more units are generated (0: default) */
+  void (*progress)(void *pctx, long done, long units); /* from one thread at a time; may be NULL */
+  void *pctx;
+} vr_flow_options;
+
+void vr_flow_options_default(vr_flow_options *o);
+
+/* Runs units 0..units-1 through the cells of d.  Errors: VR_E_ARG for a
+ * bad option, or a budget too small for the largest cell (the message
+ * names the smallest cell that does not fit and the budget needed), also
+ * when what `held` reports grows past that point during the run;
+ * VR_E_NOMEM when a queue can neither grow nor spill; a cell that cannot
+ * be loaded fails the run with its loader's error. */
+vr_status vr_flow_run_with(vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
+                           const vr_flow_options *o, vr_flow_stats *stats, vr_error *err);
+
+/* The same without a budget, on `threads` worker threads. */
+vr_status vr_flow_run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
                       int threads, void (*progress)(void *pctx, long done, long units),
                       void *pctx, vr_flow_stats *stats, vr_error *err);
 
@@ -98,7 +128,7 @@ vr_status vr_flow_run(const vr_domains *d, const vr_flow_ops *ops, void *ctx, lo
  * callbacks, same arguments, same statistics (crossings count the cells
  * walked into).  Each worker's stack holds at most the rays of one unit
  * plus path depth times the rays a vertex spawns. */
-vr_status vr_flow_run_image_space(const vr_domains *d, const vr_flow_ops *ops, void *ctx,
+vr_status vr_flow_run_image_space(vr_domains *d, const vr_flow_ops *ops, void *ctx,
                                   long units, int threads,
                                   void (*progress)(void *pctx, long done, long units),
                                   void *pctx, vr_flow_stats *stats, vr_error *err);

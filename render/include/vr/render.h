@@ -35,6 +35,15 @@ typedef struct vr_render_options {
    * stack of its own: no queues, no hand-over (vr_flow_run_image_space).
    * Same image as the decomposed flow.  Default false. */
   bool image_space;
+  /* Folder of the geometry cache (docs/ddm.md); NULL: a private temporary
+   * one, removed when the render ends.  vr-render's default is the scene's
+   * name with .vrcache beside it. */
+  const char *cache_dir;
+  /* Bytes the render may hold in loaded sub-domains (their arrays and
+   * Embree's BVHs), ray queues, photon maps and photochromic state maps;
+   * sub-domains are loaded and unloaded as rays need them.  0: no budget,
+   * every sub-domain loaded from the start.  Not with image_space. */
+  size_t memory_budget;
   int spp;            /* > 0 overrides the scene's samples per pixel */
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
@@ -83,6 +92,21 @@ typedef struct vr_render_result {
   double *photochromic_state; /* per texel, in object order then v then u */
   double photochromic_state_min, photochromic_state_max;
   size_t degenerate_triangles;
+  /* Sub-domains and memory (docs/ddm.md). */
+  int subdomains;
+  size_t memory_budget;       /* 0: none */
+  uint64_t cell_loads, cell_unloads, cell_bytes_read;
+  double cell_load_seconds;
+  size_t peak_cells_bytes;    /* loaded sub-domains: arrays + Embree, the most at once */
+  size_t peak_geometry_bytes, peak_embree_bytes;
+  size_t peak_queue_bytes;    /* rays in memory */
+  size_t peak_map_bytes;      /* photon maps and photochromic state maps */
+  size_t peak_spill_bytes;    /* rays waiting on disk */
+  uint64_t rays_spilled;
+  bool cache_built;           /* the geometry cache was (re)built by this render */
+  char cache_reason[1024];    /* why, or "reused" */
+  double cache_seconds;       /* checking or building it */
+  uint64_t cache_bytes;       /* its cell files */
   double seconds_total;
 } vr_render_result;
 

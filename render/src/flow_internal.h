@@ -1,0 +1,107 @@
+/* What the three parts of the ray flow share (flow.c: workers, tracing,
+ * termination; flow_queue.c: per-cell queues that spill to disk;
+ * flow_sched.c: which cell a worker takes, and loading and unloading cells
+ * under a memory budget).  Private to render/. */
+#ifndef VR_FLOW_INTERNAL_H
+#define VR_FLOW_INTERNAL_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "vr/flow.h"
+
+/* Rays a worker gathers per cell before handing them to the cell's queue
+ * in one locked step (fewer under a tight budget: flow.batch). */
+#define VR_FLOW_BATCH 256
+/* Generate more work only while fewer rays than this wait in the queues:
+ * it bounds memory whatever the image size. */
+#define VR_FLOW_LOW_WATER 65536
+/* Under a memory budget, work is generated until this many rays wait
+ * (in memory or spilled): the more rays wait for a cell, the more each
+ * load of it serves. */
+#define VR_FLOW_BUDGET_PENDING (1L << 20)
+/* Rays of in-flight count a worker reserves at a time. */
+#define VR_FLOW_CREDIT 1024
+#define VR_FLOW_LINE 64
+
+typedef struct vr_flow_queue {
+  _Alignas(VR_FLOW_LINE) pthread_mutex_t lock; /* one cache line per queue: no false sharing */
+  vr_ray *rays;
+  size_t n, cap;
+  /* Rays spilled to an unnamed file, used as a stack of records. */
+  int spill_fd;
+  size_t spilled;
+  _Atomic long pending; /* n + spilled, readable without the lock to choose a cell */
+} vr_flow_queue;
+
+typedef struct vr_flow {
+  vr_domains *d;
+  const vr_flow_ops *ops;
+  void *ctx;
+  int ncells, threads, batch;
+  bool image_space;
+  vr_flow_queue *q;
+  long units, max_pending;
+  pthread_mutex_t progress_lock;
+  void (*progress)(void *, long, long);
+  void *pctx;
+  /* The memory budget (0: none, every cell loaded all along). */
+  size_t budget, cells_cap, queue_cap, largest;
+  size_t (*held)(void *);
+  void *hctx;
+  const char *spill_dir;
+  pthread_mutex_t sched_lock; /* residency decisions, pins and reserved */
+  int *pins;                  /* workers tracing in each cell */
+  bool *loading;
+  size_t reserved;            /* bytes of the loaded and loading cells */
+  _Atomic long long queue_bytes, peak_queue_bytes, spill_bytes, peak_spill_bytes;
+  /* The shared counters, each in its own cache line. */
+  _Alignas(VR_FLOW_LINE) _Atomic long next_unit;
+  _Alignas(VR_FLOW_LINE) _Atomic long done_units;
+  _Alignas(VR_FLOW_LINE) _Atomic long queued;
+  /* Rays in flight plus the workers' unused reservations: never below the
+   * true number of rays in flight (see reserve in flow.c). */
+  _Alignas(VR_FLOW_LINE) _Atomic long in_flight;
+  _Alignas(VR_FLOW_LINE) _Atomic int failed;
+  vr_error fail_err; /* the first failure's message (under sched_lock) */
+} vr_flow;
+
+struct vr_flow_worker {
+  _Alignas(VR_FLOW_LINE) vr_flow *f; /* workers sit in separate cache lines */
+  int index;
+  bool oom;
+  long credit;        /* reserved in f->in_flight and not yet used; >= 0 */
+  vr_flow_stats st;   /* this worker's share of the statistics */
+  /* Queued flow: f->batch rays per cell waiting to go to the cell's queue. */
+  vr_ray *out;
+  int *nout;
+  /* Image space: the private depth-first stack. */
+  vr_ray *stack;
+  size_t top, cap;
+};
+
+/* flow_queue.c */
+void vr_flow_queue_init(vr_flow_queue *q);
+void vr_flow_queue_free(vr_flow_queue *q);
+/* Adds n rays to cell c's queue, spilling to disk when the queues' memory
+ * would pass the budget's share; false (nothing added) when neither memory
+ * nor disk can take them. */
+bool vr_flow_queue_put(vr_flow *f, int c, const vr_ray *rays, int n, vr_flow_worker *w);
+/* Takes up to f->batch rays of cell c (from memory, else from its spill). */
+int vr_flow_queue_take(vr_flow *f, int c, vr_ray *batch, vr_flow_worker *w);
+void vr_flow_note_bytes(_Atomic long long *now, _Atomic long long *peak, long long delta);
+
+/* flow_sched.c */
+/* Checks that the budget can hold the largest cell next to the queues and
+ * what f->held reports, and splits it; the message names the smallest cell
+ * that does not fit. */
+vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err);
+/* A cell with pending rays for the worker to trace, loaded and pinned
+ * (loading and unloading cells as the budget requires), or -1. */
+int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w);
+void vr_flow_sched_release(vr_flow *f, int c);
+void vr_flow_fail(vr_flow *f, const vr_error *e);
+
+#endif
