@@ -1,5 +1,7 @@
 /* Command-line parsing shared by the tools: see vr/args.h. */
 #include "vr/args.h"
+
+#include <math.h>
 #include "vr/csv.h"
 #include "vr_version.h"
 
@@ -139,5 +141,42 @@ vr_status vr_args_double(const vr_args *a, const char *name, double fallback, do
   }
   if (vr_parse_double(v, out))
     return vr_error_set(err, VR_E_ARG, "option --%s: '%s' is not a finite number", name, v);
+  return VR_OK;
+}
+
+bool vr_parse_size(const char *text, size_t *out) {
+  if (!text || !*text) return false;
+  char *end;
+  double v = strtod(text, &end);
+  if (end == text || !isfinite(v) || !(v > 0)) return false;
+  double unit = 1;
+  switch (*end) {
+  case 'k': case 'K': unit = 1024.0, end++; break;
+  case 'm': case 'M': unit = 1024.0 * 1024, end++; break;
+  case 'g': case 'G': unit = 1024.0 * 1024 * 1024, end++; break;
+  case 't': case 'T': unit = 1024.0 * 1024 * 1024 * 1024, end++; break;
+  default: break;
+  }
+  if (unit > 1 && (*end == 'i' || *end == 'I')) end++;
+  if (*end == 'b' || *end == 'B') end++;
+  if (*end) return false;
+  double bytes = v * unit;
+  if (!(bytes >= 1) || bytes >= 9.2e18) return false;
+  *out = (size_t)bytes;
+  return true;
+}
+
+vr_status vr_args_size(const vr_args *a, const char *name, size_t fallback, size_t *out,
+                       vr_error *err) {
+  const char *v = vr_args_get(a, name);
+  if (!v) {
+    *out = fallback;
+    return VR_OK;
+  }
+  if (!vr_parse_size(v, out))
+    return vr_error_set(err, VR_E_ARG,
+                        "option --%s: '%s' is not a size (a positive number of bytes, or with K, "
+                        "M, G or T: 512M, 2G)",
+                        name, v);
   return VR_OK;
 }

@@ -405,7 +405,7 @@ static vr_status check_header(int fd, const char *path, uint32_t cell, const uin
   const char *why = check_magic(h, CELL_MAGIC);
   if (why) return vr_error_set(err, VR_E_PARSE, "%s: %s", path, why);
   cell_header(want, cell, key, meta, meta->payload_hash);
-  if (memcmp(h + 96, want + 96, 8)) {
+  if (memcmp(h, want, 104)) {
     uint64_t hh = vr_hash64_buffer(h, 96, 0);
     if (memcmp(&hh, h + 96, 8)) return vr_error_set(err, VR_E_PARSE, "%s: damaged header (checksum)", path);
     return vr_error_set(err, VR_E_PARSE, "%s: belongs to another scene or cut (key, cell or counts differ from the manifest)", path);

@@ -397,6 +397,28 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
 
   json_key(f, "  ", "degenerate_triangles");
   fprintf(f, "%zu,\n", r->degenerate_triangles);
+  /* Sub-domains, the geometry cache and what was held against the budget
+   * (docs/ddm.md). */
+  json_key(f, "  ", "subdomains");
+  fprintf(f,
+          "{\"count\": %d, \"loads\": %" PRIu64 ", \"unloads\": %" PRIu64
+          ", \"bytes_read\": %" PRIu64 ", \"load_seconds\": ",
+          r->subdomains, r->cell_loads, r->cell_unloads, r->cell_bytes_read);
+  vr_json_number(f, r->cell_load_seconds);
+  fprintf(f, ", \"rays_spilled\": %" PRIu64 "},\n", r->rays_spilled);
+  json_key(f, "  ", "cache");
+  fprintf(f, "{\"built\": %s, \"reason\": ", r->cache_built ? "true" : "false");
+  vr_json_string(f, r->cache_reason);
+  fputs(", \"seconds\": ", f);
+  vr_json_number(f, r->cache_seconds);
+  fprintf(f, ", \"bytes\": %" PRIu64 "},\n", r->cache_bytes);
+  json_key(f, "  ", "memory");
+  fprintf(f,
+          "{\"budget_bytes\": %zu, \"peak_cells_bytes\": %zu, \"peak_geometry_bytes\": %zu, "
+          "\"peak_embree_bytes\": %zu, \"peak_queue_bytes\": %zu, \"peak_map_bytes\": %zu, "
+          "\"peak_spill_bytes\": %zu},\n",
+          r->memory_budget, r->peak_cells_bytes, r->peak_geometry_bytes, r->peak_embree_bytes,
+          r->peak_queue_bytes, r->peak_map_bytes, r->peak_spill_bytes);
   json_key(f, "  ", "peak_rss_bytes");
   fprintf(f, "%lld,\n", vr_peak_rss_bytes());
   json_key(f, "  ", "seconds_total");

@@ -225,7 +225,8 @@ static void *queued_worker(vr_flow_worker *w) {
   int idle = 0;
   for (;;) {
     if (atomic_load_explicit(&f->failed, memory_order_relaxed)) break;
-    bool low = atomic_load_explicit(&f->queued, memory_order_relaxed) < f->max_pending;
+    bool low = atomic_load_explicit(&f->queued, memory_order_relaxed) < f->max_pending &&
+               (!f->budget || vr_flow_loaded_pending(f) < f->low_water);
     long u = -1;
     if (low && atomic_load_explicit(&f->next_unit, memory_order_relaxed) < f->units) {
       u = atomic_fetch_add(&f->next_unit, 1);
@@ -337,6 +338,7 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
                                      : LOW_WATER;
   pthread_mutex_init(&f.progress_lock, NULL);
   pthread_mutex_init(&f.sched_lock, NULL);
+  pthread_mutex_init(&f.pool_lock, NULL);
   f.q = image_space ? NULL : alloc_lines((size_t)f.ncells, sizeof *f.q);
   f.pins = calloc((size_t)f.ncells, sizeof *f.pins);
   f.loading = calloc((size_t)f.ncells, sizeof *f.loading);
@@ -361,6 +363,12 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
     st = vr_domains_load_all(d, err);
   }
   if (st) goto done;
+  f.block_bytes = sizeof(vr_flow_block) + (size_t)f.batch * sizeof(vr_ray);
+  if (f.budget) {
+    size_t buffers = (size_t)threads * (size_t)f.ncells * (size_t)f.batch * sizeof(vr_ray);
+    f.max_blocks = f.queue_cap > buffers ? (f.queue_cap - buffers) / f.block_bytes : 0;
+    if (f.max_blocks < 1) f.max_blocks = 1;
+  }
   for (int i = 0; i < threads; i++) {
     ws[i].f = &f;
     ws[i].index = i;
@@ -401,12 +409,14 @@ done:
     free(ws[i].nout);
     free(ws[i].stack);
   }
-  for (int c = 0; f.q && c < f.ncells; c++) vr_flow_queue_free(&f.q[c]);
+  for (int c = 0; f.q && c < f.ncells; c++) vr_flow_queue_free(&f, &f.q[c]);
+  vr_flow_pool_free(&f);
   free(f.q);
   free(f.pins);
   free(f.loading);
   pthread_mutex_destroy(&f.progress_lock);
   pthread_mutex_destroy(&f.sched_lock);
+  pthread_mutex_destroy(&f.pool_lock);
   free(ws);
   free(tids);
   return st;

@@ -19,17 +19,25 @@
  * it bounds memory whatever the image size. */
 #define VR_FLOW_LOW_WATER 65536
 /* Under a memory budget, work is generated until this many rays wait
- * (in memory or spilled): the more rays wait for a cell, the more each
- * load of it serves. */
+ * (in memory or spilled) when the loaded cells run dry: the more rays wait
+ * for a cell, the more each load of it serves. */
 #define VR_FLOW_BUDGET_PENDING (1L << 20)
 /* Rays of in-flight count a worker reserves at a time. */
 #define VR_FLOW_CREDIT 1024
 #define VR_FLOW_LINE 64
 
+/* Queues hold rays in blocks of f->batch rays from one pool shared by all
+ * cells, so memory freed by one cell's queue serves the next (no queue
+ * keeps a large array it no longer needs). */
+typedef struct vr_flow_block {
+  struct vr_flow_block *next;
+  int n;
+  _Alignas(8) vr_ray rays[]; /* f->batch */
+} vr_flow_block;
+
 typedef struct vr_flow_queue {
   _Alignas(VR_FLOW_LINE) pthread_mutex_t lock; /* one cache line per queue: no false sharing */
-  vr_ray *rays;
-  size_t n, cap;
+  vr_flow_block *top;   /* the newest block; a stack of blocks */
   /* Rays spilled to an unnamed file, used as a stack of records. */
   int spill_fd;
   size_t spilled;
@@ -43,7 +51,13 @@ typedef struct vr_flow {
   int ncells, threads, batch;
   bool image_space;
   vr_flow_queue *q;
+  /* The block pool: blocks made so far (never above max_blocks under a
+   * budget) and those free for reuse. */
+  pthread_mutex_t pool_lock;
+  vr_flow_block *free_blocks;
+  size_t nblocks, max_blocks, block_bytes;
   long units, max_pending;
+  long low_water;             /* budget: generate while loaded cells wait for fewer rays */
   pthread_mutex_t progress_lock;
   void (*progress)(void *, long, long);
   void *pctx;
@@ -84,7 +98,8 @@ struct vr_flow_worker {
 
 /* flow_queue.c */
 void vr_flow_queue_init(vr_flow_queue *q);
-void vr_flow_queue_free(vr_flow_queue *q);
+void vr_flow_queue_free(vr_flow *f, vr_flow_queue *q);
+void vr_flow_pool_free(vr_flow *f);
 /* Adds n rays to cell c's queue, spilling to disk when the queues' memory
  * would pass the budget's share; false (nothing added) when neither memory
  * nor disk can take them. */
@@ -102,6 +117,11 @@ vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err);
  * (loading and unloading cells as the budget requires), or -1. */
 int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w);
 void vr_flow_sched_release(vr_flow *f, int c);
+/* Rays waiting for loaded cells.  Under a budget, new work is generated
+ * only while these run low (and all waiting rays stay under max_pending):
+ * rays the loaded cells can take are traced before more are made, so rays
+ * pile up (and spill) only for cells that are not loaded. */
+long vr_flow_loaded_pending(vr_flow *f);
 void vr_flow_fail(vr_flow *f, const vr_error *e);
 
 #endif

@@ -1,12 +1,14 @@
 /* The per-cell ray queues of the flow (flow_internal.h).
  *
- * A queue holds rays in memory, and under a memory budget spills what the
- * budget's share for queues cannot hold to an unnamed file (created in
- * the spill folder and unlinked at once, so nothing is left behind even
- * if the process is killed).  The file is a stack of vr_ray records:
- * spilling appends at the end, taking reads back from the end.  Rays of
- * loaded cells are kept in memory while there is room; rays of cells that
- * are not loaded are the first to go to disk, since they will wait anyway. */
+ * A queue is a stack of blocks of f->batch rays taken from a pool that all
+ * queues share.  Under a memory budget the pool stops growing at the
+ * queues' share of the budget, and what no block can take is spilled to an
+ * unnamed file (created in the spill folder and unlinked at once, so
+ * nothing is left behind even if the process is killed).  The file is a
+ * stack of vr_ray records: spilling appends at the end, taking reads back
+ * from the end.  Rays of cells that are not loaded are the first to go to
+ * disk, since they will wait anyway; rays of loaded cells keep the blocks
+ * while there are any. */
 #define _GNU_SOURCE /* O_TMPFILE */
 #include "flow_internal.h"
 
@@ -26,18 +28,61 @@ void vr_flow_note_bytes(_Atomic long long *now, _Atomic long long *peak, long lo
 
 void vr_flow_queue_init(vr_flow_queue *q) {
   pthread_mutex_init(&q->lock, NULL);
-  q->rays = NULL;
-  q->n = q->cap = 0;
+  q->top = NULL;
   q->spill_fd = -1;
   q->spilled = 0;
   atomic_store(&q->pending, 0);
 }
 
-void vr_flow_queue_free(vr_flow_queue *q) {
-  free(q->rays);
+/* ---- the block pool ---- */
+
+static vr_flow_block *block_get(vr_flow *f) {
+  pthread_mutex_lock(&f->pool_lock);
+  vr_flow_block *b = f->free_blocks;
+  if (b) {
+    f->free_blocks = b->next;
+  } else if (!f->max_blocks || f->nblocks < f->max_blocks) {
+    b = malloc(f->block_bytes);
+    if (b) {
+      f->nblocks++;
+      vr_flow_note_bytes(&f->queue_bytes, &f->peak_queue_bytes, (long long)f->block_bytes);
+    }
+  }
+  pthread_mutex_unlock(&f->pool_lock);
+  if (b) {
+    b->next = NULL;
+    b->n = 0;
+  }
+  return b;
+}
+
+static void block_put(vr_flow *f, vr_flow_block *b) {
+  pthread_mutex_lock(&f->pool_lock);
+  b->next = f->free_blocks;
+  f->free_blocks = b;
+  pthread_mutex_unlock(&f->pool_lock);
+}
+
+void vr_flow_queue_free(vr_flow *f, vr_flow_queue *q) {
+  while (q->top) {
+    vr_flow_block *b = q->top;
+    q->top = b->next;
+    free(b);
+    f->nblocks--;
+  }
   if (q->spill_fd >= 0) close(q->spill_fd);
   pthread_mutex_destroy(&q->lock);
 }
+
+void vr_flow_pool_free(vr_flow *f) {
+  while (f->free_blocks) {
+    vr_flow_block *b = f->free_blocks;
+    f->free_blocks = b->next;
+    free(b);
+  }
+}
+
+/* ---- spilling ---- */
 
 static int open_spill(const vr_flow *f) {
   const char *dir = f->spill_dir;
@@ -90,41 +135,37 @@ static bool spill(vr_flow *f, vr_flow_queue *q, const vr_ray *rays, int n, vr_fl
   return true;
 }
 
+/* ---- put and take ---- */
+
 bool vr_flow_queue_put(vr_flow *f, int c, const vr_ray *rays, int n, vr_flow_worker *w) {
   vr_flow_queue *q = &f->q[c];
+  int b = f->batch;
   pthread_mutex_lock(&q->lock);
   bool ok = true;
-  if (q->n + (size_t)n > q->cap) {
-    size_t cap = q->cap ? q->cap : 1024;
-    while (cap < q->n + (size_t)n) cap *= 2;
-    long long more = (long long)((cap - q->cap) * sizeof *q->rays);
-    /* Under a budget, memory for queues is capped: past the cap the rays
-     * go to disk (the cell's own queue keeps what it already holds). */
-    bool room = !f->budget || atomic_load(&f->queue_bytes) + more <= (long long)f->queue_cap;
-    vr_ray *r = room ? realloc(q->rays, cap * sizeof *r) : NULL;
-    if (r) {
-      q->rays = r;
-      q->cap = cap;
-      vr_flow_note_bytes(&f->queue_bytes, &f->peak_queue_bytes, more);
-    } else {
-      ok = f->budget && spill(f, q, rays, n, w);
-      goto counted;
+  /* Under a budget, rays of a cell that is not loaded go to disk once the
+   * pool is half used: the blocks are kept for the cells being traced. */
+  bool to_disk = f->budget && !vr_domains_loaded(f->d, c) &&
+                 atomic_load(&f->queue_bytes) > (long long)(f->queue_cap / 2) &&
+                 (!q->top || q->top->n == b);
+  int done = 0;
+  while (!to_disk && done < n) {
+    if (!q->top || q->top->n == b) {
+      vr_flow_block *nb = block_get(f);
+      if (!nb) break;
+      nb->next = q->top;
+      q->top = nb;
     }
+    int take = b - q->top->n < n - done ? b - q->top->n : n - done;
+    memcpy(q->top->rays + q->top->n, rays + done, (size_t)take * sizeof *rays);
+    q->top->n += take;
+    done += take;
   }
-  if (f->budget && q->n && !vr_domains_loaded(f->d, c) &&
-      atomic_load(&f->queue_bytes) > (long long)(f->queue_cap / 2)) {
-    /* Over half the share: rays of a cell that is not loaded wait on disk. */
-    ok = spill(f, q, rays, n, w);
-    goto counted;
-  }
-  memcpy(q->rays + q->n, rays, (size_t)n * sizeof *rays);
-  q->n += (size_t)n;
-counted:
-  if (ok) {
-    atomic_fetch_add(&q->pending, n);
-    atomic_fetch_add(&f->queued, n);
-  }
+  if (done < n) ok = f->budget && spill(f, q, rays + done, n - done, w);
+  int added = ok ? n : done;
+  atomic_fetch_add(&q->pending, added);
+  atomic_fetch_add(&f->queued, added);
   pthread_mutex_unlock(&q->lock);
+  /* On failure the caller fails the run: rays are lost. */
   return ok;
 }
 
@@ -133,11 +174,18 @@ int vr_flow_queue_take(vr_flow *f, int c, vr_ray *batch, vr_flow_worker *w) {
   vr_flow_queue *q = &f->q[c];
   pthread_mutex_lock(&q->lock);
   int n = 0;
-  if (q->n) {
-    n = q->n < (size_t)f->batch ? (int)q->n : f->batch;
-    q->n -= (size_t)n;
-    memcpy(batch, q->rays + q->n, (size_t)n * sizeof *batch);
-  } else if (q->spilled) {
+  while (n < f->batch && q->top) {
+    vr_flow_block *t = q->top;
+    int k = t->n < f->batch - n ? t->n : f->batch - n;
+    t->n -= k;
+    memcpy(batch + n, t->rays + t->n, (size_t)k * sizeof *batch);
+    n += k;
+    if (!t->n) {
+      q->top = t->next;
+      block_put(f, t);
+    }
+  }
+  if (!n && q->spilled) {
     n = q->spilled < (size_t)f->batch ? (int)q->spilled : f->batch;
     off_t at = (off_t)((q->spilled - (size_t)n) * sizeof *batch);
     if (read_at(q->spill_fd, batch, (size_t)n * sizeof *batch, at)) {

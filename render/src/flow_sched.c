@@ -52,9 +52,13 @@ vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err) {
   f->batch = per >= VR_FLOW_BATCH ? VR_FLOW_BATCH : per < 8 ? 8 : (int)per;
   size_t buffers = (size_t)f->threads * (size_t)f->ncells * (size_t)f->batch * sizeof(vr_ray);
   /* Queues: an eighth of the budget, and at least the push buffers plus
-   * one queue block per cell (1024 rays). */
-  size_t qmin = buffers + (size_t)f->ncells * 1024 * sizeof(vr_ray);
+   * one batch per cell (what overflows goes to disk). */
+  size_t qmin = buffers + (size_t)f->ncells * (size_t)f->batch * sizeof(vr_ray);
   f->queue_cap = f->budget / 8 > qmin ? f->budget / 8 : qmin;
+  /* New work while the loaded cells' rays would fill at most half the
+   * queues' memory. */
+  long lw = (long)((f->queue_cap - buffers) / sizeof(vr_ray) / 2);
+  f->low_water = lw > VR_FLOW_LOW_WATER ? VR_FLOW_LOW_WATER : lw < f->batch ? f->batch : lw;
   size_t largest = 0;
   int big = 0;
   for (int c = 0; c < f->ncells; c++) {
@@ -210,4 +214,11 @@ void vr_flow_sched_release(vr_flow *f, int c) {
   pthread_mutex_lock(&f->sched_lock);
   f->pins[c]--;
   pthread_mutex_unlock(&f->sched_lock);
+}
+
+long vr_flow_loaded_pending(vr_flow *f) {
+  long n = 0;
+  for (int c = 0; c < f->ncells; c++)
+    if (vr_domains_loaded(f->d, c)) n += atomic_load_explicit(&f->q[c].pending, memory_order_relaxed);
+  return n;
 }

@@ -265,7 +265,7 @@ long vr_photon_map_gather(const vr_photon_map *m, uint32_t label, const double x
   q.k = k;
   q.heap = k <= STACK_HEAP ? stack_heap : malloc((size_t)k * sizeof(cand));
   if (!q.heap) return -1;
-  knn(&q, false);
+  knn(&q, false); /* heap order: the farthest first when k were found */
   for (int j = 0; j < q.found; j++) {
     const cand *c = &q.heap[j];
     out->c[out->n++] = (vr_photon_cand){c->g2, c->d2, m->keys[c->idx], c->idx, label};

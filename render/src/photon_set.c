@@ -82,19 +82,66 @@ size_t vr_photon_set_bytes(const vr_photon_set *s) {
 
 /* The order in which the k nearest are chosen: (g2, key), then the map for
  * equal keys, which only a caller storing one key twice can make. */
-static int by_distance(const void *a, const void *b) {
-  const vr_photon_cand *x = a, *y = b;
-  if (x->g2 != y->g2) return x->g2 < y->g2 ? -1 : 1;
-  if (x->key != y->key) return x->key < y->key ? -1 : 1;
-  return (x->map > y->map) - (x->map < y->map);
+static inline bool before(const vr_photon_cand *x, const vr_photon_cand *y) {
+  if (x->g2 != y->g2) return x->g2 < y->g2;
+  if (x->key != y->key) return x->key < y->key;
+  return x->map < y->map;
 }
 
-/* The order of the sum: by key, whatever map a photon came from. */
-static int by_key(const void *a, const void *b) {
-  const vr_photon_cand *x = a, *y = b;
-  if (x->key != y->key) return x->key < y->key ? -1 : 1;
-  if (x->map != y->map) return x->map < y->map ? -1 : 1;
-  return (x->index > y->index) - (x->index < y->index);
+static inline void swap(vr_photon_cand *a, vr_photon_cand *b) {
+  vr_photon_cand t = *a;
+  *a = *b;
+  *b = t;
+}
+
+/* Puts the k first of v[0..n) in `before` order into v[0..k), the k-th at
+ * v[k-1] (quickselect, median-of-three pivots; no two candidates compare
+ * equal). */
+static void select_k(vr_photon_cand *v, size_t n, size_t k) {
+  size_t lo = 0, hi = n, want = k - 1;
+  while (hi - lo > 8) {
+    size_t a = lo, b = lo + (hi - lo) / 2, c = hi - 1, m;
+    if (before(&v[a], &v[b]))
+      m = before(&v[b], &v[c]) ? b : (before(&v[a], &v[c]) ? c : a);
+    else
+      m = before(&v[a], &v[c]) ? a : (before(&v[b], &v[c]) ? c : b);
+    swap(&v[m], &v[hi - 1]);
+    size_t store = lo;
+    for (size_t i = lo; i + 1 < hi; i++)
+      if (before(&v[i], &v[hi - 1])) swap(&v[i], &v[store++]);
+    swap(&v[store], &v[hi - 1]);
+    if (store == want) return;
+    if (want < store)
+      hi = store;
+    else
+      lo = store + 1;
+  }
+  for (size_t i = lo + 1; i < hi; i++)
+    for (size_t j = i; j > lo && before(&v[j], &v[j - 1]); j--) swap(&v[j], &v[j - 1]);
+}
+
+/* Sorts v[0..n) by key (stable), by bytes from the lowest, skipping the
+ * bytes all keys share (photon keys differ in a few low bytes only).  tmp
+ * has room for n. */
+static void sort_by_key(vr_photon_cand *v, size_t n, vr_photon_cand *tmp) {
+  uint64_t all_or = 0, all_and = ~(uint64_t)0;
+  for (size_t i = 0; i < n; i++) {
+    all_or |= v[i].key;
+    all_and &= v[i].key;
+  }
+  uint64_t differ = all_or ^ all_and;
+  vr_photon_cand *src = v, *dst = tmp;
+  for (int shift = 0; shift < 64; shift += 8) {
+    if (!((differ >> shift) & 0xff)) continue;
+    size_t count[257] = {0};
+    for (size_t i = 0; i < n; i++) count[((src[i].key >> shift) & 0xff) + 1]++;
+    for (int d = 0; d < 256; d++) count[d + 1] += count[d];
+    for (size_t i = 0; i < n; i++) dst[count[(src[i].key >> shift) & 0xff]++] = src[i];
+    vr_photon_cand *t = src;
+    src = dst;
+    dst = t;
+  }
+  if (src != v) memcpy(v, src, n * sizeof *v);
 }
 
 typedef struct near_map {
@@ -133,24 +180,36 @@ int vr_photon_set_irradiance(const vr_photon_set *s, const double x[3], const do
   }
   qsort(order, (size_t)nm, sizeof *order, by_box);
 
+  /* L gathers each map's candidates; with k > 0 it is cut back to the k
+   * best of the union whenever it holds more, and the bound follows. */
   vr_photon_cand stack_cands[STACK_CANDS];
   vr_photon_list L = {stack_cands, 0, STACK_CANDS, true};
+  vr_photon_cand *tmp = NULL;
   int rc = -1;
   for (int j = 0; j < nm; j++) {
     if (order[j].d2 > bound2) break; /* sorted: the rest are farther still */
     long got = vr_photon_map_gather(s->maps[order[j].map], (uint32_t)order[j].map, x, n, k,
                                     bound2, &L);
     if (got < 0) goto done;
-    if (k > 0 && got > 0) {
-      qsort(L.c, L.n, sizeof *L.c, by_distance);
-      if (L.n > (size_t)k) L.n = (size_t)k;
-      if (L.n == (size_t)k) bound2 = L.c[k - 1].g2;
+    if (k > 0 && got > 0 && L.n >= (size_t)k) {
+      if (L.n > (size_t)k) {
+        select_k(L.c, L.n, (size_t)k);
+        L.n = (size_t)k;
+      }
+      double far = L.c[0].g2;
+      for (size_t i = 1; i < L.n; i++)
+        if (L.c[i].g2 > far) far = L.c[i].g2;
+      bound2 = far;
     }
   }
   double r = radius_max;
-  if (k > 0 && L.n == (size_t)k) r = sqrt(L.c[k - 1].g2);
+  if (k > 0 && L.n == (size_t)k) r = sqrt(bound2);
   if (!(r > 0.0)) goto done; /* the k nearest all at x: no density */
-  qsort(L.c, L.n, sizeof *L.c, by_key);
+  /* The sum runs in key order, which depends on the photons alone. */
+  if (L.n > 1) {
+    if (!(tmp = malloc(L.n * sizeof *tmp))) goto done;
+    sort_by_key(L.c, L.n, tmp);
+  }
   double norm = kc > 0.0 ? 1.0 - 2.0 / (3.0 * kc) : 1.0;
   for (size_t i = 0; i < L.n; i++) {
     double w = kc > 0.0 ? 1.0 - sqrt(L.c[i].d2) / (kc * r) : 1.0;
@@ -162,6 +221,7 @@ int vr_photon_set_irradiance(const vr_photon_set *s, const double x[3], const do
   rc = (int)L.n;
 done:
   if (rc < 0) memset(out, 0, sizeof *out * (size_t)nbins);
+  free(tmp);
   vr_photon_list_free(&L);
   if (order != stack_maps) free(order);
   return rc;

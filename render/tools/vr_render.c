@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <errno.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "vr/args.h"
@@ -23,6 +25,8 @@ static const vr_option OPTIONS[] = {
     {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv (default: the scene's name without .scn, here)"},
     {"db", 'd', "FILE", "material database, read-only (default: $VR_MATDB, else ./materials.db; made if missing and needed)"},
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
+    {"memory-budget", 0, "SIZE", "hold at most SIZE (e.g. 512M, 2G) of sub-domains, ray queues and maps: sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
+    {"cache", 0, "DIR", "geometry cache folder (default: SCENE.vrcache beside the scene; a temporary one if that folder cannot be written)"},
     {"threads", 0, "P", "worker threads (default: the number of online CPUs)"},
     {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
@@ -35,7 +39,8 @@ static const vr_option OPTIONS[] = {
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
 
 static const char USAGE[] =
-    "SCENE.scn [-o PREFIX] [--db FILE] [--subdomains S] [--threads P] [--image-space]\n"
+    "SCENE.scn [-o PREFIX] [--db FILE] [--subdomains S] [--memory-budget SIZE] [--cache DIR]\n"
+    "                 [--threads P] [--image-space]\n"
     "                 [--spp N] [--photons N] [--stats FILE.json] [--tonemap clip|reinhard]\n"
     "                 [--sensors-only] [--quiet]";
 static const char ABOUT[] =
@@ -137,6 +142,25 @@ static char *default_prefix(const char *scene) {
   return s;
 }
 
+/* The default cache folder: the scene's path with .vrcache for .scn
+ * ("rooms/office.scn" -> "rooms/office.vrcache"), if it can be made and
+ * written; else NULL (a temporary cache), with the reason in why. */
+static char *default_cache(const char *scene, char *why, size_t nwhy) {
+  size_t n = strlen(scene);
+  if (n > 4 && !strcmp(scene + n - 4, ".scn")) n -= 4;
+  char *dir = malloc(n + 9);
+  if (!dir) return NULL;
+  memcpy(dir, scene, n);
+  memcpy(dir + n, ".vrcache", 9);
+  if ((mkdir(dir, 0755) != 0 && errno != EEXIST) || access(dir, W_OK | X_OK) != 0) {
+    snprintf(why, nwhy, "cannot write the geometry cache %s (%s): using a temporary one for "
+             "this run (give one with --cache)", dir, strerror(errno));
+    free(dir);
+    return NULL;
+  }
+  return dir;
+}
+
 /* ---- the material database ---- */
 
 static bool from_db(const char *ref) { return ref && !strncmp(ref, "db:", 3); }
@@ -210,6 +234,18 @@ static void summary(const vr_render_result *r, const char *prefix, const char *s
   if (r->nreadings) printf(" %s.sensors.csv", prefix);
   if (stats) printf(" %s", stats);
   printf("  (%.3f s)\n", film_seconds);
+  printf("cache    %s%s (%.2f s, %.1f MiB)\n", r->cache_built ? "built: " : "",
+         r->cache_reason, r->cache_seconds, (double)r->cache_bytes / 1048576.0);
+  if (r->memory_budget)
+    printf("memory   budget %.1f MiB: peak %.1f MiB sub-domains (%.1f arrays, %.1f Embree), "
+           "%.1f MiB queues, %.1f MiB maps; %llu loads, %llu unloads, %.1f MiB read in %.2f s, "
+           "%llu rays spilled (peak %.1f MiB on disk)\n",
+           (double)r->memory_budget / 1048576.0, (double)r->peak_cells_bytes / 1048576.0,
+           (double)r->peak_geometry_bytes / 1048576.0, (double)r->peak_embree_bytes / 1048576.0,
+           (double)r->peak_queue_bytes / 1048576.0, (double)r->peak_map_bytes / 1048576.0,
+           (unsigned long long)r->cell_loads, (unsigned long long)r->cell_unloads,
+           (double)r->cell_bytes_read / 1048576.0, r->cell_load_seconds,
+           (unsigned long long)r->rays_spilled, (double)r->peak_spill_bytes / 1048576.0);
   printf("time     %.3f s, peak memory %.1f MiB\n", r->seconds_total,
          (double)vr_peak_rss_bytes() / (1024.0 * 1024.0));
 }
@@ -232,6 +268,12 @@ static int run(const vr_args *a) {
       !int_option(a, "threads", 1, 4096, &threads) || !int_option(a, "spp", 1, 1L << 20, &spp) ||
       !int_option(a, "photons", 1, 1000000000000L, &photons))
     return 2;
+  size_t budget = 0;
+  vr_error aerr = {0};
+  if (vr_args_size(a, "memory-budget", 0, &budget, &aerr)) return usage_error("%s", aerr.message);
+  if (budget && vr_args_flag(a, "image-space"))
+    return usage_error("--image-space keeps the whole scene in every thread: it cannot run under "
+                       "--memory-budget");
   const char *tonemap = vr_args_get(a, "tonemap");
   vr_tonemap tm = VR_TONEMAP_CLIP;
   if (vr_tonemap_parse(tonemap, &tm, NULL))
@@ -241,6 +283,7 @@ static int run(const vr_args *a) {
   opt.subdomains = (int)subdomains;
   opt.threads = (int)threads;
   opt.image_space = vr_args_flag(a, "image-space");
+  opt.memory_budget = budget;
   opt.spp = (int)spp;
   opt.photons = photons;
   opt.log = ui_log;
@@ -252,7 +295,7 @@ static int run(const vr_args *a) {
   vr_scene *scene = NULL;
   vr_matdb *db = NULL;
   vr_render_result *r = NULL;
-  char *prefix = NULL;
+  char *prefix = NULL, *cache_dir = NULL;
   int rc = 1;
   const char *given = vr_args_get(a, "output");
   if (!(prefix = given ? strdup(given) : default_prefix(path))) {
@@ -260,6 +303,17 @@ static int run(const vr_args *a) {
     goto out;
   }
   if (vr_scene_read(path, &scene, &err)) goto out;
+  const char *cache = vr_args_get(a, "cache");
+  if (cache && !*cache) {
+    vr_error_set(&err, VR_E_ARG, "--cache '': expected a folder");
+    goto out;
+  }
+  if (!cache) {
+    char why[4400];
+    cache = cache_dir = default_cache(path, why, sizeof why);
+    if (!cache) ui_log(&u, why);
+  }
+  opt.cache_dir = cache;
   /* No camera line: the scene exists for its sensors. */
   opt.no_camera = vr_args_flag(a, "sensors-only") || !scene->camera.given;
   if (opt.no_camera && scene->nsensors == 0) {
@@ -281,6 +335,7 @@ out:
   vr_matdb_close(db);
   vr_scene_destroy(scene);
   free(prefix);
+  free(cache_dir);
   pthread_mutex_destroy(&u.lock);
   return rc;
 }

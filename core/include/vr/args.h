@@ -49,6 +49,16 @@ bool vr_args_flag(const vr_args *a, const char *name);
 vr_status vr_args_double(const vr_args *a, const char *name, double fallback, double *out,
                          vr_error *err);
 
+/* Parses an option's value as a size in bytes: a number with an optional
+ * binary unit K, M, G or T (also KB/KiB, ...; any case): "512M" is 512 x
+ * 2^20 bytes, "1.5G" 1.5 x 2^30, "4096" 4096.  Absent -> *out = fallback.
+ * VR_E_ARG naming the option for anything else, for 0 and below, and past
+ * 2^63 bytes. */
+vr_status vr_args_size(const vr_args *a, const char *name, size_t fallback, size_t *out,
+                       vr_error *err);
+/* The same on a string; false on a bad size. */
+bool vr_parse_size(const char *text, size_t *out);
+
 void vr_args_print_help(FILE *f, const char *tool, const char *usage, const char *about,
                         const vr_option *opts, size_t nopts);
 /* "tool (Virtuelium-C) 0.1.0" */

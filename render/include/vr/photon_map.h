@@ -182,7 +182,8 @@ void vr_photon_list_free(vr_photon_list *l);
 
 /* Appends the photons of m that arrive from n's side and lie in the disc
  * of squared radius bound2 around x (g2 <= bound2): all of them when
- * k == 0, else the k first in (g2, key) order.  Returns how many were
+ * k == 0, else the k first in (g2, key) order (in heap order: the first
+ * appended is the farthest of them).  Returns how many were
  * appended, or -1 (nothing appended) on a bad argument, a map not built,
  * or memory exhaustion. */
 long vr_photon_map_gather(const vr_photon_map *m, uint32_t label, const double x[3],
