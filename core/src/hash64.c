@@ -52,6 +52,7 @@ void vr_hash64_init(vr_hash64 *h, uint64_t seed) {
 void vr_hash64_update(vr_hash64 *h, const void *data, size_t len) {
   const unsigned char *p = data;
   h->total += len;
+  if (!len) return;
   if (h->used) {
     size_t take = 32 - h->used < len ? 32 - h->used : len;
     memcpy(h->buf + h->used, p, take);
@@ -63,7 +64,7 @@ void vr_hash64_update(vr_hash64 *h, const void *data, size_t len) {
     h->used = 0;
   }
   for (; len >= 32; p += 32, len -= 32) stripe(h->v, p);
-  memcpy(h->buf, p, len);
+  if (len) memcpy(h->buf, p, len);
   h->used = len;
 }
 

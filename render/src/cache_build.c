@@ -46,6 +46,7 @@ typedef struct part {
   uint32_t flags;
   uint32_t *objects;
   size_t nobjects, capobjects;
+  double glo[3], ghi[3]; /* bounds of the primitives dealt to it */
 } part;
 
 typedef struct builder {
@@ -564,6 +565,13 @@ static vr_status deal(builder *B, const chunk *k, uint32_t *mark, uint32_t *loca
     else
       sphere_box(k->spheres + 4 * (i - h->ntris), lo, hi);
     int n = cells_of(B, lo, hi, cells);
+    for (int j = 0; j < n; j++) {
+      part *p = &B->parts[cells[j]];
+      for (int a = 0; a < 3; a++) {
+        if (lo[a] < p->glo[a]) p->glo[a] = lo[a];
+        if (hi[a] > p->ghi[a]) p->ghi[a] = hi[a];
+      }
+    }
     if (npairs + (size_t)n > cap) {
       while (npairs + (size_t)n > cap) cap *= 2;
       uint32_t *a = realloc(pc, cap * sizeof *a);
@@ -688,6 +696,11 @@ static vr_status pass2(builder *B) {
   FILE *f = fopen(path, "rb");
   if (!f) return io_fail(B, "read", path);
   B->parts = calloc((size_t)B->ncells, sizeof *B->parts);
+  for (int c = 0; B->parts && c < B->ncells; c++)
+    for (int a = 0; a < 3; a++) {
+      B->parts[c].glo[a] = INFINITY;
+      B->parts[c].ghi[a] = -INFINITY;
+    }
   /* Part buffers share about 64 MiB, at least 64 KiB each. */
   B->flush_at = ((size_t)64 << 20) / (size_t)B->ncells;
   if (B->flush_at < 65536) B->flush_at = 65536;
@@ -735,14 +748,20 @@ static vr_status assemble(builder *B, int c, vr_cell_meta *meta) {
   meta->flags = p->flags;
   memcpy(meta->lo, B->clo[c], sizeof meta->lo);
   memcpy(meta->hi, B->chi[c], sizeof meta->hi);
-  qsort(p->objects, p->nobjects, sizeof *p->objects, cmp_u32);
+  /* What a ray in the cell can meet: its primitives' bounds, within its
+   * box (a primitive shared with a neighbour reaches past it). */
+  for (int a = 0; a < 3; a++) {
+    meta->glo[a] = fmax(p->glo[a], meta->lo[a]);
+    meta->ghi[a] = fmin(p->ghi[a], meta->hi[a]);
+  }
+  if (p->nobjects) qsort(p->objects, p->nobjects, sizeof *p->objects, cmp_u32);
   size_t u = 0;
   for (size_t i = 0; i < p->nobjects; i++)
     if (!u || p->objects[i] != p->objects[u - 1]) p->objects[u++] = p->objects[i];
   meta->nobjects = (uint32_t)u;
   meta->objects = malloc((u + 1) * sizeof *meta->objects);
   if (!meta->objects) return nomem(B);
-  memcpy(meta->objects, p->objects, u * sizeof *meta->objects);
+  if (u) memcpy(meta->objects, p->objects, u * sizeof *meta->objects);
   vr_cell_layout L;
   bool normals = p->flags & VR_CELL_NORMALS;
   if (!vr_cell_layout_of(p->nverts, p->ntris, p->nspheres, normals, &L))

@@ -191,6 +191,8 @@ vr_status vr_cache_manifest_write(const char *path, const vr_cache_manifest *m, 
     const vr_cell_meta *e = &m->cells[c];
     for (int a = 0; a < 3; a++) put_f64(&b, e->lo[a]);
     for (int a = 0; a < 3; a++) put_f64(&b, e->hi[a]);
+    for (int a = 0; a < 3; a++) put_f64(&b, e->glo[a]);
+    for (int a = 0; a < 3; a++) put_f64(&b, e->ghi[a]);
     put_u64(&b, e->nverts);
     put_u64(&b, e->ntris);
     put_u64(&b, e->nspheres);
@@ -314,6 +316,8 @@ vr_status vr_cache_manifest_read(const char *path, vr_cache_manifest **out, vr_e
     vr_cell_meta *e = &m->cells[c];
     for (int a = 0; a < 3; a++) e->lo[a] = get_f64(&r);
     for (int a = 0; a < 3; a++) e->hi[a] = get_f64(&r);
+    for (int a = 0; a < 3; a++) e->glo[a] = get_f64(&r);
+    for (int a = 0; a < 3; a++) e->ghi[a] = get_f64(&r);
     e->nverts = get_u64(&r);
     e->ntris = get_u64(&r);
     e->nspheres = get_u64(&r);

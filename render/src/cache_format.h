@@ -19,7 +19,7 @@
 #include "vr/scene_tables.h"
 
 /* Bumped whenever the layout, the build or the key's contents change. */
-#define VR_CACHE_VERSION 1u
+#define VR_CACHE_VERSION 2u
 #define VR_CELL_HEADER 128
 #define VR_CELL_NORMALS 1u
 
@@ -32,6 +32,7 @@ typedef struct vr_kd_node {
 /* What the manifest knows of a cell without reading it. */
 typedef struct vr_cell_meta {
   double lo[3], hi[3];     /* the box its primitives were assigned by (clipped to the scene) */
+  double glo[3], ghi[3];   /* the bounds of its primitives within that box (empty: lo > hi) */
   uint64_t nverts, ntris, nspheres;
   uint32_t flags;          /* VR_CELL_NORMALS */
   uint64_t payload_bytes, payload_hash;

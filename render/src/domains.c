@@ -386,6 +386,36 @@ int vr_domains_locate(const vr_domains *d, const double org[3], const double dir
   return nodes[n].cell;
 }
 
+bool vr_domains_may_hit(const vr_domains *d, int cell, const double org[3], const double dir[3],
+                        double t0, double t1) {
+  const vr_cell_meta *m = &d->m->cells[cell];
+  if (!(m->glo[0] <= m->ghi[0])) return false; /* no primitive */
+  /* Widen the box by more than Embree's float rounding of the ray and of
+   * the vertices can move a hit: 1e-5 of the largest coordinate involved. */
+  double big = 1.0;
+  for (int a = 0; a < 3; a++)
+    big = fmax(big, fmax(fabs(org[a]), fmax(fabs(m->glo[a]), fabs(m->ghi[a]))));
+  double pad = 1e-5 * big;
+  double lo = t0 - 1e-6 * fabs(t0), hi = t1 + 1e-6 * fabs(t1);
+  for (int a = 0; a < 3; a++) {
+    double bl = m->glo[a] - pad, bh = m->ghi[a] + pad;
+    if (dir[a] == 0.0) {
+      if (org[a] < bl || org[a] > bh) return false;
+      continue;
+    }
+    double ta = (bl - org[a]) / dir[a], tb = (bh - org[a]) / dir[a];
+    if (ta > tb) {
+      double t = ta;
+      ta = tb;
+      tb = t;
+    }
+    if (ta > lo) lo = ta;
+    if (tb < hi) hi = tb;
+    if (lo > hi) return false;
+  }
+  return true;
+}
+
 bool vr_domains_intersect(const vr_domains *d, int cell, const double org[3], const double dir[3],
                           double tnear, double tfar, vr_hit *hit) {
   const dcell *c = &d->cells[cell];

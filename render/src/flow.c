@@ -163,17 +163,25 @@ static void trace(vr_flow_worker *w, vr_ray *r, bool walk) {
   for (;;) {
     double t_exit;
     int c = vr_domains_locate(f->d, r->org, r->dir, r->tnear, &t_exit);
+    double tfar = t_exit < r->tmax ? t_exit : r->tmax;
     if (c != r->cell) {
       /* Hand-over: the ray entered another cell at tnear (the interface). */
       r->cell = c;
       r->crossings++;
       w->st.crossings++;
+      /* A cell whose primitives the segment cannot meet is crossed here
+       * and now: its queue (and loading it) would gain nothing. */
+      if (!vr_domains_may_hit(f->d, c, r->org, r->dir, r->tnear, tfar)) {
+        w->st.skipped++;
+        if (t_exit >= r->tmax || isinf(t_exit)) goto escaped;
+        r->tnear = t_exit;
+        continue;
+      }
       if (!walk) {
         enqueue(w, r);
         return;
       }
     }
-    double tfar = t_exit < r->tmax ? t_exit : r->tmax;
     vr_hit hit;
     w->st.traversals++;
     bool got = vr_domains_intersect(f->d, c, r->org, r->dir, r->tnear, tfar, &hit);
@@ -200,16 +208,15 @@ static void trace(vr_flow_worker *w, vr_ray *r, bool walk) {
       }
       continue;
     }
-    if (t_exit >= r->tmax || isinf(t_exit)) {
-      if (r->kind == VR_RAY_CLOSEST)
-        f->ops->closest(f->ctx, w, r, NULL);
-      else
-        f->ops->shadow_done(f->ctx, w, r, true);
-      finish(w, 1);
-      return;
-    }
+    if (t_exit >= r->tmax || isinf(t_exit)) goto escaped;
     r->tnear = t_exit;
   }
+escaped:
+  if (r->kind == VR_RAY_CLOSEST)
+    f->ops->closest(f->ctx, w, r, NULL);
+  else
+    f->ops->shadow_done(f->ctx, w, r, true);
+  finish(w, 1);
 }
 
 static void report_progress(flow *f) {
@@ -242,6 +249,7 @@ static void *queued_worker(vr_flow_worker *w) {
     int c = vr_flow_sched_pick(f, w);
     if (c >= 0) {
       int n = vr_flow_queue_take(f, c, batch, w);
+      atomic_fetch_add_explicit(&f->traced[c], (unsigned long long)n, memory_order_relaxed);
       for (int i = 0; i < n; i++) trace(w, &batch[i], false);
       vr_flow_sched_release(f, c);
       flush(w);
@@ -314,6 +322,7 @@ static void add_stats(vr_flow_stats *to, const vr_flow_stats *s) {
   to->shadow += s->shadow;
   to->traversals += s->traversals;
   to->spilled += s->spilled;
+  to->skipped += s->skipped;
   for (int i = 0; i < 8; i++) to->by_purpose[i] += s->by_purpose[i];
 }
 
@@ -341,12 +350,13 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   pthread_mutex_init(&f.pool_lock, NULL);
   f.q = image_space ? NULL : alloc_lines((size_t)f.ncells, sizeof *f.q);
   f.pins = calloc((size_t)f.ncells, sizeof *f.pins);
+  f.traced = calloc((size_t)f.ncells, sizeof *f.traced);
   f.loading = calloc((size_t)f.ncells, sizeof *f.loading);
   vr_flow_worker *ws = alloc_lines((size_t)threads, sizeof *ws);
   pthread_t *tids = calloc((size_t)threads, sizeof *tids);
   vr_status st = VR_OK;
   for (int c = 0; f.q && c < f.ncells; c++) vr_flow_queue_init(&f.q[c]);
-  if ((!image_space && !f.q) || !ws || !tids || !f.pins || !f.loading) {
+  if ((!image_space && !f.q) || !ws || !tids || !f.pins || !f.loading || !f.traced) {
     st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory");
     goto done;
   }
@@ -413,6 +423,7 @@ done:
   vr_flow_pool_free(&f);
   free(f.q);
   free(f.pins);
+  free(f.traced);
   free(f.loading);
   pthread_mutex_destroy(&f.progress_lock);
   pthread_mutex_destroy(&f.sched_lock);

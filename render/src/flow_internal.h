@@ -68,6 +68,7 @@ typedef struct vr_flow {
   const char *spill_dir;
   pthread_mutex_t sched_lock; /* residency decisions, pins and reserved */
   int *pins;                  /* workers tracing in each cell */
+  _Atomic unsigned long long *traced; /* rays taken from each cell's queue in this run */
   bool *loading;
   size_t reserved;            /* bytes of the loaded and loading cells */
   _Atomic long long queue_bytes, peak_queue_bytes, spill_bytes, peak_spill_bytes;

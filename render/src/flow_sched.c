@@ -176,18 +176,27 @@ int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w) {
       most_u = p, best_u = c;
     }
   }
-  bool want = best_u >= 0 && (best_l < 0 || (most_l < f->batch && most_u > most_l));
+  /* Load only when no loaded cell has a ray left (and, in the worker's
+   * loop, no new work could be generated for them): a load costs as much
+   * as tracing a hundred thousand rays, so rays for cells that are not
+   * loaded wait, and a cell that a few stray rays reach is loaded once at
+   * the end rather than each time some arrive. */
+  bool want = best_u >= 0 && best_l < 0;
   if (want) {
     size_t need = vr_domains_cell_load_peak(f->d, best_u);
     while (f->reserved + need > f->cells_cap) {
-      /* The loaded cell nobody traces in with the fewest pending rays,
-       * if it has fewer than the one to load. */
+      /* The loaded cell nobody traces in with the fewest pending rays
+       * (fewer than the one to load), and of those the one that has
+       * traced the fewest rays in this run: the cells a pass works in
+       * most stay. */
       int victim = -1;
       long fewest = most_u;
+      unsigned long long least = 0;
       for (int c = 0; c < f->ncells; c++) {
         if (!vr_domains_loaded(f->d, c) || f->pins[c] || f->loading[c]) continue;
         long p = atomic_load_explicit(&f->q[c].pending, memory_order_relaxed);
-        if (p < fewest) fewest = p, victim = c;
+        unsigned long long t = atomic_load_explicit(&f->traced[c], memory_order_relaxed);
+        if (p < fewest || (p == fewest && victim >= 0 && t < least)) fewest = p, least = t, victim = c;
       }
       if (victim < 0) break;
       f->reserved -= vr_domains_cell_bytes(f->d, victim);

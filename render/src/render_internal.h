@@ -84,10 +84,14 @@ typedef struct rscene {
   robject *obj;
   size_t nlights;
   rlight *lights;
-  /* Emitters for next-event estimation: emissive objects chosen by power. */
+  /* Emitters for next-event estimation: emissive objects, chosen at a
+   * point x with probability proportional to power / max(d², R²), d the
+   * distance from x to the emitter's bounding sphere's centre and R its
+   * radius (lights.c), so a vertex mostly samples the lights near it. */
   size_t nemitters;
   uint32_t *emitters;
-  double *emitter_cdf;
+  double *emitter_cdf;             /* by power alone, normalised */
+  double (*emitter_sphere)[4];     /* centre, radius */
   /* The sky. */
   bool has_sky;
   vr_sky *sky;

@@ -249,12 +249,35 @@ static vr_status resolve_materials(rscene *rs, vr_matdb *db, vr_error *err) {
   return VR_OK;
 }
 
+/* The bounding sphere (centre of the bounding box, half its diagonal) of
+ * an emissive object, from the replicated tables. */
+static void emitter_bounds(const vr_scene_tables *t, size_t o, double out[4]) {
+  if (t->sphere[o][3] > 0) {
+    memcpy(out, t->sphere[o], 4 * sizeof *out);
+    return;
+  }
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (uint64_t e = t->emit_begin[o]; e < t->emit_end[o]; e++)
+    for (int k = 0; k < 9; k++) {
+      double v = t->emit_verts[9 * e + k];
+      if (v < lo[k % 3]) lo[k % 3] = v;
+      if (v > hi[k % 3]) hi[k % 3] = v;
+    }
+  double r2 = 0;
+  for (int a = 0; a < 3; a++) {
+    out[a] = 0.5 * (lo[a] + hi[a]);
+    r2 += 0.25 * (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  }
+  out[3] = sqrt(r2);
+}
+
 static vr_status resolve_objects(rscene *rs, vr_matdb *db, vr_error *err) {
   const vr_scene *s = rs->s;
   rs->obj = calloc(s->nobjects + 1, sizeof *rs->obj);
   rs->emitters = calloc(s->nobjects + 1, sizeof *rs->emitters);
   rs->emitter_cdf = calloc(s->nobjects + 1, sizeof *rs->emitter_cdf);
-  if (!rs->obj || !rs->emitters || !rs->emitter_cdf)
+  rs->emitter_sphere = calloc(s->nobjects + 1, sizeof *rs->emitter_sphere);
+  if (!rs->obj || !rs->emitters || !rs->emitter_cdf || !rs->emitter_sphere)
     return vr_error_set(err, VR_E_NOMEM, "out of memory");
   double acc = 0;
   for (size_t i = 0; i < s->nobjects; i++) {
@@ -275,6 +298,7 @@ static vr_status resolve_objects(rscene *rs, vr_matdb *db, vr_error *err) {
       }
       o->emitted_power = rspd_integral(&o->emission, rs->lmin, rs->lmax) * M_PI * area;
       acc += o->emitted_power;
+      emitter_bounds(rs->t, i, rs->emitter_sphere[rs->nemitters]);
       rs->emitters[rs->nemitters] = (uint32_t)i;
       rs->emitter_cdf[rs->nemitters++] = acc;
     }
@@ -470,6 +494,7 @@ void vr_rscene_destroy(rscene *rs) {
   free(rs->obj);
   free(rs->emitters);
   free(rs->emitter_cdf);
+  free(rs->emitter_sphere);
   free(rs->source_cdf);
   vr_domains_destroy(rs->d);
   free(rs);

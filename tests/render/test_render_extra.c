@@ -681,11 +681,59 @@ static void test_progressive_converges(void **state) {
              100 * r1);
 }
 
+/* ------------------------------------------------------- many emitters */
+
+/* Illuminance at a point facing up from a Lambertian rectangle of
+ * luminance L parallel to it, h above, spanning [x0, x1] x [y0, y1]
+ * relative to the point: the corner form factor of Howell's catalogue
+ * (C-11, plane element parallel to a rectangle with its normal through a
+ * corner), E = L/2 [X/sqrt(1+X^2) atan(Y/sqrt(1+X^2)) + Y/sqrt(1+Y^2)
+ * atan(X/sqrt(1+Y^2))] with X = a/h, Y = b/h, by superposition of the
+ * four corner rectangles. */
+static double corner(double x, double y, double h) {
+  double X = fabs(x) / h, Y = fabs(y) / h;
+  double f = 0.5 * (X / sqrt(1 + X * X) * atan(Y / sqrt(1 + X * X)) +
+                    Y / sqrt(1 + Y * Y) * atan(X / sqrt(1 + Y * Y)));
+  return copysign(1.0, x) * copysign(1.0, y) * f;
+}
+
+static double rect_lx(double L, double x0, double x1, double y0, double y1, double h) {
+  return L * (corner(x1, y1, h) - corner(x0, y1, h) - corner(x1, y0, h) + corner(x0, y0, h));
+}
+
+/* Two emitting squares of very different size and height over a black
+ * floor: each sensor reads the sum of both, as the form factors say,
+ * whichever emitter next-event estimation picks (it picks by power over
+ * squared distance, so the near one mostly, but the far one too). */
+static void test_emitters_by_distance(void **state) {
+  (void)state;
+  const char *scn =
+      "material black black\n"
+      "rect center=0,0,1 normal=0,0,-1 size=0.4,0.4 material=black emission=5000cd/m2\n"
+      "rect center=3,0,4 normal=0,0,-1 size=2,2 material=black emission=800cd/m2\n"
+      "rect center=1.5,0,-0.01 normal=0,0,1 size=20,20 material=black\n"
+      "sensor a point position=0,0,0 normal=0,0,1\n"
+      "sensor b point position=3,0,0 normal=0,0,1\n"
+      "sensor c point position=1.5,0.5,0 normal=0,0,1\n"
+      "render integrator=path sensor_samples=65536 depth=2\n";
+  vr_render_result *r = render_text(scn);
+  const double P[3][2] = {{0, 0}, {3, 0}, {1.5, 0.5}};
+  for (int i = 0; i < 3; i++) {
+    double x = P[i][0], y = P[i][1];
+    double E = rect_lx(5000, -0.2 - x, 0.2 - x, -0.2 - y, 0.2 - y, 1.0) +
+               rect_lx(800, 2 - x, 4 - x, -1 - y, 1 - y, 4.0);
+    expect_lx(r, (size_t)i, E, 0.01);
+    assert_true(fabs(r->readings[i].illuminance_lx - E) < 4 * r->readings[i].stderr_lx + 1e-3 * E);
+  }
+  done(r);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_spot_cone_and_falloff),
       cmocka_unit_test(test_spot_lumens),
       cmocka_unit_test(test_lens_uniform_emitter),
+      cmocka_unit_test(test_emitters_by_distance),
       cmocka_unit_test(test_lens_defocus),
       cmocka_unit_test(test_spectral_modes_direct),
       cmocka_unit_test(test_spectral_modes_indirect),

@@ -106,6 +106,15 @@ const vr_scene_tables *vr_domains_tables(const vr_domains *d);
 int vr_domains_locate(const vr_domains *d, const double org[3], const double dir[3], double t,
                       double *t_exit);
 
+/* Whether the segment org + t dir, t in [t0, t1], can meet any primitive
+ * of the cell: it passes through the bounds of the cell's primitives
+ * (widened a little, so that Embree's float arithmetic can never find a
+ * hit this test ruled out).  Needs only the manifest, not the cell's
+ * data: a ray whose segment in a cell misses them goes on to the next
+ * cell without the cell being loaded (rays to the sky cross empty cells). */
+bool vr_domains_may_hit(const vr_domains *d, int cell, const double org[3], const double dir[3],
+                        double t0, double t1);
+
 /* Closest hit in a loaded cell with t in [tnear, tfar]; false if none. */
 bool vr_domains_intersect(const vr_domains *d, int cell, const double org[3], const double dir[3],
                           double tnear, double tfar, vr_hit *hit);

@@ -86,6 +86,7 @@ typedef struct vr_flow_stats {
   uint64_t traversals;                /* cell intersection queries */
   uint64_t by_purpose[8];             /* rays created per purpose tag (0..7) */
   uint64_t spilled;                   /* rays written to a queue's spill file */
+  uint64_t skipped;                   /* crossings into cells the segment could not hit in */
   size_t peak_queue_bytes;            /* rays held in memory by queues and push buffers */
   size_t peak_spill_bytes;            /* rays waiting on disk */
 } vr_flow_stats;
