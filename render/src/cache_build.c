@@ -31,6 +31,8 @@
 #define DIRMAX 4000  /* longest cache folder name */
 #define PATHMAX 4200 /* a folder name and a file name in it */
 #define SAMPLE_SEED 0x5CA1AB1Eull
+/* Planes tried along each axis when a cell is split: centroid quantiles. */
+#define SPLIT_CANDIDATES 64
 
 typedef struct sample {
   uint64_t h;
@@ -345,6 +347,25 @@ static vr_status fill(builder *B, const kcell *parent, kcell *child, const doubl
   return VR_OK;
 }
 
+/* Primitives of sorted v[0..n) that are <= x (upper bound). */
+static size_t count_le(const double *v, size_t n, double x) {
+  size_t lo = 0, hi = n;
+  while (lo < hi) {
+    size_t mid = lo + (hi - lo) / 2;
+    if (v[mid] <= x)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+/* Splits cell ci where the larger side holds the fewest primitives,
+ * counting a primitive that straddles the plane on both sides: the cells
+ * balance what they hold, duplicates included, so no cell is much larger
+ * than the others.  Candidates are, along each axis, SPLIT_CANDIDATES
+ * quantiles of the primitives' centroids and the middle of the box; ties go to the plane
+ * that duplicates fewer primitives, then to the longer axis. */
 static vr_status split(builder *B, kcell *kc, int ci, int leaf) {
   double *lo = B->clo[ci], *hi = B->chi[ci];
   int axis = 0;
@@ -352,18 +373,40 @@ static vr_status split(builder *B, kcell *kc, int ci, int leaf) {
     if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
   kcell *c = &kc[ci];
   double at = 0.5 * (lo[axis] + hi[axis]);
-  if (c->n > 0) {
-    double *cs = malloc(c->n * sizeof *cs);
-    if (!cs) return nomem(B);
-    for (size_t i = 0; i < c->n; i++) {
-      const sample *s = &B->heap[c->idx[i]];
-      cs[i] = 0.5 * ((double)s->lo[axis] + (double)s->hi[axis]);
+  size_t n = c->n;
+  if (n > 0) {
+    double *cs = malloc(n * sizeof *cs), *vlo = malloc(n * sizeof *vlo),
+           *vhi = malloc(n * sizeof *vhi);
+    if (!cs || !vlo || !vhi) {
+      free(cs), free(vlo), free(vhi);
+      return nomem(B);
     }
-    qsort(cs, c->n, sizeof *cs, cmp_double);
-    double med = cs[c->n / 2];
-    free(cs);
-    /* A median on the box's face would leave one side without volume. */
-    if (med > lo[axis] && med < hi[axis]) at = med;
+    size_t best_max = SIZE_MAX, best_sum = SIZE_MAX;
+    double best_len = -1;
+    for (int a = 0; a < 3; a++) {
+      double len = hi[a] - lo[a];
+      if (!(len > 0)) continue;
+      for (size_t i = 0; i < n; i++) {
+        const sample *p = &B->heap[c->idx[i]];
+        vlo[i] = p->lo[a];
+        vhi[i] = p->hi[a];
+        cs[i] = 0.5 * ((double)p->lo[a] + (double)p->hi[a]);
+      }
+      qsort(cs, n, sizeof *cs, cmp_double);
+      qsort(vlo, n, sizeof *vlo, cmp_double);
+      qsort(vhi, n, sizeof *vhi, cmp_double);
+      for (int q = 0; q <= SPLIT_CANDIDATES; q++) {
+        double x = q < SPLIT_CANDIDATES ? cs[(size_t)q * n / SPLIT_CANDIDATES] : 0.5 * (lo[a] + hi[a]);
+        if (q == 0 || !(x > lo[a] && x < hi[a])) continue; /* both sides need volume */
+        size_t below = count_le(vlo, n, x);            /* lo <= x */
+        size_t above = n - count_le(vhi, n, nextafter(x, -INFINITY)); /* hi >= x */
+        size_t mx = below > above ? below : above, sum = below + above;
+        if (mx < best_max || (mx == best_max && (sum < best_sum || (sum == best_sum && len > best_len)))) {
+          best_max = mx, best_sum = sum, best_len = len, axis = a, at = x;
+        }
+      }
+    }
+    free(cs), free(vlo), free(vhi);
   }
   int ai = B->ncells++;
   double blo[3], bhi[3], alo[3], ahi[3];
@@ -729,7 +772,12 @@ static vr_status pass2(builder *B) {
   unlink(path);
   free(mark);
   free(local);
-  for (int c = 0; !st && c < B->ncells; c++) st = flush_part(B, c);
+  for (int c = 0; !st && c < B->ncells; c++) {
+    st = flush_part(B, c);
+    free(B->parts[c].buf); /* on disk now: pass 3 reads it back cell by cell */
+    B->parts[c].buf = NULL;
+    B->parts[c].cap = 0;
+  }
   return st;
 }
 

@@ -60,10 +60,18 @@ vr_status vr_cell_scene_build(RTCDevice device, const vr_cell_view *v, RTCScene 
   }
   rtcCommitScene(scene);
   enum RTCError e = rtcGetDeviceError(device);
+  if (e == RTC_ERROR_OUT_OF_MEMORY) {
+    rtcReleaseScene(scene);
+    return vr_error_set(err, VR_E_NOMEM,
+                        "out of memory while Embree builds a sub-domain of %llu triangles: "
+                        "render with --memory-budget below the memory this machine gives "
+                        "(and more --subdomains if one does not fit)",
+                        (unsigned long long)v->ntris);
+  }
   if (e != RTC_ERROR_NONE) {
     rtcReleaseScene(scene);
-    return vr_error_set(err, e == RTC_ERROR_OUT_OF_MEMORY ? VR_E_NOMEM : VR_E_NUMERIC,
-                        "Embree: error %d while building a sub-domain", (int)e);
+    return vr_error_set(err, VR_E_NUMERIC, "Embree: error %d while building a sub-domain of %llu "
+                        "triangles", (int)e, (unsigned long long)v->ntris);
   }
   *out = scene;
   return VR_OK;

@@ -481,6 +481,7 @@ vr_status vr_domains_load(vr_domains *d, int cell, vr_error *err) {
       d->bytes_read += VR_CELL_HEADER + c->meta->payload_bytes;
       atomic_store(&c->loaded, true);
     } else {
+      vr_error_prefix(err, "sub-domain %d: ", cell);
       free(payload);
     }
   }

@@ -197,6 +197,16 @@ static vr_status open_db(const char *path, const vr_scene *s, ui *u, vr_matdb **
 
 /* ---- the summary on stdout ---- */
 
+/* Bytes for a person: "812.0 KiB", "1.5 GiB". */
+static void human(char out[32], size_t bytes) {
+  if (bytes >= ((size_t)1 << 30))
+    snprintf(out, 32, "%.2f GiB", (double)bytes / (1 << 30));
+  else if (bytes >= ((size_t)1 << 20))
+    snprintf(out, 32, "%.1f MiB", (double)bytes / (1 << 20));
+  else
+    snprintf(out, 32, "%.1f KiB", (double)bytes / 1024);
+}
+
 static void summary(const vr_render_result *r, const char *prefix, const char *stats,
                     double film_seconds) {
   if (r->width > 0 && r->height > 0) {
@@ -236,16 +246,18 @@ static void summary(const vr_render_result *r, const char *prefix, const char *s
   printf("  (%.3f s)\n", film_seconds);
   printf("cache    %s%s (%.2f s, %.1f MiB)\n", r->cache_built ? "built: " : "",
          r->cache_reason, r->cache_seconds, (double)r->cache_bytes / 1048576.0);
-  if (r->memory_budget)
-    printf("memory   budget %.1f MiB: peak %.1f MiB sub-domains (%.1f arrays, %.1f Embree), "
-           "%.1f MiB queues, %.1f MiB maps; %llu loads, %llu unloads, %.1f MiB read in %.2f s, "
-           "%llu rays spilled (peak %.1f MiB on disk)\n",
-           (double)r->memory_budget / 1048576.0, (double)r->peak_cells_bytes / 1048576.0,
-           (double)r->peak_geometry_bytes / 1048576.0, (double)r->peak_embree_bytes / 1048576.0,
-           (double)r->peak_queue_bytes / 1048576.0, (double)r->peak_map_bytes / 1048576.0,
-           (unsigned long long)r->cell_loads, (unsigned long long)r->cell_unloads,
-           (double)r->cell_bytes_read / 1048576.0, r->cell_load_seconds,
-           (unsigned long long)r->rays_spilled, (double)r->peak_spill_bytes / 1048576.0);
+  if (r->memory_budget) {
+    char b[8][32];
+    human(b[0], r->memory_budget), human(b[1], r->peak_cells_bytes);
+    human(b[2], r->peak_geometry_bytes), human(b[3], r->peak_embree_bytes);
+    human(b[4], r->peak_queue_bytes), human(b[5], r->peak_map_bytes);
+    human(b[6], r->cell_bytes_read), human(b[7], r->peak_spill_bytes);
+    printf("memory   budget %s: peak %s sub-domains (%s arrays, %s Embree), %s queues, %s maps; "
+           "%llu loads, %llu unloads, %s read in %.2f s, %llu rays spilled (peak %s on disk)\n",
+           b[0], b[1], b[2], b[3], b[4], b[5], (unsigned long long)r->cell_loads,
+           (unsigned long long)r->cell_unloads, b[6], r->cell_load_seconds,
+           (unsigned long long)r->rays_spilled, b[7]);
+  }
   printf("time     %.3f s, peak memory %.1f MiB\n", r->seconds_total,
          (double)vr_peak_rss_bytes() / (1024.0 * 1024.0));
 }

@@ -11,8 +11,11 @@
  *
  *   vr-hotel [--rooms N] [--detail D] OUTDIR
  *
- * writes OUTDIR/hotel.scn and the meshes in OUTDIR/meshes and prints the triangle
- * counts.  The default, 24 rooms at detail 100, is 20.5 million triangles.
+ * writes the meshes in OUTDIR/meshes and two views of the same floor:
+ * OUTDIR/hotel.scn from inside the middle room towards its window (the
+ * paper's view of a hotel room), and OUTDIR/hotel_corridor.scn down the
+ * corridor, where every camera path crosses many sub-domains; it prints the
+ * triangle counts.  The default, 24 rooms at detail 100, is 20.5 million triangles.
  * Materials are the database names the main job saves
  * (scripts/main-job.sh), as in samples/room.scn. */
 #include <errno.h>
@@ -144,7 +147,10 @@ static bool make_pieces(piece *P, int D) {
   }
   /* a wardrobe */
   ok = ok && mesh_box(&P[13].m, (double[3]){-0.5, -0.3, 0}, (double[3]){0.5, 0.3, 2.2});
-  for (int i = 0; i < 14; i++) mesh_normals(&P[i].m);
+  for (int i = 0; i < 14; i++) {
+    mesh_drop_degenerate(&P[i].m);
+    mesh_normals(&P[i].m);
+  }
   return ok;
 }
 
@@ -206,6 +212,57 @@ static void room(FILE *f, int i, int nrooms) {
   }
 }
 
+/* One view of the floor: view 0 from inside the middle room, 1 down the
+ * corridor. */
+static bool write_scene(const char *path, int view, int nrooms, int D, size_t per_room) {
+  FILE *f = fopen(path, "w");
+  if (!f) return false;
+  double L = 4.0 * nrooms, X = 4.0 * (nrooms / 2);
+  fprintf(f,
+          "# A hotel floor of %d rooms along a corridor, written by vr-hotel --rooms %d --detail %d\n"
+          "# (samples/hotel/hotel_gen.c): %zu triangles of furniture per room, %zu in all.\n"
+          "# Rooms are 4 x 5 x 2.7 m, windows to the south (y = -5), doors onto the corridor\n"
+          "# (y = 0 to 2).  Materials come from the database the main job fills.\n\n",
+          nrooms, nrooms, D, per_room, per_room * (size_t)nrooms);
+  if (view == 0)
+    fprintf(f, "# Room %d, from beside the wardrobe towards the window and the bed.\n"
+            "camera pinhole from=%.2f,-0.6,1.7 to=%.2f,-4.5,0.7 fov=80 resolution=320x240 exposure=-3\n\n",
+            nrooms / 2 + 1, X + ((nrooms / 2) & 1 ? 1.1 : 2.9), X + ((nrooms / 2) & 1 ? 2.8 : 1.2));
+  else
+    fprintf(f, "# Down the corridor.\n"
+            "camera pinhole from=0.6,1.0,1.6 to=%.1f,0.6,1.2 fov=75 resolution=320x240 exposure=-1\n\n",
+            L);
+  fputs("material paint    db:photo-paint\n"
+        "material carpet   db:photo-carpet\n"
+        "material cotton   db:photo-cotton\n"
+        "material pine     db:photo-pine\n"
+        "material concrete db:photo-concrete\n"
+        "material brick    db:photo-brick\n"
+        "material leaf     lambert reflectance=0.15\n"
+        "material alu      db:Al roughness=0.25\n"
+        "material clear    db:clear-float-nk thickness=4mm model=thin\n"
+        "material ec1      db:electrochromic-glass state=0.3\n"
+        "material ec2      db:electrochromic-glass state=0.6\n"
+        "material ec3      db:electrochromic-glass state=0.9\n"
+        "material panel    lambert reflectance=0.8\n\n"
+        "# The corridor, its ceiling panels lit.\n",
+        f);
+  rect(f, L / 2, 1, 0, "0,0,1", L, 2, "carpet", NULL);
+  rect(f, L / 2, 1, 2.7, "0,0,-1", L, 2, "paint", NULL);
+  rect(f, L / 2, 2, 1.35, "0,-1,0", L, 2.7, "brick", NULL);
+  rect(f, 0, 1, 1.35, "1,0,0", 2, 2.7, "paint", NULL);
+  rect(f, L, 1, 1.35, "-1,0,0", 2, 2.7, "paint", NULL);
+  for (int i = 0; i < nrooms; i += 2)
+    rect(f, 4.0 * i + 4, 1, 2.69, "0,0,-1", 0.6, 0.6, "panel",
+         " emission=800cd/m2 emission_spectrum=LED-B3");
+  for (int i = 0; i < nrooms; i++) room(f, i, nrooms);
+  fprintf(f, "\n# Daylight from the south.\n"
+             "light sun altitude=35 azimuth=180 illuminance=80000lx\n"
+             "sky cie type=12 illuminance=15000lx\n\n"
+             "render integrator=path spp=8 depth=5\n");
+  return fclose(f) == 0;
+}
+
 static int usage(void) {
   fputs("usage: vr-hotel [--rooms N] [--detail D] OUTDIR\n"
         "  writes OUTDIR/hotel.scn and OUTDIR/meshes/*.ply: a hotel floor of N rooms\n"
@@ -255,55 +312,18 @@ int main(int argc, char **argv) {
     }
   }
   for (size_t k = 0; k < sizeof PLACE / sizeof PLACE[0]; k++) per_room += P[PLACE[k].piece].m.nt;
-  snprintf(path, sizeof path, "%s/hotel.scn", out);
-  FILE *f = fopen(path, "w");
-  if (!f) {
-    fprintf(stderr, "vr-hotel: cannot write %s: %s\n", path, strerror(errno));
-    return 1;
-  }
-  double L = 4.0 * nrooms;
-  fprintf(f,
-          "# A hotel floor of %d rooms along a corridor, written by vr-hotel --rooms %d --detail %d\n"
-          "# (samples/hotel/hotel_gen.c): %zu triangles of furniture per room, %zu in all.\n"
-          "# Rooms are 4 x 5 x 2.7 m, windows to the south (y = -5), doors onto the corridor\n"
-          "# (y = 0 to 2).  Materials come from the database the main job fills.\n\n"
-          "camera pinhole from=0.6,1.0,1.6 to=%.1f,0.6,1.2 fov=75 resolution=320x240 exposure=-1\n\n"
-          "material paint    db:photo-paint\n"
-          "material carpet   db:photo-carpet\n"
-          "material cotton   db:photo-cotton\n"
-          "material pine     db:photo-pine\n"
-          "material concrete db:photo-concrete\n"
-          "material brick    db:photo-brick\n"
-          "material leaf     lambert reflectance=0.15\n"
-          "material alu      db:Al roughness=0.25\n"
-          "material clear    db:clear-float-nk thickness=4mm model=thin\n"
-          "material ec1      db:electrochromic-glass state=0.3\n"
-          "material ec2      db:electrochromic-glass state=0.6\n"
-          "material ec3      db:electrochromic-glass state=0.9\n"
-          "material panel    lambert reflectance=0.8\n\n"
-          "# The corridor, its ceiling panels lit.\n",
-          nrooms, nrooms, D, per_room, per_room * (size_t)nrooms, L);
-  rect(f, L / 2, 1, 0, "0,0,1", L, 2, "carpet", NULL);
-  rect(f, L / 2, 1, 2.7, "0,0,-1", L, 2, "paint", NULL);
-  rect(f, L / 2, 2, 1.35, "0,-1,0", L, 2.7, "brick", NULL);
-  rect(f, 0, 1, 1.35, "1,0,0", 2, 2.7, "paint", NULL);
-  rect(f, L, 1, 1.35, "-1,0,0", 2, 2.7, "paint", NULL);
-  for (int i = 0; i < nrooms; i += 2)
-    rect(f, 4.0 * i + 4, 1, 2.69, "0,0,-1", 0.6, 0.6, "panel", " emission=800cd/m2 emission_spectrum=LED-B3");
-  for (int i = 0; i < nrooms; i++) room(f, i, nrooms);
-  fprintf(f,
-          "\n# Daylight from the south.\n"
-          "light sun altitude=35 azimuth=180 illuminance=80000lx\n"
-          "sky cie type=12 illuminance=15000lx\n\n"
-          "render integrator=path spp=8 depth=5\n");
-  if (fclose(f) != 0) {
-    fprintf(stderr, "vr-hotel: cannot write %s\n", path);
-    return 1;
+  for (int view = 0; view < 2; view++) {
+    snprintf(path, sizeof path, "%s/%s", out, view ? "hotel_corridor.scn" : "hotel.scn");
+    if (!write_scene(path, view, nrooms, D, per_room)) {
+      fprintf(stderr, "vr-hotel: cannot write %s: %s\n", path, strerror(errno));
+      return 1;
+    }
   }
   size_t on_disk = 0;
   for (int i = 0; i < 14; i++) on_disk += P[i].m.nv * 24 + P[i].m.nt * 13;
-  printf("vr-hotel: %d rooms, %zu triangles per room, %zu in all; meshes %.1f MiB on disk; %s\n",
-         nrooms, per_room, per_room * (size_t)nrooms, on_disk / 1048576.0, path);
+  printf("vr-hotel: %d rooms, %zu triangles per room, %zu in all; meshes %.1f MiB on disk; "
+         "%s/hotel.scn and %s/hotel_corridor.scn\n",
+         nrooms, per_room, per_room * (size_t)nrooms, on_disk / 1048576.0, out, out);
   for (int i = 0; i < 14; i++) mesh_free(&P[i].m);
   return 0;
 }

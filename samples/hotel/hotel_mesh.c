@@ -117,6 +117,22 @@ bool mesh_lathe(mesh *m, double cx, double cy, const double *r, const double *z,
   return mesh_grid(m, lathe_at, &l, nu, nv, true);
 }
 
+void mesh_drop_degenerate(mesh *m) {
+  size_t kept = 0;
+  for (size_t t = 0; t < m->nt; t++) {
+    const uint32_t *ix = m->t + 3 * t;
+    const float *a = m->p + 3 * ix[0], *b = m->p + 3 * ix[1], *c = m->p + 3 * ix[2];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) e1[k] = (double)b[k] - a[k], e2[k] = (double)c[k] - a[k];
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                   e1[0] * e2[1] - e1[1] * e2[0]};
+    /* the renderer's own threshold is relative; this one only drops the
+     * rings a pole collapses into a point */
+    if (n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 1e-24) memmove(m->t + 3 * kept++, ix, 12);
+  }
+  m->nt = kept;
+}
+
 void mesh_normals(mesh *m) {
   free(m->n);
   m->n = calloc(3 * m->nv + 1, sizeof *m->n);

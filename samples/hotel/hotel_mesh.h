@@ -31,6 +31,8 @@ bool mesh_rounded_box(mesh *m, const double centre[3], double a, double b, doubl
  * radius r[i] at height z[i], i = 0..np-1, interpolated on nv rows. */
 bool mesh_lathe(mesh *m, double cx, double cy, const double *r, const double *z, int np, int nu,
                 int nv);
+/* Drops the triangles of (near) zero area that a pole of a grid makes. */
+void mesh_drop_degenerate(mesh *m);
 /* Vertex normals: the area-weighted mean of the triangles around each. */
 void mesh_normals(mesh *m);
 /* Binary little-endian PLY with positions and normals; false on an I/O error. */

@@ -155,4 +155,88 @@ EOF
     test "$(sed -n 2p "$tmp/zero_$integ.sensors.csv" | cut -d, -f7)" = "0"
 done
 
+# The geometry cache and the memory budget (docs/ddm.md).  The cache is
+# made beside the scene by default, reused on the next run, and a budget
+# that forces sub-domains in and out gives the same sensor readings.
+check "the point scene's cache was made beside it" test -s "$tmp/point.vrcache/S1/manifest.vrm"
+(cd "$tmp" && "$bin" point.scn --stats again.json --threads 2 --quiet); rc=$?
+check "second run of the point scene" test $rc -eq 0
+python3 - "$tmp" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1] + "/again.json"))
+assert s["cache"]["built"] is False and s["cache"]["reason"] == "reused", s["cache"]
+assert s["subdomains"]["count"] == 1 and s["subdomains"]["loads"] == 1, s["subdomains"]
+assert s["memory"]["budget_bytes"] == 0 and s["memory"]["peak_cells_bytes"] > 0, s["memory"]
+PY
+check "the cache is reused, stats say so" test $? -eq 0
+cat > "$tmp/boxes.scn" <<'SCN'
+# Eight boxes around a lamp, to cut into sub-domains.
+material grey lambert reflectance=0.5
+rect center=0,0,0 normal=0,0,1 size=20,20 material=grey
+box min=-3,-3,0 max=-2,-2,1 material=grey
+box min=2,-3,0 max=3,-2,1 material=grey
+box min=-3,2,0 max=-2,3,1 material=grey
+box min=2,2,0 max=3,3,1 material=grey
+box min=-0.5,-3,0 max=0.5,-2,2 material=grey
+box min=-0.5,2,0 max=0.5,3,2 material=grey
+box min=-3,-0.5,0 max=-2,0.5,2 material=grey
+box min=2,-0.5,0 max=3,0.5,2 material=grey
+light point position=0,0,3 intensity=1000cd
+sensor floor grid origin=-1,-1,0 u=2,0,0 v=0,2,0 n=2,2 normal=0,0,1
+render integrator=path sensor_samples=512 depth=3
+SCN
+(cd "$tmp" && "$bin" boxes.scn --sensors-only --subdomains 8 --cache "$tmp/c" -o free --stats free.json --quiet); rc=$?
+check "boxes, 8 sub-domains, no budget" test $rc -eq 0
+(cd "$tmp" && "$bin" boxes.scn --sensors-only --subdomains 8 --cache "$tmp/c" -o tight --stats tight.json \
+   --memory-budget 80K --threads 2 > tight.out 2> tight.err); rc=$?
+check "boxes, 8 sub-domains, an 80 KiB budget" test $rc -eq 0
+[ $rc -eq 0 ] || sed 's/^/# /' "$tmp/tight.err"
+check "--cache DIR is used" test -s "$tmp/c/S8/manifest.vrm"
+check "the summary reports the budget" grep -q "^memory   budget 80.0 KiB" "$tmp/tight.out"
+python3 - "$tmp" <<'PY'
+import csv, json, sys
+d = sys.argv[1]
+f = [float(r["illuminance_lx"]) for r in csv.DictReader(open(d + "/free.sensors.csv"))]
+t = [float(r["illuminance_lx"]) for r in csv.DictReader(open(d + "/tight.sensors.csv"))]
+assert len(f) == 4 and all(abs(a - b) <= 1e-6 * a for a, b in zip(f, t)), (f, t)
+s = json.load(open(d + "/tight.json"))
+m, sd = s["memory"], s["subdomains"]
+assert m["budget_bytes"] == 80 * 1024, m
+assert m["peak_cells_bytes"] + m["peak_queue_bytes"] + m["peak_map_bytes"] <= m["budget_bytes"], m
+assert sd["loads"] > 8 and sd["unloads"] > 0, sd
+assert s["rays"]["created"] == s["rays"]["finished"], s["rays"]
+PY
+check "the budget moves sub-domains in and out, same readings, held within it" test $? -eq 0
+
+# Bad budgets are usage errors naming the option; one too small for the
+# largest sub-domain is refused naming it; --image-space cannot take one.
+for b in abc 0 -5M 12Q 1e40; do
+  "$bin" "$tmp/boxes.scn" --memory-budget "$b" > /dev/null 2> "$tmp/err"; rc=$?
+  check "--memory-budget $b is a usage error (2)" test $rc -eq 2
+  check "--memory-budget $b is named" grep -q -- "--memory-budget: '$b' is not a size" "$tmp/err"
+done
+"$bin" "$tmp/boxes.scn" --memory-budget 1G --image-space > /dev/null 2> "$tmp/err"; rc=$?
+check "--memory-budget with --image-space is a usage error (2)" test $rc -eq 2
+(cd "$tmp" && "$bin" boxes.scn --sensors-only --subdomains 8 --cache "$tmp/c" -o small --memory-budget 30K \
+   > /dev/null 2> small.err); rc=$?
+check "a budget too small exits 1" test $rc -eq 1
+check "a budget too small names a sub-domain" grep -q "memory budget 30.0 KiB is too small: sub-domain [0-9]* needs" "$tmp/small.err"
+check "a budget too small writes nothing" test ! -e "$tmp/small.sensors.csv"
+
+# A cache folder that cannot be written: --cache names it; by default the
+# render falls back to a temporary cache and says so.  (As root every
+# folder is writable, and the check would mean nothing: it is skipped.)
+mkdir -p "$tmp/ro" && cp "$tmp/point.scn" "$tmp/ro/" && chmod 555 "$tmp/ro"
+if [ ! -w "$tmp/ro" ]; then
+  (cd "$tmp" && "$bin" ro/point.scn -o ro_out --sensors-only 2> ro.err > /dev/null); rc=$?
+  check "a read-only scene folder still renders" test $rc -eq 0
+  check "the temporary cache is announced" grep -q "using a temporary one" "$tmp/ro.err"
+  "$bin" "$tmp/point.scn" --cache "$tmp/ro/c" --sensors-only -o "$tmp/x" > /dev/null 2> "$tmp/err"; rc=$?
+  check "an unwritable --cache exits 1" test $rc -eq 1
+  check "an unwritable --cache is named" grep -q "ro/c" "$tmp/err"
+fi
+chmod 755 "$tmp/ro"
+"$bin" "$tmp/point.scn" --cache '' > /dev/null 2> "$tmp/err"; rc=$?
+check "--cache '' is refused" test $rc -eq 1
+
 finish

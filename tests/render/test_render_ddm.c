@@ -172,7 +172,7 @@ static void test_same_image_with_budget(void **state) {
     assert_int_equal(r->cell_loads, (uint64_t)S); /* all loaded once */
     assert_int_equal(r->cell_unloads, 0);
     vr_render_result_destroy(r);
-    size_t b = budget_for(s, S, S == 1 ? 1 : 3);
+    size_t b = budget_for(s, S, S == 1 ? 1 : 2);
     r = render(s, S, b, NULL, VR_OK, NULL);
     snprintf(what, sizeof what, "S=%d, budget %zu", S, b);
     same_film(ref, r, what);
@@ -181,7 +181,7 @@ static void test_same_image_with_budget(void **state) {
                   S, b, (unsigned long long)r->cell_loads, (unsigned long long)r->cell_unloads,
                   (unsigned long long)r->rays_spilled, r->peak_cells_bytes);
     if (S > 1) {
-      /* The budget held about three cells: cells came and went. */
+      /* The budget held about two cells: cells came and went. */
       assert_true(r->cell_loads > (uint64_t)S);
       assert_true(r->cell_unloads > 0);
     }
@@ -206,7 +206,7 @@ static void test_photon_maps_per_cell(void **state) {
   same_film(ref, r8, "photon mapping, S=8");
   assert_int_equal(r8->photons_global, ref->photons_global);
   /* Under a budget the maps count: give them room, and cells little. */
-  size_t b = budget_for(s, 8, 3) + 3 * (ref->peak_map_bytes + (1 << 20));
+  size_t b = budget_for(s, 8, 2) + 3 * (ref->peak_map_bytes + (1 << 20));
   vr_render_result *rb = render(s, 8, b, NULL, VR_OK, NULL);
   same_film(ref, rb, "photon mapping, S=8 with a budget");
   assert_true(rb->peak_map_bytes > 0);
