@@ -316,7 +316,7 @@ static void test_rays_on_interfaces(void **state) {
   assert_int_equal(vr_domains_build(g, 8, &many, &err), VR_OK);
   /* Collect the split planes through the cells' boxes. */
   unsigned long long seed = 12345;
-  int checked = 0;
+  int checked = 0, on_faces = 0;
   for (int i = 0; i < 4000; i++) {
     double o[3], d[3];
     for (int a = 0; a < 3; a++) {
@@ -329,13 +329,19 @@ static void test_rays_on_interfaces(void **state) {
     int cell = i % vr_domains_count(many);
     double lo[3], hi[3];
     vr_domains_cell_bounds(many, cell, lo, hi);
-    if (i % 3 == 0) {
+    /* Only faces between cells: a face on the scene's bounds is the plane
+     * of the room's outer walls, and a ray lying in a wall's plane meets
+     * the next wall exactly on their shared edge, where any BVH may or may
+     * not report it (a grazing case, not an interface). */
+    if (i % 3 == 0 && (lo[0] > g->bmin[0] || hi[0] < g->bmax[0])) {
       /* Start exactly on a cell face. */
       o[0] = lo[0] > g->bmin[0] ? lo[0] : hi[0];
-    } else if (i % 3 == 1) {
+      on_faces++;
+    } else if (i % 3 == 1 && (lo[1] > g->bmin[1] || hi[1] < g->bmax[1])) {
       /* Lie in a cell face: no motion across it. */
       o[1] = lo[1] > g->bmin[1] ? lo[1] : hi[1];
       d[1] = 0;
+      on_faces++;
     }
     vr_hit h1, h2;
     bool g1 = false, g2 = false;
@@ -355,7 +361,10 @@ static void test_rays_on_interfaces(void **state) {
       t = te;
       assert_true(++steps < 64);
     }
-    assert_int_equal(g1, g2);
+    if (g1 != g2)
+      fail_msg("ray %d (o %.17g %.17g %.17g, d %.17g %.17g %.17g): %s with one cell, %s with eight (t %.9g, object %u)",
+               i, o[0], o[1], o[2], d[0], d[1], d[2], g1 ? "hit" : "miss", g2 ? "hit" : "miss",
+               g1 ? h1.t : h2.t, g1 ? h1.object : h2.object);
     if (g1) {
       assert_int_equal(h1.object, h2.object);
       assert_true(h1.t == h2.t);
@@ -363,6 +372,8 @@ static void test_rays_on_interfaces(void **state) {
     }
   }
   assert_true(checked > 3000);
+  print_message("  %d of 4000 rays start on or lie in an interface\n", on_faces);
+  assert_true(on_faces > 1000);
   vr_domains_destroy(one);
   vr_domains_destroy(many);
   vr_geometry_destroy(g);
