@@ -55,4 +55,6 @@ build/matdb/vr-matdb import samples/cornell/cornell_light.csv --name cornell-lig
 build/render/vr-render samples/cornell/cornell.scn -o out/cornell --threads 2 --sensors-only --quiet
 echo "== the hotel room through clear and electrochromic windows, from the database filled above (vr-render)"
 build/render/vr-render samples/room.scn -o out/room --threads 2 --stats out/room_stats.json
-echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room)"
+echo "== the same room's sensors with 8 sub-domains under a 150 KiB memory budget (vr-render --memory-budget)"
+build/render/vr-render samples/room.scn -o out/room_budget --threads 2 --subdomains 8 --memory-budget 150K --sensors-only --stats out/room_budget_stats.json
+echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room), out/room_budget.sensors.csv and out/room_budget_stats.json (its sensors under a memory budget)"
