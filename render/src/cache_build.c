@@ -874,13 +874,38 @@ static void builder_free(builder *B) {
   free(B->parts);
 }
 
+/* Folders an interrupted build left beside dir (dir.tmp-PID, dir.old-PID):
+ * the caller holds the cache's lock, so no other build is under way and
+ * they are all stale. */
+static void remove_leftovers(const char *dir) {
+  char parent[DIRMAX], prefix[DIRMAX + 8];
+  snprintf(parent, sizeof parent, "%s", dir);
+  char *slash = strrchr(parent, '/');
+  const char *base = slash ? slash + 1 : parent;
+  snprintf(prefix, sizeof prefix, "%s.", base);
+  if (slash) *slash = '\0';
+  DIR *d = opendir(slash ? parent : ".");
+  if (!d) return;
+  struct dirent *e;
+  size_t np = strlen(prefix);
+  while ((e = readdir(d))) {
+    if (strncmp(e->d_name, prefix, np) || (strncmp(e->d_name + np, "tmp-", 4) &&
+                                           strncmp(e->d_name + np, "old-", 4)))
+      continue;
+    char p[DIRMAX + 300];
+    snprintf(p, sizeof p, "%s/%s", slash ? parent : ".", e->d_name);
+    remove_flat(p);
+  }
+  closedir(d);
+}
+
 vr_status vr_cache_build_run(const vr_cache_build *b, vr_cache_manifest **out, vr_error *err) {
   *out = NULL;
   builder B = {.b = b, .err = err};
   if (strlen(b->dir) >= DIRMAX)
     return vr_error_set(err, VR_E_ARG, "geometry cache: folder name longer than %d bytes", DIRMAX);
   snprintf(B.tmp, sizeof B.tmp, "%s.tmp-%ld", b->dir, (long)getpid());
-  remove_flat(B.tmp);
+  remove_leftovers(b->dir);
   if (mkdir(B.tmp, 0755) != 0) return io_fail(&B, "create", B.tmp);
   double t0 = now();
   vr_cache_manifest *m = calloc(1, sizeof *m);

@@ -307,6 +307,13 @@ static void test_cache_lifecycle(void **state) {
   } damage[] = {{cell, -3, "damaged (checksum of its contents)"},
                 {cell, 30, "damaged header"},
                 {manifest, -5, "damaged (checksum)"}};
+  /* What an interrupted build left beside the cache goes with the next
+   * build. */
+  char stale[700];
+  snprintf(stale, sizeof stale, "%s/S4.tmp-1", cache);
+  mkdir(stale, 0755);
+  snprintf(stale, sizeof stale, "%s/S4.tmp-1/part-00000", cache);
+  write_text(stale, "x");
   for (size_t i = 0; i < 3; i++) {
     flip_byte(damage[i].path, damage[i].at);
     vr_render_result *r = cached(obj, 2, cache);
@@ -314,6 +321,7 @@ static void test_cache_lifecycle(void **state) {
     assert_contains(r->cache_reason, damage[i].reason);
     same_film(first, r, damage[i].reason);
     vr_render_result_destroy(r);
+    assert_true(access(stale, F_OK) != 0);
   }
   assert_int_equal(truncate(cell, 200), 0);
   vr_render_result *cut = cached(obj, 2, cache);
