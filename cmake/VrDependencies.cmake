@@ -74,11 +74,17 @@ if(NOT assimp_FOUND)
   vr_missing("Assimp" libassimp-dev)
 endif()
 
-# Open MPI (several machines).  The renderer can be built without it, but the
+# Open MPI (several machines).  Optional: without it vr-render runs in one
+# process (VR_MPI=OFF builds without it even when it is there).  The
 # project's own set-up installs it so that the MPI path is always tested.
-find_package(MPI QUIET COMPONENTS C)
-if(NOT MPI_C_FOUND)
-  vr_missing("MPI (C bindings)" "libopenmpi-dev openmpi-bin")
+option(VR_MPI "Build vr-render with MPI (sub-domains on several ranks)" ON)
+if(VR_MPI)
+  find_package(MPI QUIET COMPONENTS C)
+  if(NOT MPI_C_FOUND)
+    message(WARNING "MPI not found: vr-render is built for one process only "
+                    "(apt-get install libopenmpi-dev openmpi-bin for several ranks)")
+    set(VR_MPI OFF)
+  endif()
 endif()
 
 # cairo (plots in reports).
@@ -90,4 +96,4 @@ endif()
 message(STATUS "Virtuelium-C dependencies: Ceres ${Ceres_VERSION}, GSL ${GSL_VERSION}, "
                "LAPACKE ${LAPACKE_VERSION}, OpenCV ${OpenCV_VERSION}, OpenEXR ${OpenEXR_VERSION}, "
                "cmocka ${CMOCKA_VERSION}, SQLite ${SQLite3_VERSION}, libyaml ${YAML_VERSION}, "
-               "Embree ${embree_VERSION}, Assimp ${assimp_VERSION}, MPI ${MPI_C_VERSION}, cairo ${CAIRO_VERSION}")
+               "Embree ${embree_VERSION}, Assimp ${assimp_VERSION}, MPI ${MPI_C_VERSION} (used: ${VR_MPI}), cairo ${CAIRO_VERSION}")

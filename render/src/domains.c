@@ -250,29 +250,53 @@ static vr_status open_common(vr_domains *d, const vr_domains_options *o, const v
   if (d->lock_fd < 0)
     return vr_error_set(err, VR_E_IO, "cache folder %s: cannot write in it (%s): give a writable "
                         "one with --cache", d->root, strerror(errno));
-  while (flock(d->lock_fd, LOCK_EX) != 0)
-    if (errno != EINTR)
-      return vr_error_set(err, VR_E_IO, "cache %s: cannot lock: %s", lock, strerror(errno));
+  /* Check under a shared lock, so that renders of the same geometry (MPI
+   * ranks on one machine among them) never wait for each other.  Only a
+   * build takes the lock exclusively, and it never waits for it while the
+   * cache may be valid: a render holding the shared lock keeps it until it
+   * ends, and a rank waiting for it would wait for the others forever. */
   double t0 = now();
   char why[1024];
-  d->m = check_cache(d, key, S, why, sizeof why);
-  if (d->m) {
+  bool said = false;
+  for (;;) {
+    while (flock(d->lock_fd, LOCK_SH) != 0)
+      if (errno != EINTR)
+        return vr_error_set(err, VR_E_IO, "cache %s: cannot lock: %s", lock, strerror(errno));
+    d->m = check_cache(d, key, S, why, sizeof why);
+    if (d->m) break;
+    flock(d->lock_fd, LOCK_UN);
+    if (flock(d->lock_fd, LOCK_EX | LOCK_NB) == 0) {
+      /* Ours: check again (another render may have just built it). */
+      d->m = check_cache(d, key, S, why, sizeof why);
+      if (!d->m) {
+        snprintf(d->cache_reason, sizeof d->cache_reason, "%s", why);
+        if (!d->private_root) say(d, "cache: building %s (%s)", d->dir, why);
+        vr_cache_build b = {.dir = d->dir, .key = key, .subdomains = S, .scene = scene,
+                            .geometry = g, .mesh_cache_bytes = o->mesh_cache_bytes,
+                            .measure = measure, .measure_ctx = d, .log = o->log, .user = o->user};
+        vr_status st = vr_cache_build_run(&b, &d->m, err);
+        if (st) return st;
+        d->cache_built = true;
+      }
+      /* Shared from now on: other renders may use it, nobody may rebuild it. */
+      flock(d->lock_fd, LOCK_SH);
+      break;
+    }
+    if (errno != EWOULDBLOCK && errno != EINTR)
+      return vr_error_set(err, VR_E_IO, "cache %s: cannot lock: %s", lock, strerror(errno));
+    /* Someone builds it, or renders with another geometry: wait and look again. */
+    if (!said && !d->private_root) {
+      say(d, "cache: %s is being built or used by another render; waiting", d->dir);
+      said = true;
+    }
+    nanosleep(&(struct timespec){0, 50000000}, NULL);
+  }
+  if (!d->cache_built) {
     snprintf(d->cache_reason, sizeof d->cache_reason, "reused");
     say(d, "cache: %s holds the %d sub-domain%s of this geometry, checked in %.2f s", d->dir, S,
         S == 1 ? "" : "s", now() - t0);
-  } else {
-    snprintf(d->cache_reason, sizeof d->cache_reason, "%s", why);
-    if (!d->private_root) say(d, "cache: building %s (%s)", d->dir, why);
-    vr_cache_build b = {.dir = d->dir, .key = key, .subdomains = S, .scene = scene,
-                        .geometry = g, .mesh_cache_bytes = o->mesh_cache_bytes,
-                        .measure = measure, .measure_ctx = d, .log = o->log, .user = o->user};
-    vr_status st = vr_cache_build_run(&b, &d->m, err);
-    if (st) return st;
-    d->cache_built = true;
   }
   d->cache_seconds = now() - t0;
-  /* Shared from now on: other renders may use it, nobody may rebuild it. */
-  flock(d->lock_fd, LOCK_SH);
   d->cells = calloc((size_t)d->m->ncells, sizeof *d->cells);
   if (!d->cells) return vr_error_set(err, VR_E_NOMEM, "sub-domains: out of memory");
   for (int c = 0; c < d->m->ncells; c++) {
@@ -360,6 +384,8 @@ const uint32_t *vr_domains_cell_objects(const vr_domains *d, int cell, size_t *n
 }
 
 const vr_scene_tables *vr_domains_tables(const vr_domains *d) { return &d->m->tables; }
+
+void vr_domains_key(const vr_domains *d, uint8_t key[32]) { memcpy(key, d->m->key, 32); }
 
 int vr_domains_locate(const vr_domains *d, const double org[3], const double dir[3], double t,
                       double *t_exit) {

@@ -412,6 +412,21 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
   fputs(", \"seconds\": ", f);
   vr_json_number(f, r->cache_seconds);
   fprintf(f, ", \"bytes\": %" PRIu64 "},\n", r->cache_bytes);
+  json_key(f, "  ", "ranks");
+  fputs("[", f);
+  for (int k = 0; r->rank_stats && k < r->ranks; k++) {
+    const vr_rank_stats *q = &r->rank_stats[k];
+    fprintf(f,
+            "%s\n    {\"rank\": %d, \"cells_owned\": %d, \"rays_traced\": %" PRIu64
+            ", \"rays_sent\": %" PRIu64 ", \"rays_received\": %" PRIu64 ", \"messages\": %" PRIu64
+            ", \"bytes_sent\": %" PRIu64 ", \"waves\": %" PRIu64 ", \"idle_seconds\": ",
+            k ? "," : "", k, q->cells_owned, q->rays_traced, q->rays_sent, q->rays_received,
+            q->messages, q->bytes_sent, q->waves);
+    vr_json_number(f, q->idle_seconds);
+    fprintf(f, ", \"cell_loads\": %" PRIu64 ", \"peak_cells_bytes\": %zu, \"peak_rss_bytes\": %lld}",
+            q->cell_loads, q->peak_cells_bytes, q->peak_rss_bytes);
+  }
+  fputs(r->rank_stats && r->ranks ? "\n  ],\n" : "],\n", f);
   json_key(f, "  ", "memory");
   fprintf(f,
           "{\"budget_bytes\": %zu, \"peak_cells_bytes\": %zu, \"peak_geometry_bytes\": %zu, "

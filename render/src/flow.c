@@ -10,6 +10,7 @@
  * (and their spill files) are in flow_queue.c, the choice of a cell (and
  * loading cells under a budget) in flow_sched.c. */
 #include "flow_internal.h"
+#include "vr/comm.h"
 
 #include <math.h>
 #include <sched.h>
@@ -86,7 +87,10 @@ static void finish(vr_flow_worker *w, long n) {
 /* Hands n rays to cell c's queue; if neither memory nor disk can take
  * them they are lost, so they are counted finished and the run fails. */
 static void put(vr_flow_worker *w, int c, const vr_ray *rays, int n) {
-  if (vr_flow_queue_put(w->f, c, rays, n, w)) return;
+  vr_flow *f = w->f;
+  if (vr_flow_mine(f, c) ? vr_flow_queue_put(f, c, rays, n, w)
+                         : vr_flow_net_put(f, f->owner[c], rays, n))
+    return;
   w->oom = true;
   atomic_store(&w->f->failed, 1);
   finish(w, n);
@@ -219,6 +223,19 @@ escaped:
   finish(w, 1);
 }
 
+/* This rank's k-th unit: every nranks-th index of the run from its rank,
+ * through the run's unit list if it has one. */
+static long unit_of(const flow *f, long k) {
+  long i = f->rank + k * f->nranks;
+  return f->unit_list ? f->unit_list[i] : i;
+}
+
+static double clock_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 static void report_progress(flow *f) {
   if (!f->progress) return;
   if (pthread_mutex_trylock(&f->progress_lock) != 0) return;
@@ -230,6 +247,7 @@ static void *queued_worker(vr_flow_worker *w) {
   flow *f = w->f;
   vr_ray batch[BATCH];
   int idle = 0;
+  double idle_since = 0;
   for (;;) {
     if (atomic_load_explicit(&f->failed, memory_order_relaxed)) break;
     bool low = atomic_load_explicit(&f->queued, memory_order_relaxed) < f->max_pending &&
@@ -240,36 +258,65 @@ static void *queued_worker(vr_flow_worker *w) {
       if (u >= f->units) u = -1;
     }
     if (u >= 0) {
-      f->ops->generate(f->ctx, w, u);
+      f->ops->generate(f->ctx, w, unit_of(f, u));
       flush(w);
       atomic_fetch_add(&f->done_units, 1);
       report_progress(f);
+      if (f->net) vr_flow_net_progress(f);
       continue;
     }
     int c = vr_flow_sched_pick(f, w);
     if (c >= 0) {
+      double t0 = clock_s();
+      if (idle_since > 0) w->st.idle_seconds += t0 - idle_since;
+      idle_since = 0;
       int n = vr_flow_queue_take(f, c, batch, w);
       atomic_fetch_add_explicit(&f->traced[c], (unsigned long long)n, memory_order_relaxed);
       for (int i = 0; i < n; i++) trace(w, &batch[i], false);
       vr_flow_sched_release(f, c);
       flush(w);
+      atomic_fetch_add_explicit(&f->cell_ns[c], (unsigned long long)((clock_s() - t0) * 1e9),
+                                memory_order_relaxed);
+      if (f->net) vr_flow_net_progress(f);
       idle = 0;
       continue;
     }
+    if (idle_since == 0) idle_since = clock_s();
     /* Out of work, with every ray of ours flushed: give the credit back,
      * then the run is over when every unit has been generated (a unit
      * being generated is not yet done) and the count, which is never below
      * the rays in flight, is 0.  Otherwise another worker still holds rays
      * that will reach the queues. */
     give_back(w);
-    if (atomic_load(&f->done_units) >= f->units && atomic_load(&f->in_flight) == 0) break;
-    /* Others hold the work (or load a cell): yield, then nap, so that a
-     * long load does not cost a spinning core. */
-    if (++idle < 64)
+    if (f->net) {
+      /* Rays may still come from other ranks: the waves decide. */
+      if (atomic_load(&f->terminated)) break;
+      if (vr_flow_net_progress(f)) {
+        idle = 0;
+        continue;
+      }
+    } else if (atomic_load(&f->done_units) >= f->units && atomic_load(&f->in_flight) == 0) {
+      break;
+    }
+    /* Others hold the work (or load a cell, or the rays are on another
+     * rank): yield a few times, then sleep until rays are queued here, so
+     * that a waiting worker costs no core (on a machine shared by ranks,
+     * a spinning worker would slow the busy one). */
+    if (++idle < 8) {
       sched_yield();
-    else
-      nanosleep(&(struct timespec){0, 200000}, NULL);
+    } else {
+      pthread_mutex_lock(&f->idle_lock);
+      atomic_fetch_add(&f->sleepers, 1);
+      struct timespec until;
+      clock_gettime(CLOCK_REALTIME, &until);
+      until.tv_nsec += 1000000;
+      if (until.tv_nsec >= 1000000000) until.tv_sec++, until.tv_nsec -= 1000000000;
+      pthread_cond_timedwait(&f->idle_cv, &f->idle_lock, &until);
+      atomic_fetch_sub(&f->sleepers, 1);
+      pthread_mutex_unlock(&f->idle_lock);
+    }
   }
+  if (idle_since > 0) w->st.idle_seconds += clock_s() - idle_since;
   flush(w);
   give_back(w);
   return NULL;
@@ -290,7 +337,7 @@ static void *image_space_worker(vr_flow_worker *w) {
     if (atomic_load_explicit(&f->failed, memory_order_relaxed)) break;
     long u = atomic_fetch_add(&f->next_unit, 1);
     if (u >= f->units) break;
-    f->ops->generate(f->ctx, w, u);
+    f->ops->generate(f->ctx, w, unit_of(f, u));
     while (w->top > 0) {
       vr_ray r = w->stack[--w->top];
       trace(w, &r, true);
@@ -323,6 +370,7 @@ static void add_stats(vr_flow_stats *to, const vr_flow_stats *s) {
   to->traversals += s->traversals;
   to->spilled += s->spilled;
   to->skipped += s->skipped;
+  to->idle_seconds += s->idle_seconds;
   for (int i = 0; i < 8; i++) to->by_purpose[i] += s->by_purpose[i];
 }
 
@@ -337,26 +385,35 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   int threads = o->threads;
   if (threads < 1 || threads > 1024)
     return vr_error_set(err, VR_E_ARG, "threads = %d, expected 1 to 1024", threads);
-  flow f = {.d = d, .ops = ops, .ctx = ctx, .units = units, .image_space = image_space,
+  flow f = {.d = d, .ops = ops, .ctx = ctx, .all_units = units, .image_space = image_space,
             .progress = o->progress, .pctx = o->pctx, .threads = threads, .batch = BATCH,
             .budget = o->memory_budget, .spill_dir = o->spill_dir, .held = o->held,
-            .hctx = o->hctx};
+            .hctx = o->hctx, .unit_list = o->unit_list};
   f.ncells = vr_domains_count(d);
+  f.rank = vr_comm_rank(o->comm);
+  f.nranks = vr_comm_size(o->comm);
+  f.owner = f.nranks > 1 ? o->owner : NULL;
+  /* This rank's share of the units: indices rank, rank + R, ... */
+  f.units = units > f.rank ? (units - f.rank + f.nranks - 1) / f.nranks : 0;
   f.max_pending = o->max_pending > 0 ? o->max_pending
                   : f.budget         ? VR_FLOW_BUDGET_PENDING
                                      : LOW_WATER;
   pthread_mutex_init(&f.progress_lock, NULL);
   pthread_mutex_init(&f.sched_lock, NULL);
   pthread_mutex_init(&f.pool_lock, NULL);
+  pthread_mutex_init(&f.idle_lock, NULL);
+  pthread_cond_init(&f.idle_cv, NULL);
   f.q = image_space ? NULL : alloc_lines((size_t)f.ncells, sizeof *f.q);
   f.pins = calloc((size_t)f.ncells, sizeof *f.pins);
   f.traced = calloc((size_t)f.ncells, sizeof *f.traced);
+  f.cell_ns = calloc((size_t)f.ncells, sizeof *f.cell_ns);
   f.loading = calloc((size_t)f.ncells, sizeof *f.loading);
   vr_flow_worker *ws = alloc_lines((size_t)threads, sizeof *ws);
   pthread_t *tids = calloc((size_t)threads, sizeof *tids);
   vr_status st = VR_OK;
   for (int c = 0; f.q && c < f.ncells; c++) vr_flow_queue_init(&f.q[c]);
-  if ((!image_space && !f.q) || !ws || !tids || !f.pins || !f.loading || !f.traced) {
+  if ((!image_space && !f.q) || !ws || !tids || !f.pins || !f.loading || !f.traced ||
+      !f.cell_ns) {
     st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory");
     goto done;
   }
@@ -366,11 +423,21 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
                       "memory budget");
     goto done;
   }
+  /* Cells another rank owns now (ownership may move between runs) go. */
+  for (int c = 0; f.owner && c < f.ncells; c++)
+    if (!vr_flow_mine(&f, c) && vr_domains_loaded(d, c)) vr_domains_unload(d, c);
   if (f.budget) {
     st = vr_flow_budget_plan(&f, err);
   } else {
-    /* No budget: every cell loaded, all along. */
-    st = vr_domains_load_all(d, err);
+    /* No budget: every cell of this rank loaded, all along. */
+    for (int c = 0; !st && c < f.ncells; c++)
+      if (vr_flow_mine(&f, c)) st = vr_domains_load(d, c, err);
+  }
+  if (f.owner && !image_space) {
+    /* Every rank must be ready before any waits for the others' waves. */
+    st = vr_comm_agree(o->comm, st, err);
+    if (st && stats) stats->failure_shared = true;
+    if (!st) st = vr_flow_net_start(&f, o->comm, o->send_batch, err);
   }
   if (st) goto done;
   f.block_bytes = sizeof(vr_flow_block) + (size_t)f.batch * sizeof(vr_ray);
@@ -399,6 +466,8 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   }
   worker_main(&ws[0]);
   for (int i = 1; i <= started; i++) pthread_join(tids[i], NULL);
+  vr_flow_stats net_stats = {0};
+  vr_flow_net_stop(&f, &net_stats);
   if (atomic_load(&f.failed)) {
     if (f.fail_err.status)
       st = vr_error_set(err, f.fail_err.status, "%s", f.fail_err.message);
@@ -406,10 +475,14 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
       st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory in a %s",
                         image_space ? "worker's ray stack" : "queue (and its spill file)");
   }
-  if (f.progress) f.progress(f.pctx, atomic_load(&f.done_units), units);
+  if (f.progress) f.progress(f.pctx, atomic_load(&f.done_units), f.units);
   if (stats) {
     memset(stats, 0, sizeof *stats);
     for (int i = 0; i < threads; i++) add_stats(stats, &ws[i].st);
+    stats->sent = net_stats.sent, stats->received = net_stats.received;
+    stats->messages = net_stats.messages, stats->bytes_sent = net_stats.bytes_sent;
+    stats->waves = net_stats.waves, stats->spilled += net_stats.spilled;
+    stats->other_rank_failed = net_stats.other_rank_failed;
     stats->peak_queue_bytes = (size_t)atomic_load(&f.peak_queue_bytes);
     stats->peak_spill_bytes = (size_t)atomic_load(&f.peak_spill_bytes);
   }
@@ -424,10 +497,15 @@ done:
   free(f.q);
   free(f.pins);
   free(f.traced);
+  if (o->cell_ns)
+    for (int c = 0; f.cell_ns && c < f.ncells; c++) o->cell_ns[c] += atomic_load(&f.cell_ns[c]);
+  free(f.cell_ns);
   free(f.loading);
   pthread_mutex_destroy(&f.progress_lock);
   pthread_mutex_destroy(&f.sched_lock);
   pthread_mutex_destroy(&f.pool_lock);
+  pthread_mutex_destroy(&f.idle_lock);
+  pthread_cond_destroy(&f.idle_cv);
   free(ws);
   free(tids);
   return st;
@@ -435,7 +513,7 @@ done:
 
 vr_status vr_flow_run_with(vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,
                            const vr_flow_options *o, vr_flow_stats *stats, vr_error *err) {
-  return run(d, ops, ctx, units, o, false, stats, err);
+  return run(d, ops, ctx, units, o, o->image_space, stats, err);
 }
 
 vr_status vr_flow_run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long units,

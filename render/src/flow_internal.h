@@ -44,6 +44,8 @@ typedef struct vr_flow_queue {
   _Atomic long pending; /* n + spilled, readable without the lock to choose a cell */
 } vr_flow_queue;
 
+typedef struct vr_flow_net vr_flow_net;
+
 typedef struct vr_flow {
   vr_domains *d;
   const vr_flow_ops *ops;
@@ -56,7 +58,18 @@ typedef struct vr_flow {
   pthread_mutex_t pool_lock;
   vr_flow_block *free_blocks;
   size_t nblocks, max_blocks, block_bytes;
-  long units, max_pending;
+  long units, max_pending;     /* units: this rank's share */
+  long all_units;              /* of the whole run, over all ranks */
+  const long *unit_list;
+  int rank, nranks;
+  const int *owner;            /* rank of each cell, or NULL: all here */
+  vr_flow_net *net;            /* messages to and from other ranks, or NULL */
+  _Atomic int terminated;      /* several ranks: the termination waves say so */
+  /* Idle workers sleep here until rays are queued (or 1 ms passes). */
+  pthread_mutex_t idle_lock;
+  pthread_cond_t idle_cv;
+  _Atomic int sleepers;
+  _Atomic unsigned long long *cell_ns;
   long low_water;             /* budget: generate while loaded cells wait for fewer rays */
   pthread_mutex_t progress_lock;
   void (*progress)(void *, long, long);
@@ -108,6 +121,23 @@ bool vr_flow_queue_put(vr_flow *f, int c, const vr_ray *rays, int n, vr_flow_wor
 /* Takes up to f->batch rays of cell c (from memory, else from its spill). */
 int vr_flow_queue_take(vr_flow *f, int c, vr_ray *batch, vr_flow_worker *w);
 void vr_flow_note_bytes(_Atomic long long *now, _Atomic long long *peak, long long delta);
+/* Wakes the idle workers (new rays, or the end). */
+void vr_flow_wake(vr_flow *f);
+
+/* flow_net.c: rays to and from other ranks, and termination over all of
+ * them (only when there are several ranks). */
+vr_status vr_flow_net_start(vr_flow *f, struct vr_comm *comm, int send_batch, vr_error *err);
+/* Puts n rays for cells rank dest owns in its outbox. */
+bool vr_flow_net_put(vr_flow *f, int dest, const vr_ray *rays, int n);
+/* One round of sending, receiving and termination waves, if no other
+ * worker is doing one; whether anything happened. */
+bool vr_flow_net_progress(vr_flow *f);
+/* After the workers: runs the waves to their end (a failure here is told
+ * to the others), waits for the sends, adds the statistics. */
+void vr_flow_net_stop(vr_flow *f, vr_flow_stats *stats);
+static inline bool vr_flow_mine(const vr_flow *f, int cell) {
+  return !f->owner || f->owner[cell] == f->rank;
+}
 
 /* flow_sched.c */
 /* Checks that the budget can hold the largest cell next to the queues and

@@ -165,6 +165,7 @@ bool vr_flow_queue_put(vr_flow *f, int c, const vr_ray *rays, int n, vr_flow_wor
   atomic_fetch_add(&q->pending, added);
   atomic_fetch_add(&f->queued, added);
   pthread_mutex_unlock(&q->lock);
+  if (added) vr_flow_wake(f);
   /* On failure the caller fails the run: rays are lost. */
   return ok;
 }
@@ -207,4 +208,11 @@ int vr_flow_queue_take(vr_flow *f, int c, vr_ray *batch, vr_flow_worker *w) {
   }
   pthread_mutex_unlock(&q->lock);
   return n;
+}
+
+void vr_flow_wake(vr_flow *f) {
+  if (!atomic_load_explicit(&f->sleepers, memory_order_relaxed)) return;
+  pthread_mutex_lock(&f->idle_lock);
+  pthread_cond_broadcast(&f->idle_cv);
+  pthread_mutex_unlock(&f->idle_lock);
 }

@@ -62,7 +62,7 @@ vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err) {
   size_t largest = 0;
   int big = 0;
   for (int c = 0; c < f->ncells; c++) {
-    size_t p = vr_domains_cell_load_peak(f->d, c);
+    size_t p = vr_flow_mine(f, c) ? vr_domains_cell_load_peak(f->d, c) : 0;
     if (p > largest) largest = p, big = c;
   }
   f->largest = largest;
@@ -85,10 +85,12 @@ vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err) {
   int worst = big;
   for (int c = 0; c < f->ncells; c++) {
     size_t p = vr_domains_cell_load_peak(f->d, c);
-    if (p > f->cells_cap && p < vr_domains_cell_load_peak(f->d, worst)) worst = c;
+    if (vr_flow_mine(f, c) && p > f->cells_cap && p < vr_domains_cell_load_peak(f->d, worst))
+      worst = c;
   }
   int nfit = 0;
-  for (int c = 0; c < f->ncells; c++) nfit += vr_domains_cell_load_peak(f->d, c) > f->cells_cap;
+  for (int c = 0; c < f->ncells; c++)
+    nfit += vr_flow_mine(f, c) && vr_domains_cell_load_peak(f->d, c) > f->cells_cap;
   char b[32], w[32], g[32], e[32], cap[32], q[32], fx[32], need[32];
   size_t wp = vr_domains_cell_load_peak(f->d, worst);
   mib(b, sizeof b, f->budget);

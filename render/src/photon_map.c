@@ -468,3 +468,36 @@ bool vr_photon_map_bin_range(const vr_photon_map *m, int bin, double *lo_nm, dou
   return true;
 }
 
+
+size_t vr_photon_map_record_size(const vr_photon_map *m) { return m ? m->rec_size : 0; }
+
+size_t vr_photon_map_staged(const vr_photon_map *m, const unsigned char **records) {
+  *records = m && !m->built ? m->stage : NULL;
+  return m && !m->built ? m->nstage : 0;
+}
+
+vr_status vr_photon_map_add_records(vr_photon_map *m, const unsigned char *records, size_t n,
+                                    vr_error *err) {
+  if (!m || (n && !records)) return vr_error_set(err, VR_E_ARG, "photon map: NULL argument");
+  pthread_mutex_lock(&m->lock);
+  vr_status st = VR_OK;
+  if (m->built) {
+    st = vr_error_set(err, VR_E_ARG, "photon map: records added after the build");
+  } else if (m->nstage + n > VR_PHOTON_MAP_MAX) {
+    st = vr_error_set(err, VR_E_RANGE, "photon map: more than %zu photons", VR_PHOTON_MAP_MAX);
+  } else if (m->nstage + n > m->capstage) {
+    size_t cap = m->capstage ? m->capstage : 1024;
+    while (cap < m->nstage + n) cap *= 2;
+    unsigned char *s = realloc(m->stage, cap * m->rec_size);
+    if (!s)
+      st = vr_error_set(err, VR_E_NOMEM, "photon map: out of memory at %zu photons", m->nstage);
+    else
+      m->stage = s, m->capstage = cap;
+  }
+  if (!st && n) {
+    memcpy(m->stage + m->nstage * m->rec_size, records, n * m->rec_size);
+    m->nstage += n;
+  }
+  pthread_mutex_unlock(&m->lock);
+  return st;
+}

@@ -14,6 +14,7 @@
 
 #include "render_run.h"
 #include "vr/chromogenic.h"
+#include "vr/comm.h"
 
 void vr_render_options_default(vr_render_options *o) {
   memset(o, 0, sizeof *o);
@@ -70,6 +71,7 @@ static vr_status uv_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
   c->acc = &acc;
   c->uv_sky_samples = 64;
   st = vr_run_flow(r, rs, &vr_uv_ops, c, (long)nt, "uv", err);
+  if (!st) st = vr_ranks_sum_accum(r, &acc, RANKS_TEXELS, err);
   vr_render_result *res = r->res;
   res->photochromic_texels = nt;
   res->photochromic_state = calloc(nt + 1, sizeof *res->photochromic_state);
@@ -100,13 +102,39 @@ static vr_status uv_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
   return st;
 }
 
+/* The camera pass.  With several ranks owning cells, it runs in two parts:
+ * every eighth tile first, whose measured cost per cell then decides who
+ * owns which cell for the rest (the film does not care in which part a
+ * tile was rendered). */
+static vr_status camera_pass(run *r, rscene *rs, pass_ctx *c, int W, int H, vr_error *err) {
+  long tiles = vr_flow_tiles(W, H);
+  if (r->nranks == 1 || r->opt->image_space || tiles < 16)
+    return vr_run_flow(r, rs, &vr_camera_ops, c, tiles, "camera", err);
+  long *list = malloc((size_t)tiles * sizeof *list), n = 0;
+  vr_status st = list ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
+  st = vr_ranks_sync(r, st, err);
+  if (st) {
+    free(list);
+    return st;
+  }
+  for (long t = 0; t < tiles; t += 8) list[n++] = t;
+  long probe = n;
+  for (long t = 0; t < tiles; t++)
+    if (t % 8) list[n++] = t;
+  st = vr_run_flow_units(r, rs, &vr_camera_ops, c, list, probe, "camera", err);
+  if (!st) st = vr_run_flow_units(r, rs, &vr_camera_ops, c, list + probe, n - probe, "camera", err);
+  free(list);
+  return st;
+}
+
 vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_options *opt,
                           vr_render_result **out, vr_error *err) {
   *out = NULL;
   double t_start = vr_run_now();
   vr_render_result *res = calloc(1, sizeof *res);
   if (!res) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  run r = {.opt = opt, .res = res};
+  run r = {.opt = opt, .res = res, .comm = opt->comm, .rank = vr_comm_rank(opt->comm),
+           .nranks = vr_comm_size(opt->comm)};
   int S = opt->image_space ? 1 : (opt->subdomains > 0 ? opt->subdomains : 1);
   rscene *rs = NULL;
   pass_ctx c = {0};
@@ -121,8 +149,12 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   res->subdomains = S;
   res->memory_budget = opt->memory_budget;
   vr_status st = vr_rscene_create(s, db, opt, S, &rs, err);
-  /* Without a budget every cell is loaded now, as the passes start. */
-  if (!st && !opt->memory_budget) st = vr_domains_load_all(rs->d, err);
+  /* Several ranks: every one must have its scene before they compare. */
+  st = vr_ranks_sync(&r, st, err);
+  if (!st) st = vr_ranks_check_scene(&r, rs, err);
+  /* Without a budget every cell is loaded now, as the passes start (with
+   * several ranks each loads the cells it owns when a pass starts). */
+  if (!st && !opt->memory_budget && r.nranks == 1) st = vr_domains_load_all(rs->d, err);
   if (st) goto done;
   /* The film's bins, for the camera's spectral film and the sensors' spectra. */
   res->nbins = rs->nbins;
@@ -240,7 +272,7 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
     /* Each pass makes spp_pass samples of weight 1/spp_pass; the passes
      * are averaged when the film is read out. */
     c.spp = spp_pass;
-    st = vr_run_flow(&r, rs, &vr_camera_ops, &c, vr_flow_tiles(W, H), "camera", err);
+    st = camera_pass(&r, rs, &c, W, H, err);
     t_camera += vr_run_now() - t0;
     vr_run_free_maps(&c);
     if (st) goto done;
@@ -269,10 +301,15 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
     st = vr_error_set(err, VR_E_NOMEM, "out of memory");
     goto done;
   }
+  /* Each rank's film holds what its rays delivered: the sum is the image. */
+  st = vr_ranks_sum_accum(&r, &acc, RANKS_FILM, err);
+  if (st) goto done;
   for (size_t i = 0; i < px * 3; i++) res->xyz[i] = vr_atomic_get(&acc.xyz[i]) / passes;
   for (size_t i = 0; i < px * rs->nbins; i++) res->spectral[i] = vr_atomic_get(&acc.bins[i]) / passes;
 
 done:
+  /* A failure the other ranks do not know of yet meets their next sync. */
+  if (st && !r.failure_agreed) vr_ranks_sync(&r, st, err);
   if (rs && rs->d) {
     vr_domains_stats ds;
     vr_domains_get_stats(rs->d, &ds);
@@ -288,6 +325,7 @@ done:
     res->cache_seconds = ds.cache_seconds;
     res->cache_bytes = ds.cache_bytes;
   }
+  if (!st) st = vr_ranks_finish(&r, rs, res, err);
   vr_accum_destroy(&acc);
   vr_run_free_maps(&c);
   free(c.points);
@@ -312,5 +350,6 @@ void vr_render_result_destroy(vr_render_result *r) {
   free(r->sensor_spectral);
   free(r->sensor_names);
   free(r->photochromic_state);
+  free(r->rank_stats);
   free(r);
 }

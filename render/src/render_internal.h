@@ -75,6 +75,8 @@ typedef struct rscene {
   vr_domains *d;
   const vr_scene_tables *t; /* the replicated tables, owned by d */
   rcell *cells;             /* one per sub-domain */
+  int *owner;               /* several ranks: the rank owning each cell */
+  uint64_t *cell_ns;        /* this rank's tracing time per cell in the last run */
   size_t ntexels;           /* photochromic texels of all objects */
   double lmin, lmax;       /* sampled range */
   int nwl;                 /* wavelengths per path */

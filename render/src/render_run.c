@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "render_run.h"
+#include "vr/comm.h"
 
 double vr_run_now(void) {
   struct timespec ts;
@@ -72,28 +73,59 @@ static void add_stats(vr_render_result *res, const vr_flow_stats *st) {
  * the scene's one cell; see vr/flow.h. */
 vr_status vr_run_flow(run *r, rscene *rs, const vr_flow_ops *ops, pass_ctx *c, long units,
                       const char *name, vr_error *err) {
+  return vr_run_flow_units(r, rs, ops, c, NULL, units, name, err);
+}
+
+vr_status vr_run_flow_units(run *r, rscene *rs, const vr_flow_ops *ops, pass_ctx *c,
+                            const long *unit_list, long units, const char *name, vr_error *err) {
   vr_flow_stats st = {0};
   r->pass = name;
-  vr_status s;
+  /* Several ranks: all ready, and cells owned by the time the last run
+   * spent in them. */
+  vr_status s = vr_ranks_sync(r, VR_OK, err);
+  if (!s && !r->opt->image_space) s = vr_ranks_assign(r, rs, err);
+  if (s) return s;
   size_t maps = held(c);
   if (maps > r->res->peak_map_bytes) r->res->peak_map_bytes = maps;
-  if (r->opt->image_space) {
-    s = vr_flow_run_image_space(rs->d, ops, c, units, r->opt->threads, progress_cb, r, &st, err);
-  } else {
-    vr_flow_options o;
-    vr_flow_options_default(&o);
-    o.threads = r->opt->threads;
-    o.memory_budget = r->opt->memory_budget;
-    o.held = held;
-    o.hctx = c;
-    o.spill_dir = r->opt->cache_dir;
-    o.progress = progress_cb;
-    o.pctx = r;
-    s = vr_flow_run_with(rs->d, ops, c, units, &o, &st, err);
+  int S = vr_domains_count(rs->d);
+  memset(rs->cell_ns, 0, (size_t)S * sizeof *rs->cell_ns);
+  vr_flow_options o;
+  vr_flow_options_default(&o);
+  o.threads = r->opt->threads;
+  o.image_space = r->opt->image_space;
+  o.memory_budget = r->opt->memory_budget;
+  o.held = held;
+  o.hctx = c;
+  o.spill_dir = r->opt->cache_dir;
+  o.progress = progress_cb;
+  o.pctx = r;
+  o.comm = r->comm;
+  o.owner = r->nranks > 1 && !r->opt->image_space ? rs->owner : NULL;
+  o.send_batch = r->opt->send_batch;
+  o.unit_list = unit_list;
+  o.cell_ns = rs->cell_ns;
+  s = vr_flow_run_with(rs->d, ops, c, units, &o, &st, err);
+  if (r->nranks > 1) {
+    if (r->opt->image_space) {
+      /* Ranks finish image-space runs on their own: agree now. */
+      s = vr_ranks_sync(r, s, err);
+    } else if (s && !st.failure_shared) {
+      /* The waves stopped every rank at once; the rank that failed tells
+       * why (the others only know that it did). */
+      vr_status a = vr_comm_agree(r->comm, st.other_rank_failed ? VR_OK : s, err);
+      r->failure_agreed = true;
+      if (a) s = a;
+    } else if (s) {
+      r->failure_agreed = true;
+    }
   }
   maps = held(c);
   if (maps > r->res->peak_map_bytes) r->res->peak_map_bytes = maps;
   add_stats(r->res, &st);
+  r->mine.rays_sent += st.sent, r->mine.rays_received += st.received;
+  r->mine.messages += st.messages, r->mine.bytes_sent += st.bytes_sent;
+  r->mine.waves += st.waves, r->mine.idle_seconds += st.idle_seconds;
+  r->mine.rays_traced += st.traversals;
   return s;
 }
 
@@ -116,6 +148,9 @@ vr_status vr_run_photon_pass(run *r, rscene *rs, pass_ctx *c, long photons, bool
   long units = (photons + c->photons_per_unit - 1) / c->photons_per_unit;
   c->photon_scale = 1.0 / (double)(units * c->photons_per_unit);
   vr_status st = vr_run_flow(r, rs, &vr_photon_ops, c, units, "photons", err);
+  /* Each rank stored the photons that landed in its cells: every rank gets
+   * them all, and builds the same maps as one process would. */
+  if (!st) st = vr_ranks_share_photons(r, c, err);
   /* Building needs the staged photons and the built ones at once. */
   size_t staged = held(c);
   if (staged > r->res->peak_map_bytes) r->res->peak_map_bytes = staged;

@@ -78,6 +78,7 @@ static vr_status path_sensors(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
   st = vr_run_flow(r, rs, &vr_sensor_ops, c, (long)(c->npoints * (size_t)groups), "sensors", err);
   c->integrator = keep;
   c->acc = NULL;
+  if (!st) st = vr_ranks_sum_accum(r, &acc, RANKS_SENSORS, err);
   for (size_t k = 0; !st && k < c->npoints; k++) {
     double sum = 0, sum2 = 0;
     for (int g = 0; g < groups; g++) {

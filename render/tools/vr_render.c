@@ -15,6 +15,9 @@
 #include <unistd.h>
 
 #include "vr/args.h"
+#include "vr/comm.h"
+#include "vr/file.h"
+#include "vr/sha256.h"
 #include "vr/film.h"
 #include "vr/matdb.h"
 #include "vr/progress.h"
@@ -27,7 +30,8 @@ static const vr_option OPTIONS[] = {
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
     {"memory-budget", 0, "SIZE", "hold at most SIZE (e.g. 512M, 2G) of sub-domains, ray queues and maps: sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
     {"cache", 0, "DIR", "geometry cache folder (default: SCENE.vrcache beside the scene; a temporary one if that folder cannot be written)"},
-    {"threads", 0, "P", "worker threads (default: the number of online CPUs)"},
+    {"threads", 0, "P", "worker threads (default: the number of online CPUs; under mpirun, per rank)"},
+    {"send-batch", 0, "N", "under mpirun: rays per message between ranks (default 256)"},
     {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
     {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
@@ -40,7 +44,7 @@ static const vr_option OPTIONS[] = {
 
 static const char USAGE[] =
     "SCENE.scn [-o PREFIX] [--db FILE] [--subdomains S] [--memory-budget SIZE] [--cache DIR]\n"
-    "                 [--threads P] [--image-space]\n"
+    "                 [--threads P] [--image-space] [--send-batch N]\n"
     "                 [--spp N] [--photons N] [--stats FILE.json] [--tonemap clip|reinhard]\n"
     "                 [--sensors-only] [--quiet]";
 static const char ABOUT[] =
@@ -50,7 +54,9 @@ static const char ABOUT[] =
     "in W/(m2 sr nm), Fichet-Pacanowski-Wilkie layout), PREFIX.png (8-bit sRGB: 100 cd/m2\n"
     "is white at EV 0, times 2^exposure of the scene's camera), and PREFIX.sensors.csv\n"
     "(illuminance in lx and spectral irradiance in W/(m2 nm)) when the scene has sensors.\n"
-    "The outputs appear together or not at all.";
+    "The outputs appear together or not at all.\n"
+    "Under mpirun (mpirun -np N vr-render ...) the ranks share the sub-domains and pass rays\n"
+    "to each other; rank 0 prints and writes the outputs.";
 
 /* ---- stderr: decision lines and the progress bar ---- */
 
@@ -270,13 +276,36 @@ static double now_s(void) {
 
 /* ---- main ---- */
 
-static int run(const vr_args *a) {
+/* A checksum of what every rank must render alike: the scene file's bytes
+ * and the options that change the result. */
+static void digest_of(const char *path, const vr_render_options *o, unsigned char out[32]) {
+  vr_sha256 c;
+  vr_sha256_init(&c);
+  char *text = NULL;
+  size_t len = 0;
+  if (!vr_read_file(path, 0, &text, &len, NULL)) vr_sha256_update(&c, text, len);
+  free(text);
+  char opts[256];
+  snprintf(opts, sizeof opts, "S=%d spp=%d photons=%ld image_space=%d no_camera=%d",
+           o->subdomains, o->spp, o->photons, o->image_space, o->no_camera);
+  vr_sha256_update(&c, opts, strlen(opts));
+  char hex[65];
+  vr_sha256_final(&c, hex);
+  for (int i = 0; i < 32; i++) {
+    unsigned v = 0;
+    sscanf(hex + 2 * i, "%2x", &v);
+    out[i] = (unsigned char)v;
+  }
+}
+
+static int run(const vr_args *a, vr_comm *comm) {
   if (a->noperands != 1) return usage_error("expected one scene file, got %zu", a->noperands);
   vr_render_options opt;
   vr_render_options_default(&opt);
   long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-  long subdomains = 1, threads = cpus > 0 ? cpus : 1, spp = 0, photons = 0;
+  long subdomains = 1, threads = cpus > 0 ? cpus : 1, spp = 0, photons = 0, batch = 256;
   if (!int_option(a, "subdomains", 1, 1000000, &subdomains) ||
+      !int_option(a, "send-batch", 1, 1 << 20, &batch) ||
       !int_option(a, "threads", 1, 4096, &threads) || !int_option(a, "spp", 1, 1L << 20, &spp) ||
       !int_option(a, "photons", 1, 1000000000000L, &photons))
     return 2;
@@ -290,7 +319,9 @@ static int run(const vr_args *a) {
   vr_tonemap tm = VR_TONEMAP_CLIP;
   if (vr_tonemap_parse(tonemap, &tm, NULL))
     return usage_error("--tonemap '%s': expected clip or reinhard", tonemap);
-  ui u = {.quiet = vr_args_flag(a, "quiet")};
+  int rank = vr_comm_rank(comm);
+  /* Only rank 0 speaks (and writes). */
+  ui u = {.quiet = vr_args_flag(a, "quiet") || rank != 0};
   pthread_mutex_init(&u.lock, NULL);
   opt.subdomains = (int)subdomains;
   opt.threads = (int)threads;
@@ -298,6 +329,8 @@ static int run(const vr_args *a) {
   opt.memory_budget = budget;
   opt.spp = (int)spp;
   opt.photons = photons;
+  opt.comm = comm;
+  opt.send_batch = (int)batch;
   opt.log = ui_log;
   opt.progress = ui_progress;
   opt.user = &u;
@@ -309,16 +342,17 @@ static int run(const vr_args *a) {
   vr_render_result *r = NULL;
   char *prefix = NULL, *cache_dir = NULL;
   int rc = 1;
+  bool agreed = false;
   const char *given = vr_args_get(a, "output");
+  const char *cache = vr_args_get(a, "cache");
   if (!(prefix = given ? strdup(given) : default_prefix(path))) {
     vr_error_set(&err, VR_E_NOMEM, "out of memory");
-    goto out;
+    goto ready;
   }
-  if (vr_scene_read(path, &scene, &err)) goto out;
-  const char *cache = vr_args_get(a, "cache");
+  if (vr_scene_read(path, &scene, &err)) goto ready;
   if (cache && !*cache) {
     vr_error_set(&err, VR_E_ARG, "--cache '': expected a folder");
-    goto out;
+    goto ready;
   }
   if (!cache) {
     char why[4400];
@@ -330,19 +364,30 @@ static int run(const vr_args *a) {
   opt.no_camera = vr_args_flag(a, "sensors-only") || !scene->camera.given;
   if (opt.no_camera && scene->nsensors == 0) {
     vr_error_set(&err, VR_E_ARG, "%s: --sensors-only, but the scene has no sensor line", path);
-    goto out;
+    goto ready;
   }
-  if (open_db(vr_args_get(a, "db"), scene, &u, &db, &err)) goto out;
-  if (vr_render_scene(scene, db, &opt, &r, &err)) goto out;
+  open_db(vr_args_get(a, "db"), scene, &u, &db, &err);
+ready:
+  /* Every rank ready, or every rank told why not. */
+  if (vr_comm_agree(comm, err.status, &err)) goto fail;
+  opt.has_digest = true;
+  digest_of(path, &opt, opt.scene_digest);
+  if (vr_render_scene(scene, db, &opt, &r, &err)) goto fail;
   ui_end(&u);
   double t0 = now_s();
-  if (vr_film_write(r, prefix, tonemap, &err)) goto out;
-  if (stats && vr_stats_write_json(r, stats, &err)) goto out;
-  if (!u.quiet) summary(r, prefix, stats, now_s() - t0);
+  if (rank == 0) {
+    if (vr_film_write(r, prefix, tonemap, &err)) goto out;
+    if (stats && vr_stats_write_json(r, stats, &err)) goto out;
+    if (!u.quiet) summary(r, prefix, stats, now_s() - t0);
+  }
   rc = 0;
+  goto out;
+fail:
+  agreed = true;
 out:
   ui_end(&u);
-  if (rc) fprintf(stderr, "vr-render: %s\n", err.message);
+  /* A failure of rank 0's own (writing the outputs) is its alone. */
+  if (rc && (rank == 0 || !agreed)) fprintf(stderr, "vr-render: %s\n", err.message);
   if (r) vr_render_result_destroy(r);
   vr_matdb_close(db);
   vr_scene_destroy(scene);
@@ -353,11 +398,17 @@ out:
 }
 
 int main(int argc, char **argv) {
+  /* Under mpirun, MPI starts first (it may take its own arguments). */
+  vr_comm *comm = NULL;
+  vr_error err = {0};
+  if (vr_comm_init(&argc, &argv, &comm, &err)) {
+    fprintf(stderr, "vr-render: %s\n", err.message);
+    return 1;
+  }
   vr_args a;
   vr_args_outcome o = vr_args_parse(&a, "vr-render", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
-  if (o == VR_ARGS_EXIT_OK) return 0;
-  if (o == VR_ARGS_EXIT_USAGE) return 2;
-  int rc = run(&a);
-  vr_args_free(&a);
+  int rc = o == VR_ARGS_EXIT_OK ? 0 : o == VR_ARGS_EXIT_USAGE ? 2 : run(&a, comm);
+  if (o == VR_ARGS_RUN) vr_args_free(&a);
+  vr_comm_finalize(comm);
   return rc;
 }

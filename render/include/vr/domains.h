@@ -98,6 +98,8 @@ size_t vr_domains_cell_primitives(const vr_domains *d, int cell);
 void vr_domains_cell_bounds(const vr_domains *d, int cell, double lo[3], double hi[3]);
 /* The objects with primitives in a cell, increasing. */
 const uint32_t *vr_domains_cell_objects(const vr_domains *d, int cell, size_t *n);
+/* The geometry cache's key (SHA-256 of the geometry, vr_domains_open). */
+void vr_domains_key(const vr_domains *d, uint8_t key[32]);
 /* The replicated tables (bounds, areas, rect frames, emitters). */
 const vr_scene_tables *vr_domains_tables(const vr_domains *d);
 

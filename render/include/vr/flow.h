@@ -86,6 +86,14 @@ typedef struct vr_flow_stats {
   uint64_t traversals;                /* cell intersection queries */
   uint64_t by_purpose[8];             /* rays created per purpose tag (0..7) */
   uint64_t spilled;                   /* rays written to a queue's spill file */
+  /* Several ranks (this rank's share; created and finished balance only
+   * over all ranks, since a ray may be created on one and end on another). */
+  uint64_t sent, received;            /* rays handed to and from other ranks */
+  uint64_t messages, bytes_sent;      /* messages this rank sent, and their bytes */
+  uint64_t waves;                     /* termination waves run */
+  double idle_seconds;                /* worker time with no ray to trace, summed over threads */
+  bool other_rank_failed;             /* the run stopped because another rank failed */
+  bool failure_shared;                /* the failure returned is every rank's, agreed already */
   uint64_t skipped;                   /* crossings into cells the segment could not hit in */
   size_t peak_queue_bytes;            /* rays held in memory by queues and push buffers */
   size_t peak_spill_bytes;            /* rays waiting on disk */
@@ -102,6 +110,23 @@ typedef struct vr_flow_options {
   void *hctx;
   const char *spill_dir;  /* where queues spill (NULL: $TMPDIR, else /tmp) */
   long max_pending;       /* rays waiting before no more units are generated (0: default) */
+  /* Several ranks (docs/ddm.md, "Ranks"): comm, the rank owning each cell
+   * (NULL: this rank owns every cell, as in image space), and the rays a
+   * message carries (0: 256).  Each rank generates the units whose index
+   * modulo the number of ranks is its rank.  NULL comm: one process. */
+  struct vr_comm *comm;
+  const int *owner;
+  int send_batch;
+  /* The units of this run: unit_list[0 .. units) when given (a part of a
+   * pass), else 0 .. units - 1. */
+  const long *unit_list;
+  /* Run in image space (vr_flow_run_image_space) instead: every cell is
+   * loaded, no ray moves between ranks; with several ranks each traces
+   * its share of the units (the paper's image-space splitting). */
+  bool image_space;
+  /* If given (one per cell), each cell's tracing time is added to it, in
+   * nanoseconds: the measured cost that decides which rank owns a cell. */
+  uint64_t *cell_ns;
   void (*progress)(void *pctx, long done, long units); /* from one thread at a time; may be NULL */
   void *pctx;
 } vr_flow_options;

@@ -94,6 +94,19 @@ vr_status vr_photon_map_store(vr_photon_map *m, uint64_t key, const double pos[3
                               const double dir_in[3], const double normal[3],
                               const float *power, vr_error *err);
 
+/* Staged photons as raw records, for moving them between processes before
+ * the build: *records points at vr_photon_map_staged() records of
+ * vr_photon_map_record_size() bytes each, valid until the next store or
+ * the build.  vr_photon_map_add_records stores records another map of the
+ * same nbins, range and sparsity staged (VR_E_ARG after the build).  A map
+ * built from its own photons plus another's records is the map that would
+ * have been built had every photon been stored in it: the build orders by
+ * key whatever the order of arrival. */
+size_t vr_photon_map_record_size(const vr_photon_map *m);
+size_t vr_photon_map_staged(const vr_photon_map *m, const unsigned char **records);
+vr_status vr_photon_map_add_records(vr_photon_map *m, const unsigned char *records, size_t n,
+                                    vr_error *err);
+
 /* Orders the photons by key (then by content, for equal keys) and builds a
  * balanced kd-tree: median splits along the longest axis of each subset's
  * bounding box.  A second call does nothing.  Not concurrent with stores. */

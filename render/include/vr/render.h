@@ -44,6 +44,17 @@ typedef struct vr_render_options {
    * sub-domains are loaded and unloaded as rays need them.  0: no budget,
    * every sub-domain loaded from the start.  Not with image_space. */
   size_t memory_budget;
+  /* Ranks rendering together (vr/comm.h, docs/ddm.md "Ranks"): every rank
+   * calls vr_render_scene with the same scene and options; each owns some
+   * sub-domains and traces the rays in them, rays travel between ranks as
+   * messages, and every rank returns the whole result.  NULL: one process. */
+  struct vr_comm *comm;
+  int send_batch;     /* rays per message between ranks (0: 256) */
+  /* What the ranks must agree they render (the caller's checksum of the
+   * scene file and options); compared across ranks with the geometry
+   * cache's key when has_digest. */
+  bool has_digest;
+  unsigned char scene_digest[32];
   int spp;            /* > 0 overrides the scene's samples per pixel */
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
@@ -70,6 +81,17 @@ typedef struct vr_sensor_reading {
   double illuminance_lx;
   double stderr_lx;       /* standard error of the estimate */
 } vr_sensor_reading;
+
+/* One rank's share of a render over several ranks. */
+typedef struct vr_rank_stats {
+  int cells_owned;            /* in the last pass */
+  uint64_t rays_sent, rays_received, messages, bytes_sent, waves;
+  uint64_t rays_traced;       /* rays taken from this rank's queues */
+  double idle_seconds;        /* its workers' time without a ray, summed over threads */
+  uint64_t cell_loads;
+  size_t peak_cells_bytes;
+  long long peak_rss_bytes;
+} vr_rank_stats;
 
 typedef struct vr_render_result {
   int width, height;
@@ -107,6 +129,8 @@ typedef struct vr_render_result {
   char cache_reason[1024];    /* why, or "reused" */
   double cache_seconds;       /* checking or building it */
   uint64_t cache_bytes;       /* its cell files */
+  int ranks;                  /* processes that rendered (1 without MPI) */
+  vr_rank_stats *rank_stats;  /* one per rank */
   double seconds_total;
 } vr_render_result;
 
