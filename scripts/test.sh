@@ -11,6 +11,12 @@ echo "== normal build"
 scripts/build.sh build -DVR_WERROR=ON
 (cd build && ctest --output-on-failure -j "$(nproc)")
 
+echo "== vr-render built without MPI (it must build and run alone)"
+[ -f build-nompi/CMakeCache.txt ] ||
+  cmake -S . -B build-nompi -DVR_MPI=OFF -DVR_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
+cmake --build build-nompi -j "$(nproc)" --target vr-render vr-test-exr-compare > /dev/null
+(cd build-nompi && ctest --output-on-failure -R '^cli_vr_render')
+
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"
 scripts/build.sh build-asan -DVR_WERROR=ON -DVR_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \

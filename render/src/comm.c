@@ -205,8 +205,15 @@ struct vr_comm_req {
 bool vr_comm_built_with_mpi(void) { return false; }
 
 vr_status vr_comm_init(int *argc, char ***argv, vr_comm **out, vr_error *err) {
-  (void)argc, (void)argv, (void)err;
+  (void)argc, (void)argv;
   *out = NULL;
+  /* Launched as one of several ranks by mpirun: every copy would render
+   * the whole scene and write the same files; say so instead. */
+  const char *n = getenv("OMPI_COMM_WORLD_SIZE");
+  if (!n) n = getenv("PMI_SIZE");
+  if (n && atoi(n) > 1)
+    return vr_error_set(err, VR_E_ARG, "this vr-render was built without MPI (cmake -DVR_MPI=OFF, "
+                        "or no MPI found): run it without mpirun, or build it with MPI");
   return VR_OK;
 }
 void vr_comm_finalize(vr_comm *c) { (void)c; }

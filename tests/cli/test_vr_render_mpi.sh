@@ -12,10 +12,22 @@ cmp="$(cd "$VR_TEST_BIN" && pwd)/vr-test-exr-compare"
 src="$VR_SOURCE_DIR"
 source "$(dirname "$0")/harness.sh"
 
-if ! command -v mpirun > /dev/null || [ "$VR_HAVE_MPI" != "ON" ]; then
-  echo "# skipped: vr-render was built without MPI or mpirun is missing"
+if [ "$VR_HAVE_MPI" != "ON" ]; then
+  # Built without MPI: it runs alone, and refuses to be one of several ranks.
+  printf 'material g lambert reflectance=0.5\nrect center=0,0,0 normal=0,0,1 size=2,2 material=g\nlight point position=0,0,1 intensity=10cd\nsensor s point position=0,0,0 normal=0,0,1\nrender integrator=path sensor_samples=64\n' > "$tmp/s.scn"
+  (cd "$tmp" && "$bin" s.scn --quiet); check "without MPI: renders alone" test $? -eq 0
+  if command -v mpirun > /dev/null; then
+    extra=(); [ "$(id -u)" -eq 0 ] && extra=(--allow-run-as-root)
+    (cd "$tmp" && timeout 60 mpirun --oversubscribe "${extra[@]}" -np 2 "$bin" s.scn -o two) > /dev/null 2> "$tmp/nompi.err"
+    check "without MPI: under mpirun it refuses" test $? -ne 0
+    check "without MPI: and says why" grep -q "built without MPI" "$tmp/nompi.err"
+  fi
   finish
-  exit 0
+  exit $?
+fi
+if ! command -v mpirun > /dev/null; then
+  echo "not ok - mpirun is missing (apt-get install openmpi-bin)"
+  exit 1
 fi
 mpi=(mpirun --oversubscribe -x VR_MATDB)
 # Under the sanitizer build the ranks keep AddressSanitizer's checks but not
