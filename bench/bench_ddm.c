@@ -38,54 +38,18 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bench_child.h"
 #include "vr/domains.h"
 #include "vr/file.h"
 #include "vr/image.h"
 #include "vr/scene.h"
 
-extern char **environ;
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static void die(const char *what) {
-  fprintf(stderr, "bench_ddm: %s\n", what);
-  exit(1);
-}
-
-/* Runs argv with stdout and stderr to log; returns the exit status. */
-static int run(char *const argv[], const char *log) {
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  pid_t pid;
-  if (posix_spawnp(&pid, argv[0], &fa, NULL, argv, environ)) die("cannot start a child");
-  posix_spawn_file_actions_destroy(&fa);
-  int status;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) die("waitpid");
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
-/* The first number after "key": in a JSON text. */
-static double json_num(const char *text, const char *key) {
-  char pat[128];
-  snprintf(pat, sizeof pat, "\"%s\": ", key);
-  const char *p = strstr(text, pat);
-  return p ? strtod(p + strlen(pat), NULL) : NAN;
-}
-
-/* The seconds of a pass by name in the stats' pass list. */
-static double pass_seconds(const char *text, const char *name) {
-  char pat[128];
-  snprintf(pat, sizeof pat, "{\"name\": \"%s\"", name);
-  const char *p = strstr(text, pat);
-  return p ? json_num(p, "seconds") : NAN;
-}
+#define now bench_now
+#define die bench_die
+#define run bench_run
+#define json_num bench_json_num
+#define pass_seconds bench_pass_seconds
+#define image_diff bench_image_diff
 
 typedef struct outcome {
   int status;
@@ -97,38 +61,24 @@ typedef struct outcome {
 static outcome render(const char *vr_render, const char *scene, const char *db, const char *cache,
                       const char *prefix, int S, int threads, long long budget, long long cap,
                       const char *spp) {
-  char stats[4200], log[4200], subd[32], thr[32], bud[64], asopt[64];
+  char stats[4200], log[4200], asopt[64];
   snprintf(stats, sizeof stats, "%s.json", prefix);
   snprintf(log, sizeof log, "%s.log", prefix);
-  snprintf(subd, sizeof subd, "%d", S);
-  snprintf(thr, sizeof thr, "%d", threads);
-  snprintf(bud, sizeof bud, "%lld", budget);
   snprintf(asopt, sizeof asopt, "--as=%lld", cap);
   char *argv[32];
   int n = 0;
   if (cap > 0) argv[n++] = "prlimit", argv[n++] = asopt;
-  argv[n++] = (char *)vr_render, argv[n++] = (char *)scene, argv[n++] = "--db", argv[n++] = (char *)db;
-  argv[n++] = "-o", argv[n++] = (char *)prefix, argv[n++] = "--stats", argv[n++] = stats;
-  argv[n++] = "--subdomains", argv[n++] = subd, argv[n++] = "--threads", argv[n++] = thr;
-  if (cache) argv[n++] = "--cache", argv[n++] = (char *)cache;
-  if (budget > 0) argv[n++] = "--memory-budget", argv[n++] = bud;
-  if (spp) argv[n++] = "--spp", argv[n++] = (char *)spp;
+  bench_render_opts ro = {.vr_render = vr_render, .scene = scene, .db = db, .prefix = prefix,
+                          .stats = stats, .cache = cache, .spp = spp, .subdomains = S,
+                          .threads = threads, .budget = budget};
+  n = bench_render_args(argv, n, &ro);
   argv[n] = NULL;
   unlink(stats);
   outcome o = {0};
-  double t0 = now();
-  o.status = run(argv, log);
-  o.wall = now() - t0;
-  char *text = NULL, *lg = NULL;
+  o.status = bench_run_timed(argv, log, &o.wall);
+  char *text = NULL;
   size_t len;
-  if (!vr_read_file(log, 0, &lg, &len, NULL)) {
-    /* The last line that says why it stopped. */
-    const char *why = strstr(lg, "out of memory");
-    if (!why) why = strrchr(lg, '\n') ? lg : lg;
-    const char *e = strchr(why, '\n');
-    snprintf(o.msg, sizeof o.msg, "%.*s", (int)(e ? e - why : (long)strlen(why)), why);
-    free(lg);
-  }
+  bench_log_reason(log, o.msg, sizeof o.msg);
   if (o.status == 0 && !vr_read_file(stats, 0, &text, &len, NULL)) {
     o.total = json_num(text, "seconds_total");
     o.camera = pass_seconds(text, "camera");
@@ -144,23 +94,6 @@ static outcome render(const char *vr_render, const char *scene, const char *db, 
     free(text);
   }
   return o;
-}
-
-/* Largest relative difference between two RGB EXR images. */
-static double image_diff(const char *a, const char *b) {
-  vr_image x = {0}, y = {0};
-  vr_error err = {0};
-  if (vr_image_read(a, &x, &err) || vr_image_read(b, &y, &err)) return NAN;
-  double worst = 0;
-  size_t n = (size_t)x.width * x.height * x.channels;
-  if (x.width != y.width || x.height != y.height) worst = INFINITY;
-  for (size_t i = 0; worst < INFINITY && i < n; i++) {
-    double u = x.data[i], v = y.data[i], m = fmax(fabs(u), fabs(v));
-    if (m > 1e-12) worst = fmax(worst, fabs(u - v) / m);
-  }
-  vr_image_free(&x);
-  vr_image_free(&y);
-  return worst;
 }
 
 static double mib(double b) { return b / 1048576.0; }

@@ -412,6 +412,14 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
   fputs(", \"seconds\": ", f);
   vr_json_number(f, r->cache_seconds);
   fprintf(f, ", \"bytes\": %" PRIu64 "},\n", r->cache_bytes);
+  json_key(f, "  ", "cells");
+  fputs("[", f);
+  for (size_t c = 0; r->cell_seconds && c < r->ncells; c++) {
+    fprintf(f, "%s{\"seconds\": ", c ? ", " : "");
+    vr_json_number(f, r->cell_seconds[c]);
+    fprintf(f, ", \"owner\": %d}", r->cell_owner ? r->cell_owner[c] : 0);
+  }
+  fputs("],\n", f);
   json_key(f, "  ", "ranks");
   fputs("[", f);
   for (int k = 0; r->rank_stats && k < r->ranks; k++) {

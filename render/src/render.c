@@ -351,5 +351,7 @@ void vr_render_result_destroy(vr_render_result *r) {
   free(r->sensor_names);
   free(r->photochromic_state);
   free(r->rank_stats);
+  free(r->cell_seconds);
+  free(r->cell_owner);
   free(r);
 }

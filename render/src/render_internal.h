@@ -77,6 +77,7 @@ typedef struct rscene {
   rcell *cells;             /* one per sub-domain */
   int *owner;               /* several ranks: the rank owning each cell */
   uint64_t *cell_ns;        /* this rank's tracing time per cell in the last run */
+  uint64_t *cell_total_ns;  /* and in all runs */
   size_t ntexels;           /* photochromic texels of all objects */
   double lmin, lmax;       /* sampled range */
   int nwl;                 /* wavelengths per path */

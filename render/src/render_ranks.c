@@ -198,8 +198,15 @@ vr_status vr_ranks_share_photons(run *r, pass_ctx *c, vr_error *err) {
 }
 
 vr_status vr_ranks_finish(run *r, rscene *rs, vr_render_result *res, vr_error *err) {
-  (void)rs;
-  int R = r->nranks;
+  int R = r->nranks, S = vr_domains_count(rs->d);
+  res->ncells = (size_t)S;
+  res->cell_seconds = calloc((size_t)S, sizeof *res->cell_seconds);
+  res->cell_owner = calloc((size_t)S, sizeof *res->cell_owner);
+  if (!res->cell_seconds || !res->cell_owner) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (int c = 0; c < S; c++) {
+    res->cell_seconds[c] = 1e-9 * (double)rs->cell_total_ns[c];
+    res->cell_owner[c] = R > 1 && !r->opt->image_space ? rs->owner[c] : 0;
+  }
   res->ranks = R;
   res->rank_stats = calloc((size_t)R, sizeof *res->rank_stats);
   vr_status st = res->rank_stats ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -221,6 +228,7 @@ vr_status vr_ranks_finish(run *r, rscene *rs, vr_render_result *res, vr_error *e
                     res->peak_queue_bytes, res->peak_map_bytes, res->peak_spill_bytes, 0};
   st = vr_comm_sum_u64(r->comm, sum, 12, err);
   if (!st) st = vr_comm_sum_doubles(r->comm, secs, 1, err);
+  if (!st) st = vr_comm_sum_doubles(r->comm, res->cell_seconds, (size_t)S, err);
   if (!st) st = vr_comm_max_u64(r->comm, mx, 7, err);
   unsigned char *all = NULL;
   if (!st) st = vr_comm_gather_bytes(r->comm, &r->mine, sizeof r->mine, &all, NULL, err);

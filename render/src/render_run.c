@@ -126,6 +126,7 @@ vr_status vr_run_flow_units(run *r, rscene *rs, const vr_flow_ops *ops, pass_ctx
   r->mine.messages += st.messages, r->mine.bytes_sent += st.bytes_sent;
   r->mine.waves += st.waves, r->mine.idle_seconds += st.idle_seconds;
   r->mine.rays_traced += st.traversals;
+  for (int k = 0; k < S; k++) rs->cell_total_ns[k] += rs->cell_ns[k];
   return s;
 }
 

@@ -464,7 +464,8 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
     int S = vr_domains_count(rs->d);
     rs->owner = calloc((size_t)S, sizeof *rs->owner);
     rs->cell_ns = calloc((size_t)S, sizeof *rs->cell_ns);
-    if (!rs->owner || !rs->cell_ns) st = vr_error_set(err, VR_E_NOMEM, "out of memory");
+    rs->cell_total_ns = calloc((size_t)S, sizeof *rs->cell_total_ns);
+    if (!rs->owner || !rs->cell_ns || !rs->cell_total_ns) st = vr_error_set(err, VR_E_NOMEM, "out of memory");
   }
   if (!st) st = vr_light_sky_create(rs, db, err);
   if (!st) st = resolve_sources(rs, err);
@@ -496,6 +497,7 @@ void vr_rscene_destroy(rscene *rs) {
   free(rs->cells);
   free(rs->owner);
   free(rs->cell_ns);
+  free(rs->cell_total_ns);
   vr_light_sky_destroy(rs);
   free(rs->mat);
   free(rs->lights);

@@ -129,6 +129,9 @@ typedef struct vr_render_result {
   char cache_reason[1024];    /* why, or "reused" */
   double cache_seconds;       /* checking or building it */
   uint64_t cache_bytes;       /* its cell files */
+  size_t ncells;              /* sub-domains: */
+  double *cell_seconds;       /* time spent tracing in each, all passes, summed over ranks */
+  int *cell_owner;            /* the rank that owned each in the last pass */
   int ranks;                  /* processes that rendered (1 without MPI) */
   vr_rank_stats *rank_stats;  /* one per rank */
   double seconds_total;
