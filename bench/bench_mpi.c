@@ -4,7 +4,7 @@
  * vr-render under the real mpirun, read back through --stats
  * (docs/ddm.md, "Ranks").
  *
- *   build/bench/bench_mpi out/materials.db [--scenes room,hotel]
+ *   build/bench/bench_mpi out/materials.db [--scenes room,hotel,batch]
  *       [--ranks 1,2,4] [--threads 1,2] [--subdomains 1,2,4,8,16]
  *       [--launcher "mpirun --oversubscribe"] [--hotel DIR] [--spp N]
  *
@@ -228,8 +228,9 @@ int main(int argc, char **argv) {
   if (strstr(scenes, "room"))
     w1 = study(VR_BINARY_DIR, db, "room", room, dir, R, T, S, spp, &m1, &m2, &mt);
 
-  /* Rays per message, on the sample room: 2 ranks, 1 thread, largest S. */
-  if (strstr(scenes, "room")) {
+  /* Rays per message, on the sample room: 2 ranks, 1 thread, largest S
+   * (also alone, with --scenes batch). */
+  if (strstr(scenes, "room") || strstr(scenes, "batch")) {
     char vr_render[4300], cache[4300], pre[4400];
     snprintf(vr_render, sizeof vr_render, "%s/render/vr-render", VR_BINARY_DIR);
     snprintf(cache, sizeof cache, "%s/cache", dir);

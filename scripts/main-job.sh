@@ -57,4 +57,8 @@ echo "== the hotel room through clear and electrochromic windows, from the datab
 build/render/vr-render samples/room.scn -o out/room --threads 2 --stats out/room_stats.json
 echo "== the same room's sensors with 8 sub-domains under a 150 KiB memory budget (vr-render --memory-budget)"
 build/render/vr-render samples/room.scn -o out/room_budget --threads 2 --subdomains 8 --memory-budget 150K --sensors-only --stats out/room_budget_stats.json
-echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room), out/room_budget.sensors.csv and out/room_budget_stats.json (its sensors under a memory budget)"
+echo "== the same room's sensors on 2 MPI ranks that share its 8 sub-domains (mpirun vr-render)"
+mpi=(mpirun --oversubscribe -np 2)
+[ "$(id -u)" -eq 0 ] && mpi=(mpirun --oversubscribe --allow-run-as-root -np 2)
+"${mpi[@]}" build/render/vr-render samples/room.scn -o out/room_ranks --threads 1 --subdomains 8 --sensors-only --stats out/room_ranks_stats.json
+echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room), out/room_budget.sensors.csv and out/room_budget_stats.json (its sensors under a memory budget), out/room_ranks.sensors.csv and out/room_ranks_stats.json (on 2 MPI ranks)"

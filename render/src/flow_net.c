@@ -108,6 +108,36 @@ static void fail(vr_flow *f, vr_status st, const char *msg) {
   vr_flow_fail(f, &e);
 }
 
+/* Hands one message of k rays (buf, freed when MPI is done with it) to
+ * MPI; false (the flow failed, buf freed) if it cannot. */
+static bool send_one(vr_flow *f, int dest, vr_ray *buf, size_t k) {
+  vr_flow_net *net = f->net;
+  if (net->npend == net->cappend) {
+    size_t cap = net->cappend ? 2 * net->cappend : 16;
+    pending *p = realloc(net->pend, cap * sizeof *p);
+    if (!p) {
+      free(buf);
+      fail(f, VR_E_NOMEM, "ray flow: out of memory for a message");
+      return false;
+    }
+    net->pend = p;
+    net->cappend = cap;
+  }
+  vr_error e = {0};
+  vr_comm_req *req = NULL;
+  if (vr_comm_isend(net->comm, dest, buf, k * sizeof *buf, &req, &e)) {
+    free(buf);
+    vr_flow_fail(f, &e);
+    return false;
+  }
+  net->pend[net->npend++] = (pending){req, buf};
+  net->sent += (int64_t)k;
+  net->messages++;
+  net->bytes += k * sizeof *buf;
+  atomic_fetch_sub(&f->in_flight, (long)k); /* they are in transit now */
+  return true;
+}
+
 /* Sends the outboxes that are full enough or old enough. */
 static bool send_outboxes(vr_flow *f) {
   vr_flow_net *net = f->net;
@@ -126,29 +156,20 @@ static bool send_outboxes(vr_flow *f) {
     o->rays = NULL;
     o->n = o->cap = 0;
     pthread_mutex_unlock(&o->lock);
-    if (net->npend == net->cappend) {
-      size_t cap = net->cappend ? 2 * net->cappend : 16;
-      pending *p = realloc(net->pend, cap * sizeof *p);
-      if (!p) {
-        free(rays);
-        fail(f, VR_E_NOMEM, "ray flow: out of memory for a message");
+    /* At most send_batch rays a message: a worker's flush can bring more
+     * at once. */
+    for (size_t at = 0; at < n;) {
+      size_t k = n - at < (size_t)net->batch ? n - at : (size_t)net->batch;
+      vr_ray *buf = k == n ? rays : malloc(k * sizeof *buf);
+      if (buf && buf != rays) memcpy(buf, rays + at, k * sizeof *buf);
+      if (!buf || !send_one(f, dest, buf, k)) {
+        if (buf != rays) free(rays);
+        if (!buf) fail(f, VR_E_NOMEM, "ray flow: out of memory for a message");
         return true;
       }
-      net->pend = p;
-      net->cappend = cap;
+      at += k;
     }
-    vr_error e = {0};
-    vr_comm_req *req = NULL;
-    if (vr_comm_isend(net->comm, dest, rays, n * sizeof *rays, &req, &e)) {
-      free(rays);
-      vr_flow_fail(f, &e);
-      return true;
-    }
-    net->pend[net->npend++] = (pending){req, rays};
-    net->sent += (int64_t)n;
-    net->messages++;
-    net->bytes += n * sizeof *rays;
-    atomic_fetch_sub(&f->in_flight, (long)n); /* they are in transit now */
+    if (n > (size_t)net->batch) free(rays);
     did = true;
   }
   /* Messages MPI has finished with give their buffers back. */

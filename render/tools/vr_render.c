@@ -31,7 +31,7 @@ static const vr_option OPTIONS[] = {
     {"memory-budget", 0, "SIZE", "hold at most SIZE (e.g. 512M, 2G) of sub-domains, ray queues and maps: sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
     {"cache", 0, "DIR", "geometry cache folder (default: SCENE.vrcache beside the scene; a temporary one if that folder cannot be written)"},
     {"threads", 0, "P", "worker threads (default: the number of online CPUs; under mpirun, per rank)"},
-    {"send-batch", 0, "N", "under mpirun: rays per message between ranks (default 256)"},
+    {"send-batch", 0, "N", "under mpirun: rays a message between ranks carries at most (default 256)"},
     {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
     {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
