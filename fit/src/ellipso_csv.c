@@ -6,6 +6,7 @@
 #include "vr/spectrum.h"
 
 #include <ctype.h>
+#include <stdbool.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,8 +32,11 @@ static const char *unit_of(const char *h) {
   return u == VR_UNIT_UNKNOWN ? NULL : NAMES[u];
 }
 
-vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name, const char *unit,
-                               vr_ellipso_data *out, vr_error *err) {
+vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name,
+                               const vr_ellipso_read_options *o, vr_ellipso_data *out,
+                               vr_error *err) {
+  const char *unit = o->unit;
+  out->format = "CSV with named columns";
   vr_csv *csv;
   vr_status st = vr_csv_parse(text, len, name, &csv, err);
   if (st) return st;
@@ -55,6 +59,20 @@ vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name, c
       wunit = unit_of(h);
     }
   }
+  /* A single-wavelength instrument's table may have no wavelength column:
+   * the caller gives it. */
+  bool fixed_w = cw < 0 && o->wavelength_nm > 0;
+  if (fixed_w) {
+    cw = ca;
+    out->format = "CSV with named columns, at the wavelength given";
+  }
+  if (cw < 0 && ca >= 0 && cp >= 0 && cd >= 0) {
+    st = vr_error_at(err, VR_E_PARSE, name, vr_csv_line(csv, 0), 0,
+                     "no wavelength column: a single-wavelength file needs its wavelength "
+                     "given (vr-ellipso --wavelength NM)");
+    vr_csv_destroy(csv);
+    return st;
+  }
   const char *missing = cw < 0 ? "wavelength (or energy)" : ca < 0 ? "angle of incidence (aoi)"
                         : cp < 0 ? "psi" : cd < 0 ? "delta" : NULL;
   if (missing) {
@@ -65,7 +83,7 @@ vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name, c
     return st;
   }
   if (unit) wunit = unit;
-  if (!wunit) wunit = "nm";
+  if (!wunit || fixed_w) wunit = "nm";
   size_t rows = vr_csv_rows(csv) - 1;
   out->p = calloc(rows ? rows : 1, sizeof *out->p);
   if (!out->p) {
@@ -88,7 +106,8 @@ vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name, c
          (st = vr_csv_number(csv, r, (size_t)csd, vr_csv_field(csv, 0, (size_t)csd), &p->sigma_delta, err))))
       break;
     p->line = vr_csv_line(csv, r);
-    p->depolarisation = NAN;
+    p->depolarisation = p->sigma_depolarisation = p->bandwidth_nm = NAN;
+    if (fixed_w) w = o->wavelength_nm;
     if ((st = vr_ellipso_point_finish(p, w, wunit, name, err))) break;
     out->n++;
   }

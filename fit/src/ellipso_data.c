@@ -1,3 +1,4 @@
+#define _GNU_SOURCE
 /* Ellipsometry data: dispatch between readers, units, Δ convention, domain
  * checks shared by all formats. */
 #include "ellipso_read.h"
@@ -68,18 +69,68 @@ static int looks_like_woollam(const char *text, size_t len) {
   return 0;
 }
 
-vr_status vr_ellipso_parse(const char *text, size_t len, const char *name, const char *unit,
-                           vr_ellipso_data *out, vr_error *err) {
+/* Accurion EP4 tables start with "#" and name Lambda, Psi and Delta among
+ * tab-separated columns on their first line. */
+static int looks_like_accurion(const char *text, size_t len) {
+  size_t l = 0;
+  while (l < len && text[l] != '\n') l++;
+  if (!len || text[0] != '#' || l > 4096) return 0;
+  char first[4097];
+  memcpy(first, text, l);
+  first[l] = '\0';
+  return strchr(first, '\t') && strcasestr(first, "Lambda") && strcasestr(first, "Psi") &&
+         strcasestr(first, "Delta");
+}
+
+void vr_ellipso_point_init(vr_ellipso_point *p) {
+  memset(p, 0, sizeof *p);
+  p->depolarisation = p->sigma_depolarisation = p->bandwidth_nm = NAN;
+}
+
+void vr_ellipso_note_skipped(vr_ellipso_data *d, const char *tag) {
+  for (size_t i = 0; i < d->nskipped; i++)
+    if (!strncmp(d->skipped[i].tag, tag, sizeof d->skipped[i].tag - 1)) {
+      d->skipped[i].rows++;
+      return;
+    }
+  /* Beyond the table's room the kinds are merged under the last entry. */
+  vr_ellipso_skipped *k = &d->skipped[d->nskipped < VR_ELLIPSO_MAX_SKIPPED ? d->nskipped++
+                                                                           : VR_ELLIPSO_MAX_SKIPPED - 1];
+  if (!k->rows) snprintf(k->tag, sizeof k->tag, "%s", tag);
+  k->rows++;
+}
+
+vr_status vr_ellipso_parse_with(const char *text, size_t len, const char *name,
+                                const vr_ellipso_read_options *o, vr_ellipso_data *out,
+                                vr_error *err) {
+  vr_ellipso_read_options none = {0};
+  if (!o) o = &none;
   memset(out, 0, sizeof *out);
   if (!(out->source = strdup(name))) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  vr_status st = looks_like_woollam(text, len)
-                     ? vr_ellipso_parse_woollam(text, len, name, unit, out, err)
-                     : vr_ellipso_parse_csv(text, len, name, unit, out, err);
+  vr_status st = looks_like_accurion(text, len) ? vr_ellipso_parse_accurion(text, len, name, o, out, err)
+                 : looks_like_woollam(text, len) ? vr_ellipso_parse_woollam(text, len, name, o, out, err)
+                                                 : vr_ellipso_parse_csv(text, len, name, o, out, err);
+  if (!st && o->wavelength_nm > 0 && !strstr(out->format, "wavelength given"))
+    st = vr_error_at(err, VR_E_ARG, name, 0, 0,
+                     "a wavelength was given (--wavelength) but the file has its own "
+                     "wavelengths");
   if (st) vr_ellipso_data_free(out);
   return st;
 }
 
+vr_status vr_ellipso_parse(const char *text, size_t len, const char *name, const char *unit,
+                           vr_ellipso_data *out, vr_error *err) {
+  vr_ellipso_read_options o = {.unit = unit};
+  return vr_ellipso_parse_with(text, len, name, &o, out, err);
+}
+
 vr_status vr_ellipso_read(const char *path, const char *unit, vr_ellipso_data *out, vr_error *err) {
+  vr_ellipso_read_options o = {.unit = unit};
+  return vr_ellipso_read_with(path, &o, out, err);
+}
+
+vr_status vr_ellipso_read_with(const char *path, const vr_ellipso_read_options *o,
+                               vr_ellipso_data *out, vr_error *err) {
   memset(out, 0, sizeof *out);
   FILE *f = fopen(path, "rb");
   if (!f) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
@@ -96,7 +147,7 @@ vr_status vr_ellipso_read(const char *path, const char *unit, vr_ellipso_data *o
   fclose(f);
   if (!buf) return vr_error_set(err, VR_E_NOMEM, "%s: out of memory", path);
   vr_status st = bad ? vr_error_at(err, VR_E_IO, path, 0, 0, "read error")
-                     : vr_ellipso_parse(buf, n, path, unit, out, err);
+                     : vr_ellipso_parse_with(buf, n, path, o, out, err);
   free(buf);
   return st;
 }

@@ -4,10 +4,20 @@
 
 #include "vr/ellipso_data.h"
 
-vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name, const char *unit,
-                               vr_ellipso_data *out, vr_error *err);
+/* The readers; o is never NULL. */
+vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name,
+                               const vr_ellipso_read_options *o, vr_ellipso_data *out,
+                               vr_error *err);
 vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *name,
-                                   const char *unit, vr_ellipso_data *out, vr_error *err);
+                                   const vr_ellipso_read_options *o, vr_ellipso_data *out,
+                                   vr_error *err);
+vr_status vr_ellipso_parse_accurion(const char *text, size_t len, const char *name,
+                                    const vr_ellipso_read_options *o, vr_ellipso_data *out,
+                                    vr_error *err);
+/* A new point with the fields a file may leave out set to "not given". */
+void vr_ellipso_point_init(vr_ellipso_point *p);
+/* Counts a skipped row of type tag. */
+void vr_ellipso_note_skipped(vr_ellipso_data *d, const char *tag);
 /* Converts the wavelength w given in unit to nm, normalises Δ and checks
  * the point's domain (0 < AOI < 90, 0 <= Ψ <= 90, σ > 0), naming the line. */
 vr_status vr_ellipso_point_finish(vr_ellipso_point *p, double w, const char *unit,

@@ -1,8 +1,11 @@
 /* Instrument exports: J.A. Woollam WVASE and CompleteEASE ASCII ".dat"
  * files (a comment line, VASEmethod[...] and Original[...] lines, a unit
  * line "nm", "eV" or "Angstroms" optionally followed by TRIG, then rows
- * "[E] λ AOI Ψ Δ σΨ σΔ", "dpolE λ AOI depol σ", or in TRIG files
- * "λ AOI tanΨ cosΔ"), and Sentech SpectraRay exports ("; WAVELENGTH a1 a1
+ * "[E] λ AOI Ψ Δ σΨ σΔ", "dpolE λ AOI depol σ" (CompleteEASE: "dPolE λ 0
+ * depol σ"), or in TRIG files "λ AOI tanΨ cosΔ"; rows of other types,
+ * such as CompleteEASE's "uR", are skipped and counted), the same layout
+ * as other instruments export it ("nm<TAB><TAB>Psi<TAB>Delta" as the unit
+ * line, Accurion EP4), and Sentech SpectraRay exports ("; WAVELENGTH a1 a1
  * a2 a2 ..." then rows "λ Ψ(a1) Δ(a1) Ψ(a2) Δ(a2) ...").  Formats as
  * documented in tests/data/ellipsometry/WOOLLAM_FORMAT.md from real files. */
 #include "ellipso_read.h"
@@ -60,8 +63,7 @@ static vr_status push(vr_ellipso_data *d, size_t *cap, vr_ellipso_point **p, vr_
     *cap = c;
   }
   *p = &d->p[d->n];
-  memset(*p, 0, sizeof **p);
-  (*p)->depolarisation = NAN;
+  vr_ellipso_point_init(*p);
   return VR_OK;
 }
 
@@ -82,6 +84,7 @@ static char *copy_text(const char *text, size_t len, vr_error *err) {
 
 static vr_status parse_sentech(lines *L, char *header, const char *name, const char *unit,
                                vr_ellipso_data *d, vr_error *err) {
+  d->format = "Sentech SpectraRay export";
   char *tok[64];
   size_t nt = split(header + 1, tok, 64);
   if (nt < 3 || strcasecmp(tok[0], "WAVELENGTH") || (nt - 1) % 2)
@@ -121,8 +124,10 @@ static vr_status parse_sentech(lines *L, char *header, const char *name, const c
   return d->n ? VR_OK : vr_error_at(err, VR_E_PARSE, name, 0, 0, "no data rows");
 }
 
-vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *name, const char *unit_override,
-                                   vr_ellipso_data *d, vr_error *err) {
+vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *name,
+                                   const vr_ellipso_read_options *o, vr_ellipso_data *d,
+                                   vr_error *err) {
+  const char *unit_override = o->unit;
   char *buf = copy_text(text, len, err);
   if (!buf) {
     vr_error_prefix(err, "%s: ", name);
@@ -131,9 +136,10 @@ vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *nam
   lines L = {buf, buf, 0};
   vr_status st = VR_OK;
   char *s, unit[16] = "";
-  bool trig = false;
+  bool trig = false, swapped = false;
   size_t cap = 0;
   d->has_sigma = 1;
+  d->format = "J.A. Woollam WVASE / CompleteEASE .dat";
   /* Header: everything up to and including the unit line. */
   while ((s = next_line(&L))) {
     if (L.line == 1 && s[0] == ';') {
@@ -142,16 +148,25 @@ vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *nam
       free(buf);
       return st;
     }
-    char *tok[4];
-    char copy[64];
+    char *tok[8];
+    char copy[128];
     snprintf(copy, sizeof copy, "%s", s);
-    size_t n = split(copy, tok, 4);
-    if (n >= 1 && n <= 2 && (!strcasecmp(tok[0], "nm") || !strcasecmp(tok[0], "eV") ||
+    size_t n = split(copy, tok, 8);
+    if (n >= 1 && n <= 4 && (!strcasecmp(tok[0], "nm") || !strcasecmp(tok[0], "eV") ||
                              !strcasecmp(tok[0], "Angstroms") || !strcasecmp(tok[0], "A"))) {
       snprintf(unit, sizeof unit, "%s", tok[0]);
       trig = n == 2 && !strcasecmp(tok[1], "TRIG");
-      if (n == 2 && !trig) {
-        st = vr_error_at(err, VR_E_PARSE, name, L.line, 0, "unknown data type '%s' after the unit", tok[1]);
+      /* WVASE-format exports of other instruments (Accurion EP4) name
+       * the last two columns after the unit: "nm<TAB><TAB>Psi<TAB>Delta". */
+      if (n == 3 && !strcasecmp(tok[1], "Psi") && !strcasecmp(tok[2], "Delta")) {
+        d->format = "WVASE-format export (unit line with column names)";
+      } else if (n == 3 && !strcasecmp(tok[1], "Delta") && !strcasecmp(tok[2], "Psi")) {
+        swapped = true;
+        d->format = "WVASE-format export (unit line with column names)";
+      } else if (n >= 2 && !trig) {
+        st = vr_error_at(err, VR_E_PARSE, name, L.line, 0,
+                         "after the unit '%s': expected TRIG, or the column names Psi and Delta",
+                         tok[0]);
         goto done;
       }
       break;
@@ -177,32 +192,40 @@ vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *nam
       tag = tok[0];
       k = 1;
     }
-    if (!strcmp(tag, "dpolE")) {
-      /* dpolE λ AOI depolarisation σ: attach to the matching Ψ, Δ point. */
-      double w, a, dp;
+    if (!strcasecmp(tag, "dpolE")) {
+      /* "dpolE λ AOI depolarisation σ" (WVASE) or "dPolE λ 0 depolarisation
+       * σ" (CompleteEASE, no angle): it belongs to the latest Ψ, Δ row at
+       * that wavelength (and angle, when one is given). */
+      double w, a, dp, sdp = NAN;
       if (n - k < 3) {
-        st = vr_error_at(err, VR_E_PARSE, name, L.line, 0, "dpolE row needs wavelength, angle and depolarisation");
+        st = vr_error_at(err, VR_E_PARSE, name, L.line, 0,
+                         "%s row needs wavelength, angle and depolarisation", tag);
         goto done;
       }
       if ((st = number(name, L.line, "wavelength", tok[k], &w, err)) ||
           (st = number(name, L.line, "aoi", tok[k + 1], &a, err)) ||
-          (st = number(name, L.line, "depolarisation", tok[k + 2], &dp, err)))
+          (st = number(name, L.line, "depolarisation", tok[k + 2], &dp, err)) ||
+          (n - k > 3 && (st = number(name, L.line, "sigma_depolarisation", tok[k + 3], &sdp, err))))
         goto done;
       double nm = vr_ellipso_to_nm(w, u);
       size_t i = d->n;
-      while (i-- > 0 && !(fabs(d->p[i].aoi_deg - a) < 1e-6 && fabs(d->p[i].nm - nm) <= 1e-9 * nm)) {
+      while (i-- > 0 && !((a == 0 || fabs(d->p[i].aoi_deg - a) < 1e-6) &&
+                          fabs(d->p[i].nm - nm) <= 1e-9 * nm)) {
       }
       if (i == (size_t)-1) {
-        st = vr_error_at(err, VR_E_PARSE, name, L.line, 0, "dpolE row at %g, %g deg has no Psi/Delta row before it", w, a);
+        st = vr_error_at(err, VR_E_PARSE, name, L.line, 0,
+                         "%s row at %g, %g deg has no Psi/Delta row before it", tag, w, a);
         goto done;
       }
       d->p[i].depolarisation = dp;
+      d->p[i].sigma_depolarisation = sdp;
       continue;
     }
     if (*tag && strcmp(tag, "E")) {
-      st = vr_error_at(err, VR_E_PARSE, name, L.line, 0,
-                       "rows of type '%s' are not Psi/Delta data (only E and dpolE rows are read; Mueller-matrix files are not supported)", tag);
-      goto done;
+      /* Other quantities (CompleteEASE "uR", Mueller-matrix "mm12", ...):
+       * skipped, and said. */
+      vr_ellipso_note_skipped(d, tag);
+      continue;
     }
     size_t fields = n - k;
     if (fields != 4 && fields != 6) {
@@ -234,15 +257,20 @@ vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *nam
       p->sigma_psi = fields == 6 ? v[2] * cos(psi) * cos(psi) * 180 / M_PI : v[2];
       p->sigma_delta = fields == 6 ? v[3] / fmax(fabs(sin(delta)), 1e-3) * 180 / M_PI : v[3];
     } else {
-      p->psi_deg = v[0];
-      p->delta_deg = v[1];
-      p->sigma_psi = v[2];
-      p->sigma_delta = v[3];
+      p->psi_deg = v[swapped];
+      p->delta_deg = v[!swapped];
+      p->sigma_psi = v[2 + swapped];
+      p->sigma_delta = v[3 - swapped];
     }
     if ((st = vr_ellipso_point_finish(p, w, u, name, err))) goto done;
     d->n++;
   }
-  if (!d->n) st = vr_error_at(err, VR_E_PARSE, name, 0, 0, "no data rows");
+  if (!d->n)
+    st = d->nskipped ? vr_error_at(err, VR_E_PARSE, name, 0, 0,
+                                   "no Psi/Delta rows (only rows of type '%s'%s, which carry "
+                                   "other quantities)", d->skipped[0].tag,
+                                   d->nskipped > 1 ? " and others" : "")
+                     : vr_error_at(err, VR_E_PARSE, name, 0, 0, "no data rows");
 done:
   free(buf);
   return st;

@@ -21,6 +21,7 @@ static const vr_option OPTIONS[] = {
     {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
     {"report", 'r', "FILE.html", "fit: write an HTML report with plots"},
     {"units", 'u', "UNIT", "wavelength unit of a CSV without one in its header (nm, um, A, eV)"},
+    {"wavelength", 0, "NM", "fit: the wavelength of a single-wavelength file that has no wavelength column"},
     {"no-global", 0, NULL, "fit: skip the global thickness search"},
     {"angles", 'a', "LIST", "simulate: angles of incidence in degrees, e.g. 65,70,75"},
     {"wavelengths", 'w', "FROM:TO:STEP", "simulate: wavelengths in nm"},
@@ -34,8 +35,8 @@ static const char USAGE[] =
     "fit DATA [--model FILE] [--save NAME] [--db FILE] [--report FILE.html] [--json]\n"
     "       vr-ellipso simulate --model FILE --angles LIST --wavelengths FROM:TO:STEP [--noise SPSI,SDELTA]";
 static const char ABOUT[] =
-    "Fits spectroscopic ellipsometry data (Psi, Delta; CSV or J.A. Woollam WVASE/CompleteEASE\n"
-    ".dat) to optical constants and layer thicknesses.  With a model: a global search over the\n"
+    "Fits spectroscopic ellipsometry data (Psi, Delta; CSV, J.A. Woollam WVASE/CompleteEASE\n"
+    ".dat and WVASE-format exports, Accurion EP4 tables, Sentech SpectraRay exports) to optical constants and layer thicknesses.  With a model: a global search over the\n"
     "free thicknesses, then Levenberg-Marquardt (Ceres); each parameter is printed with its\n"
     "standard error and 90% confidence limits, the correlation matrix (warning above 0.95) and\n"
     "Woollam's MSE.  Without a model the sample is treated as bulk: pseudo-optical constants\n"
@@ -62,7 +63,17 @@ static int cmd_fit(vr_args *a) {
   const char *data_path = a->operands[1];
   const char *model_path = vr_args_get(a, "model");
   const char *save = vr_args_get(a, "save");
-  if (vr_ellipso_read(data_path, vr_args_get(a, "units"), &d, &err)) return fail(&err);
+  vr_ellipso_read_options ro = {.unit = vr_args_get(a, "units")};
+  const char *wl = vr_args_get(a, "wavelength");
+  if (wl && (vr_parse_double(wl, &ro.wavelength_nm) || !(ro.wavelength_nm > 0))) {
+    fprintf(stderr, "vr-ellipso: --wavelength '%s': expected a wavelength in nm > 0\n", wl);
+    return 2;
+  }
+  if (vr_ellipso_read_with(data_path, &ro, &d, &err)) return fail(&err);
+  fprintf(stderr, "vr-ellipso: %s: %zu points (%s)\n", data_path, d.n, d.format);
+  for (size_t i = 0; i < d.nskipped; i++)
+    fprintf(stderr, "vr-ellipso: note: %s: skipped %zu row%s of type '%s' (not Psi/Delta measurements)\n",
+            data_path, d.skipped[i].rows, d.skipped[i].rows == 1 ? "" : "s", d.skipped[i].tag);
   vr_fit_options opt = vr_fit_default_options();
   opt.global_search = !vr_args_flag(a, "no-global");
   if ((save || (model_path && vr_matdb_named_in(model_path))) && open_db(a, 0, &db, &err)) goto out;

@@ -61,4 +61,32 @@ check "unwritable report fails cleanly" test $rc -eq 1
 "$bin" simulate --model "$s/thermal_oxide.model" --angles 70 --wavelengths 600:500:1 > /dev/null 2>&1; rc=$?
 check "bad --wavelengths is a usage error" test $rc -eq 2
 
+# Real instrument files (tests/data/ellipsometry/real/README.md names them):
+# refellips' EP4 demo in WVASE format fitted as refellips does (published
+# 113.501 +- 0.544 A), a CompleteEASE export's uR rows noted, a
+# single-wavelength table needing --wavelength.
+real="$src/tests/data/ellipsometry/real"
+cat > "$tmp/ep4.model" <<EOF2
+ambient constant n=1.00027623
+layer pnipam cauchy thickness=15 A=1.47 B=0.00495 fit min=10 max=50
+layer oxide file:$real/refellips_materials/silica.csv thickness=2
+substrate file:$real/refellips_materials/silicon.csv
+EOF2
+"$bin" fit "$real/testData1_16nm_PNIPAM_on_Si_EP4.dat" --model "$tmp/ep4.model" --json > "$tmp/ep4.json" 2> "$tmp/ep4.err"; rc=$?
+python3 - "$tmp/ep4.json" <<'PY'
+import json, sys
+p = {q["name"]: q for q in json.load(open(sys.argv[1]))["parameters"]}
+assert abs(p["pnipam.thickness"]["value"] - 11.3501) <= 0.0544, p
+PY
+check "refellips' EP4 demo: within refellips' standard error of 113.501 A" test $? -eq 0 -a $rc -eq 0
+check "the format read is named" grep -q "4 points (WVASE-format export" "$tmp/ep4.err"
+"$bin" fit "$real/Woolam_staticTest.dat" > /dev/null 2> "$tmp/ce.err"
+check "CompleteEASE uR rows are noted" grep -q "skipped 398 rows of type 'uR'" "$tmp/ce.err"
+"$bin" fit "$real/WVASE_example_2nmSiO2_11nmPNIPAM_658nm.txt" --model "$tmp/ep4.model" > /dev/null 2> "$tmp/sw.err"; rc=$?
+check "a single-wavelength table without --wavelength: exit 1 with a hint" test $rc -eq 1 -a -n "$(grep -e '--wavelength NM' "$tmp/sw.err")"
+"$bin" fit "$real/WVASE_example_2nmSiO2_11nmPNIPAM_658nm.txt" --model "$tmp/ep4.model" --wavelength 658 > /dev/null 2>&1
+check "a single-wavelength table with --wavelength" test $? -eq 0
+"$bin" fit "$real/15-1-1.dat" --wavelength -3 > /dev/null 2>&1
+check "a bad --wavelength is a usage error" test $? -eq 2
+
 finish

@@ -160,11 +160,19 @@ static void reader_errors(void **state) {
       {"cols.csv", "wavelength_nm,aoi,delta\n500,70,100\n", "cols.csv:1: no 'psi' column"},
       {"short.csv", "wavelength_nm,aoi,psi,delta\n500,70,10\n", "short.csv:2:"},
       {"aoi.csv", "wavelength_nm,aoi,psi,delta\n500,95,10,100\n", "aoi.csv:2: field 'aoi': 95 degrees is outside (0, 90)"},
-      {"mm.dat", "x\nVASEmethod[]\nnm\nmm12\t245.7\t70\t-0.18\t-0.18\t0.006\t0.006\n", "mm.dat:4: rows of type 'mm12'"},
+      {"mm.dat", "x\nVASEmethod[]\nnm\nmm12\t245.7\t70\t-0.18\t-0.18\t0.006\t0.006\n", "mm.dat: no Psi/Delta rows (only rows of type 'mm12'"},
       {"bad.dat", "x\nnm\n300 65 12.1 abc 0.3 3.4\n", "bad.dat:3: field 'delta': expected a number, got 'abc'"},
       {"five.dat", "x\nnm\n300 65 12.1 4 0.3\n", "bad"},
       {"empty.csv", "wavelength_nm,aoi,psi,delta\n", "empty.csv: no data rows"},
       {"sent.txt", "; WAVELENGTH 70 70\n400 10 20\n401 10\n", "sent.txt:3: expected 3 fields"},
+      {"cols.dat", "x\nnm\t\tPsi\tFoo\n658 50 1 2\n", "cols.dat:2: after the unit 'nm': expected TRIG, or the column names Psi and Delta"},
+      {"dpol.dat", "x\nnm\ndPolE\t500\t0\t1.5\t1\n", "dpol.dat:3: dPolE row at 500, 0 deg has no Psi/Delta row before it"},
+      {"ep4u.dat", "#Lambda\tAOI\tDelta\tPsi\n#nm\trad\tdeg\tdeg\n658\t50\t170\t30\n", "ep4u.dat:2: field 'AOI': unit 'rad', expected deg"},
+      {"ep4n.dat", "#Lambda\tAOI\tDelta\tPsi\n#nm\tdeg\tdeg\tdeg\n658\t50\tx\t30\n", "ep4n.dat:3: field 'Delta': expected a number, got 'x'"},
+      {"ep4s.dat", "#Lambda\tAOI\tDelta\tPsi\n#nm\tdeg\tdeg\tdeg\n658\t50\t170\n", "ep4s.dat:3: expected 4 tab-separated fields, found 3"},
+      {"ep4w.dat", "#Lambda\tAOI\tDelta\tPsi\n#nm\tdeg\tdeg\tdeg\nNaN\t50\t170\t30\n", "ep4w.dat:3: field 'Lambda': not a finite number: 'NaN'"},
+      {"ep4a.dat", "#Lambda\tAOI\tDelta\tPsi\n#nm\tdeg\tdeg\tdeg\n658\t95\t170\t30\n", "ep4a.dat:3: field 'aoi': 95 degrees is outside (0, 90)"},
+      {"ep4e.dat", "#Lambda\tAOI\tDelta\tPsi\n#nm\tdeg\tdeg\tdeg\n", "ep4e.dat: no data rows"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     vr_ellipso_data d;

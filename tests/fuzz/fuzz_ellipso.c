@@ -1,4 +1,6 @@
-/* libFuzzer target: the ellipsometry readers (CSV, Woollam, Sentech) and
+/* libFuzzer target: the ellipsometry readers (CSV, Woollam and WVASE-format
+ * exports, Accurion EP4 tables, Sentech; with and without a wavelength
+ * given for single-wavelength files) and
  * the model-file parser on arbitrary bytes succeed or fail with a message;
  * never crash, leak or read out of bounds. */
 #include "vr/ellipso_data.h"
@@ -11,6 +13,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   vr_error err;
   vr_ellipso_data d;
   if (vr_ellipso_parse((const char *)data, size, "fuzz.dat", NULL, &d, &err) == VR_OK) vr_ellipso_data_free(&d);
+  vr_ellipso_read_options o = {.wavelength_nm = 658};
+  if (vr_ellipso_parse_with((const char *)data, size, "fuzz.dat", &o, &d, &err) == VR_OK)
+    vr_ellipso_data_free(&d);
   vr_sample_model *m;
   /* No base directory and no database: file: and db: materials fail cleanly. */
   if (vr_model_parse((const char *)data, size, "fuzz.model", NULL, NULL, &m, &err) == VR_OK) {

@@ -24,25 +24,53 @@ typedef struct vr_ellipso_point {
   double aoi_deg;
   double psi_deg, delta_deg;
   double sigma_psi, sigma_delta; /* degrees, > 0 */
-  double depolarisation;         /* NAN if not measured */
+  /* As the file gives it (Woollam dpolE / dPolE rows: percent), NAN if
+   * not measured; its standard deviation, NAN if not given. */
+  double depolarisation, sigma_depolarisation;
+  double bandwidth_nm;           /* spectral bandwidth if the file gives it, else NAN */
   long line;                     /* 1-based line in the source file */
 } vr_ellipso_point;
+
+/* Rows a reader skipped because they carry other quantities than Ψ, Δ and
+ * depolarisation (e.g. CompleteEASE "uR" rows, Mueller-matrix rows). */
+#define VR_ELLIPSO_MAX_SKIPPED 8
+typedef struct vr_ellipso_skipped {
+  char tag[32];
+  size_t rows;
+} vr_ellipso_skipped;
 
 typedef struct vr_ellipso_data {
   size_t n;
   vr_ellipso_point *p;
   char *source;                  /* file name */
   int has_sigma;                 /* the file gave standard deviations */
+  const char *format;            /* the reader that read it (static text) */
+  size_t nskipped;               /* kinds of rows skipped, at most VR_ELLIPSO_MAX_SKIPPED */
+  vr_ellipso_skipped skipped[VR_ELLIPSO_MAX_SKIPPED];
 } vr_ellipso_data;
 
-/* Reads a file: Woollam WVASE / CompleteEASE .dat (recognised by content),
- * or CSV with a header naming the columns (wavelength or energy with its
+/* How to read a file; zeroed fields take the defaults. */
+typedef struct vr_ellipso_read_options {
+  const char *unit;              /* overrides the file's wavelength unit ("nm", "um", "A", "eV") */
+  double wavelength_nm;          /* > 0: the wavelength of a file that has no wavelength column */
+} vr_ellipso_read_options;
+
+/* Reads a file: Woollam WVASE / CompleteEASE .dat and the WVASE-format
+ * exports of other instruments (recognised by content), Accurion EP4
+ * tables ("#Lambda\tAOI\t..." with a units line), Sentech SpectraRay
+ * exports, or CSV with a header naming the columns (wavelength or energy with its
  * unit; aoi/angle; psi; delta; optional sigma_psi/sigma_delta).  unit, when
  * not NULL, overrides the wavelength unit ("nm", "um", "A", "eV"). */
 vr_status vr_ellipso_read(const char *path, const char *unit, vr_ellipso_data *out, vr_error *err);
 /* The same from memory (name is used in messages). */
 vr_status vr_ellipso_parse(const char *text, size_t len, const char *name, const char *unit,
                            vr_ellipso_data *out, vr_error *err);
+/* Both with options (o may be NULL). */
+vr_status vr_ellipso_read_with(const char *path, const vr_ellipso_read_options *o,
+                               vr_ellipso_data *out, vr_error *err);
+vr_status vr_ellipso_parse_with(const char *text, size_t len, const char *name,
+                                const vr_ellipso_read_options *o, vr_ellipso_data *out,
+                                vr_error *err);
 void vr_ellipso_data_free(vr_ellipso_data *d);
 
 /* Keeps the points with lo_nm <= wavelength <= hi_nm; returns how many. */
