@@ -2,10 +2,15 @@
  * two-phase sample (pseudo-optical constants), then a dispersion model
  * fitted to all data so that n, k come out smooth and Kramers-Kronig
  * consistent: Cauchy with an Urbach tail for a transparent material, a
- * B-spline ε2 otherwise. */
+ * B-spline ε2 otherwise.  When that smooth model misses the data by more
+ * than three times their noise (a Drude metal, whose ε2 diverges below the
+ * measured range, cannot be a B-spline ε2 over it), the answer is the exact
+ * inversion itself: at each wavelength the mean over its angles, weighted
+ * by the propagated variances, tabulated. */
 #include "vr/ellipso_fit.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,6 +52,96 @@ static vr_status free_param(vr_sample_model *m, const char *name, double value, 
   m->params[k].lower = lo;
   m->params[k].upper = hi;
   return VR_OK;
+}
+
+/* The smooth fit is kept when its rms residual is within this many times
+ * the data's noise. */
+#define BULK_SMOOTH_LIMIT 3.0
+
+static int by_nm(const void *a, const void *b) {
+  double x = ((const vr_ellipso_point *)a)->nm, y = ((const vr_ellipso_point *)b)->nm;
+  return (x > y) - (x < y);
+}
+
+/* Replaces *m and *out by the tabulated exact inversion of d. */
+static vr_status exact_inversion(const vr_ellipso_data *d, vr_sample_model **m, vr_fit_result *out,
+                                 vr_error *err) {
+  double smooth = out->misfit_ratio;
+  char why[208];
+  snprintf(why, sizeof why, "%.200s", out->verdict);
+  vr_ellipso_point *p = malloc(d->n * sizeof *p);
+  double *wl = malloc(d->n * sizeof *wl), *nv = malloc(d->n * sizeof *nv),
+         *kv = malloc(d->n * sizeof *kv);
+  vr_status st = p && wl && nv && kv ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
+  size_t nw = 0;
+  if (!st) {
+    memcpy(p, d->p, d->n * sizeof *p);
+    qsort(p, d->n, sizeof *p, by_nm);
+    for (size_t i = 0; i < d->n;) {
+      double sn = 0, sk = 0, wn = 0, wk = 0;
+      size_t j = i;
+      for (; j < d->n && p[j].nm == p[i].nm; j++) {
+        double n, k, en, ek;
+        vr_pseudo_index(&p[j], &n, &k, &en, &ek);
+        double a = 1.0 / fmax(en * en, 1e-30), b = 1.0 / fmax(ek * ek, 1e-30);
+        sn += a * n, wn += a, sk += b * k, wk += b;
+      }
+      wl[nw] = p[i].nm, nv[nw] = sn / wn, kv[nw] = fmax(sk / wk, 0.0);
+      nw++;
+      i = j;
+    }
+  }
+  vr_spectrum *ns = NULL, *ks = NULL;
+  vr_dispersion *disp = NULL;
+  vr_sample_model *table = NULL;
+  vr_fit_result r = {0};
+  if (!st && nw < 2)
+    st = vr_error_set(err, VR_E_ARG,
+                      "the smooth dispersion fit does not describe the data (%s) and one "
+                      "wavelength cannot make a table: give a model",
+                      out->verdict);
+  if (!st && (!(ns = vr_spectrum_create(nw, wl, nv, err)) || !(ks = vr_spectrum_create(nw, wl, kv, err)) ||
+              !(disp = vr_dispersion_tabulated(ns, ks, err))))
+    st = err ? err->status : VR_E_NOMEM;
+  if (!st) {
+    table = vr_model_bulk(disp, err); /* takes disp */
+    disp = NULL;
+    if (!table) st = err ? err->status : VR_E_NOMEM;
+  }
+  if (!st) st = vr_ellipso_evaluate(table, d, &r, err);
+  if (!st) {
+    vr_fit_judge(&r, d, VR_FIT_MAX_MISFIT);
+    r.exact_inversion = true;
+    r.summary.iterations = out->summary.iterations;
+    char v[sizeof r.verdict];
+    /* One angle per wavelength: the inversion reproduces any data, and
+     * nothing in them shows whether the sample is bare. */
+    bool one_angle = true;
+    for (size_t i = 0; i + 1 < d->n && one_angle; i++)
+      for (size_t j = i + 1; j < d->n && one_angle; j++) one_angle = d->p[i].nm != d->p[j].nm;
+    char how[240];
+    if (isfinite(smooth)) snprintf(how, sizeof how, "missed by %.3g times the noise", smooth);
+    else snprintf(how, sizeof how, "failed: %.200s", why);
+    snprintf(v, sizeof v, "exact inversion (the smooth dispersion fit %s); %.120s%s", how, r.verdict,
+             one_angle ? "; n, k are those of a bare substrate: with one angle per wavelength the "
+                         "data cannot show layers"
+                       : "");
+    memcpy(r.verdict, v, sizeof v);
+    vr_fit_result_free(out);
+    *out = r;
+    vr_model_destroy(*m);
+    *m = table;
+    table = NULL;
+  }
+  vr_model_destroy(table);
+  vr_dispersion_destroy(disp);
+  vr_spectrum_destroy(ns);
+  vr_spectrum_destroy(ks);
+  free(p);
+  free(wl);
+  free(nv);
+  free(kv);
+  return st;
 }
 
 vr_status vr_ellipso_fit_bulk(const vr_ellipso_data *d, const vr_fit_options *opt_in,
@@ -139,6 +234,17 @@ vr_status vr_ellipso_fit_bulk(const vr_ellipso_data *d, const vr_fit_options *op
       if (m->params[j].owner == VR_OWNER_SUBSTRATE && m->params[j].slot >= 0) m->params[j].free = true;
   }
   st = vr_ellipso_fit(m, d, &opt, out, err);
+  if (!st) {
+    vr_fit_judge(out, d, BULK_SMOOTH_LIMIT);
+    if (!out->describes) st = exact_inversion(d, &m, out, err);
+  } else if (st != VR_E_NOMEM) {
+    /* The smooth model cannot even be evaluated over these data (a
+     * negative k, say): the exact inversion answers, and says why. */
+    memset(out, 0, sizeof *out);
+    out->misfit_ratio = INFINITY;
+    snprintf(out->verdict, sizeof out->verdict, "%.200s", err ? err->message : "failed");
+    st = exact_inversion(d, &m, out, err);
+  }
 done:
   vr_dispersion_destroy(disp);
   free(n);

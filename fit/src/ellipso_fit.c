@@ -321,6 +321,7 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
   }
   for (size_t k = 0; k < d->n; k++)
     vr_model_psi_delta(m, d->p[k].nm, d->p[k].aoi_deg, &out->psi_model[k], &out->delta_model[k], NULL, NULL);
+  vr_fit_judge(out, d, VR_FIT_MAX_MISFIT);
   out->seconds = now() - t_start;
 done:
   free(free_idx);

@@ -110,6 +110,20 @@ void vr_fit_print_text(FILE *f, const vr_fit_view *v) {
     }
   }
   high_correlations(r, f, true);
+  fprintf(f, "\nverdict: %s\n", r->verdict);
+  if (r->exact_inversion) {
+    /* Point by point: the exact inversion and its propagated deviations. */
+    const vr_ellipso_data *d = v->data;
+    fprintf(f, "\nexact pseudo-dielectric inversion, point by point\n%10s %8s %12s %12s %12s %12s\n",
+            "nm", "AOI", "n", "sigma_n", "k", "sigma_k");
+    size_t pstep = d->n > 20 ? (d->n + 19) / 20 : 1;
+    for (size_t i = 0; i < d->n; i += pstep) {
+      double n, k, sn, sk;
+      vr_pseudo_index(&d->p[i], &n, &k, &sn, &sk);
+      fprintf(f, "%10.2f %8.3f %12.6f %12.3g %12.6g %12.3g\n", d->p[i].nm, d->p[i].aoi_deg, n, sn, k, sk);
+    }
+    if (pstep > 1) fprintf(f, "(every %zu-th of %zu points; --json gives all)\n", pstep, d->n);
+  }
   fprintf(f, "\nn, k of %s\n%10s %12s %12s\n", v->layer_name, "nm", "n", "k");
   size_t step = v->nwl > 20 ? (v->nwl + 19) / 20 : 1;
   for (size_t i = 0; i < v->nwl; i += step) fprintf(f, "%10.2f %12.6f %12.6g\n", v->wl[i], v->n[i], v->k[i]);
@@ -149,6 +163,31 @@ void vr_fit_print_json(FILE *f, const vr_fit_view *v) {
   fprintf(f, "], \"high_correlations\": %d, \"covariance_ok\": %s, \"layer\": ", high_correlations(r, f, false),
           r->covariance_ok ? "true" : "false");
   vr_json_string(f, v->layer_name);
+  fprintf(f, ", \"verdict\": {\"describes\": %s", r->describes ? "true" : "false");
+  const char *vk[3] = {"misfit_ratio", "noise_psi_deg", "noise_delta_deg"};
+  const double vv[3] = {r->misfit_ratio, r->noise_psi, r->noise_delta};
+  for (int j = 0; j < 3; j++) {
+    fprintf(f, ", \"%s\": ", vk[j]);
+    vr_json_number(f, vv[j]);
+  }
+  fputs(", \"text\": ", f);
+  vr_json_string(f, r->verdict);
+  fprintf(f, "}, \"method\": \"%s\"", r->exact_inversion ? "exact inversion" : "fit");
+  if (r->exact_inversion) {
+    fputs(", \"pseudo\": [", f);
+    for (size_t i = 0; i < v->data->n; i++) {
+      double n, k, sn, sk;
+      vr_pseudo_index(&v->data->p[i], &n, &k, &sn, &sk);
+      const double vals[6] = {v->data->p[i].nm, v->data->p[i].aoi_deg, n, sn, k, sk};
+      const char *keys[6] = {"wavelength_nm", "aoi_deg", "n", "sigma_n", "k", "sigma_k"};
+      for (int j = 0; j < 6; j++) {
+        fprintf(f, "%s\"%s\": ", j ? ", " : i ? ", {" : "{", keys[j]);
+        vr_json_number(f, vals[j]);
+      }
+      fputc('}', f);
+    }
+    fputc(']', f);
+  }
   fputs(", \"nk\": [", f);
   for (size_t i = 0; i < v->nwl; i++) {
     fputs(i ? ", {\"wavelength_nm\": " : "{\"wavelength_nm\": ", f);

@@ -28,6 +28,7 @@ static const vr_option OPTIONS[] = {
     {"noise", 0, "SPSI,SDELTA", "simulate: add Gaussian noise with these standard deviations (deg)"},
     {"seed", 0, "N", "simulate: random seed for --noise (default 1)"},
     {"json", 'j', NULL, "fit: JSON output"},
+    {"force", 0, NULL, "fit: accept (exit 0) and --save a fit that does not describe the data"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
 
@@ -88,6 +89,14 @@ static int cmd_fit(vr_args *a) {
   else vr_fit_print_text(stdout, &v);
   const char *report = vr_args_get(a, "report");
   if (report && vr_fit_write_report(report, &v, &err)) goto out;
+  if (!r.describes && !vr_args_flag(a, "force")) {
+    fprintf(stderr, "vr-ellipso: %s: the fit %s%s\n", data_path, r.verdict,
+            save ? "; not saved (--force saves it anyway)" : "");
+    rc = 1;
+    err.message[0] = '\0';
+    goto out;
+  }
+  if (!r.describes) fprintf(stderr, "vr-ellipso: warning: %s: the fit %s (accepted with --force)\n", data_path, r.verdict);
   if (save) {
     if (vr_fit_save(db, save, &v, data_path, model_path, &err)) goto out;
     fprintf(stderr, "vr-ellipso: saved '%s' to %s\n", save, vr_matdb_path(db));
@@ -95,7 +104,7 @@ static int cmd_fit(vr_args *a) {
   fprintf(stderr, "vr-ellipso: fit took %.3f s\n", r.seconds);
   rc = 0;
 out:
-  if (rc) fail(&err);
+  if (rc && err.message[0]) fail(&err);
   vr_fit_view_free(&v);
   vr_fit_result_free(&r);
   vr_model_destroy(m);
@@ -163,7 +172,7 @@ static int cmd_simulate(vr_args *a) {
   gsl_rng_free(rng);
   rc = 0;
 out:
-  if (rc) fail(&err);
+  if (rc && err.message[0]) fail(&err);
   vr_model_destroy(m);
   vr_matdb_close(db);
   return rc;

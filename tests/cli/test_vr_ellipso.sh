@@ -89,4 +89,16 @@ check "a single-wavelength table with --wavelength" test $? -eq 0
 "$bin" fit "$real/15-1-1.dat" --wavelength -3 > /dev/null 2>&1
 check "a bad --wavelength is a usage error" test $? -eq 2
 
+# A model that cannot describe the data (the oxide given n = 2.0 instead of
+# silica's 1.46): flagged, exit 1, not saved; --force accepts and saves it.
+printf 'layer oxide cauchy thickness=100 A=2.0 B=0 fit min=0 max=500\nsubstrate file:%s/Si_Aspnes.yml\n' "$s" > "$tmp/wrong.model"
+"$bin" fit "$s/thermal_oxide.csv" --model "$tmp/wrong.model" --save wrong --db "$tmp/w.db" > "$tmp/wrong.out" 2> "$tmp/wrong.err"; rc=$?
+check "a fit that does not describe the data: exit 1" test $rc -eq 1
+check "... says so and that it is not saved" grep -q "does NOT describe the data.*not saved" "$tmp/wrong.err"
+"$VR_BIN/../matdb/vr-matdb" show wrong --db "$tmp/w.db" > /dev/null 2>&1
+check "... and nothing is saved" test $? -ne 0
+"$bin" fit "$s/thermal_oxide.csv" --model "$tmp/wrong.model" --save wrong --db "$tmp/w.db" --force > /dev/null 2> "$tmp/force.err"; rc=$?
+"$VR_BIN/../matdb/vr-matdb" show wrong --db "$tmp/w.db" > /dev/null 2>&1
+check "--force accepts it, warns and saves" test $rc -eq 0 -a $? -eq 0 -a -n "$(grep 'accepted with --force' "$tmp/force.err")"
+
 finish

@@ -54,7 +54,41 @@ typedef struct vr_fit_result {
   vr_lsq_summary summary;  /* iterations and evaluations summed over all candidate fits */
   int grid_evaluations;
   double seconds;
+  /* The verdict (vr_fit_judge): the noise the data show (degrees, per
+   * vr_ellipso_noise), the rms residual in units of that noise, and
+   * whether the model describes the data (ratio <= VR_FIT_MAX_MISFIT). */
+  double noise_psi, noise_delta, misfit_ratio;
+  bool describes;
+  char verdict[640];
+  /* Set by vr_ellipso_fit_bulk when no smooth dispersion described the
+   * data and n, k come from the exact inversion point by point. */
+  bool exact_inversion;
 } vr_fit_result;
+
+/* A fit whose rms residual exceeds this many times the data's noise does
+ * not describe the data (flagged; vr-ellipso exits 1 and saves only with
+ * --force). */
+#define VR_FIT_MAX_MISFIT 10.0
+/* The noise of Ψ and Δ (degrees) as the data show it: the rms third
+ * difference along wavelength of each angle's series over sqrt(20) (white
+ * noise of standard deviation s gives third differences of variance 20 s²;
+ * a smooth spectrum contributes little).  Series of fewer than 8
+ * wavelengths say nothing; when none says anything the file's σ (median)
+ * is used, and when the file gives none, 0.05° (a typical instrument).
+ * Never below 0.001°. */
+void vr_ellipso_noise(const vr_ellipso_data *d, double *psi_deg, double *delta_deg);
+/* Fills r's verdict from its model values against d (limit: the largest
+ * misfit ratio that still describes the data). */
+void vr_fit_judge(vr_fit_result *r, const vr_ellipso_data *d, double limit);
+/* The result of a model with no free parameters (chi2, MSE, model values,
+ * verdict). */
+vr_status vr_ellipso_evaluate(const vr_sample_model *m, const vr_ellipso_data *d, vr_fit_result *out,
+                              vr_error *err);
+
+/* The exact pseudo-optical constants of a bare substrate from one point,
+ * with standard deviations propagated from σΨ and σΔ (central differences
+ * of the inversion; at Ψ = 0° or 90° one-sided). */
+void vr_pseudo_index(const vr_ellipso_point *p, double *n, double *k, double *sigma_n, double *sigma_k);
 
 /* Fits m (its free parameters) to d; m holds the solution on return. */
 vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_fit_options *opt,
