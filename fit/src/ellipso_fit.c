@@ -80,6 +80,7 @@ void vr_fit_result_free(vr_fit_result *r) {
   free(r->ci_lo);
   free(r->ci_hi);
   free(r->correlation);
+  free(r->at_bound);
   free(r->psi_model);
   free(r->delta_model);
   memset(r, 0, sizeof *r);
@@ -286,10 +287,11 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
   out->ci_lo = calloc(nfree, sizeof(double));
   out->ci_hi = calloc(nfree, sizeof(double));
   out->correlation = calloc(nfree * nfree, sizeof(double));
+  out->at_bound = calloc(nfree, sizeof(int));
   out->psi_model = calloc(d->n, sizeof(double));
   out->delta_model = calloc(d->n, sizeof(double));
   if (!out->names || !out->value || !out->stderr_ || !out->ci_lo || !out->ci_hi || !out->correlation ||
-      !out->psi_model || !out->delta_model) {
+      !out->at_bound || !out->psi_model || !out->delta_model) {
     vr_lsq_destroy(lsq);
     st = vr_error_set(err, VR_E_NOMEM, "out of memory");
     goto done;
@@ -310,7 +312,10 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
       goto done;
     }
     out->value[j] = best[j];
-    double se = out->covariance_ok ? sqrt(cov[j * nfree + j]) : NAN;
+    const vr_model_param *mp = &m->params[free_idx[j]];
+    double tol = fmax(1e-12, 1e-9 * (isfinite(mp->upper - mp->lower) ? mp->upper - mp->lower : fabs(best[j])));
+    out->at_bound[j] = best[j] <= mp->lower + tol ? -1 : best[j] >= mp->upper - tol ? 1 : 0;
+    double se = out->covariance_ok && !out->at_bound[j] ? sqrt(cov[j * nfree + j]) : NAN;
     out->stderr_[j] = se;
     out->ci_lo[j] = best[j] - t * se;
     out->ci_hi[j] = best[j] + t * se;

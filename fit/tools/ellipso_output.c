@@ -97,9 +97,20 @@ void vr_fit_print_text(FILE *f, const vr_fit_view *v) {
   fprintf(f, "MSE %.4f   (chi2 %.6g over %zu (Psi, Delta) pairs, %zu free parameters; %s after %d iterations, %d grid evaluations)\n",
           r->mse, r->chi2, r->npoints, r->nfree, termination(r), r->summary.iterations, r->grid_evaluations);
   fprintf(f, "\n%-24s %14s %12s %28s\n", "parameter", "value", "std error", "90% confidence limits");
-  for (size_t i = 0; i < r->nfree; i++)
-    fprintf(f, "%-24s %14.8g %12.4g   [%12.8g, %12.8g]\n", r->names[i], r->value[i], r->stderr_[i],
-            r->ci_lo[i], r->ci_hi[i]);
+  for (size_t i = 0; i < r->nfree; i++) {
+    if (r->at_bound && r->at_bound[i])
+      fprintf(f, "%-24s %14.8g   AT ITS %s BOUND: not a free estimate, no uncertainty\n", r->names[i],
+              r->value[i], r->at_bound[i] < 0 ? "LOWER" : "UPPER");
+    else
+      fprintf(f, "%-24s %14.8g %12.4g   [%12.8g, %12.8g]\n", r->names[i], r->value[i], r->stderr_[i],
+              r->ci_lo[i], r->ci_hi[i]);
+  }
+  for (size_t i = 0; r->at_bound && i < r->nfree; i++)
+    if (r->at_bound[i]) {
+      fprintf(f, "warning: a parameter ended at a bound: the data want it beyond; widen the bound or "
+                 "change the model (the other uncertainties hold with it pinned there)\n");
+      break;
+    }
   if (!r->covariance_ok) fprintf(f, "warning: uncertainties unavailable: %s\n", r->covariance_message);
   if (r->nfree > 1 && r->covariance_ok) {
     fprintf(f, "\ncorrelation matrix\n");
@@ -149,7 +160,8 @@ void vr_fit_print_json(FILE *f, const vr_fit_view *v) {
     vr_json_number(f, r->ci_lo[i]);
     fputs(", ", f);
     vr_json_number(f, r->ci_hi[i]);
-    fputs("]}", f);
+    int b = r->at_bound ? r->at_bound[i] : 0;
+    fprintf(f, "], \"at_bound\": %s}", b < 0 ? "\"lower\"" : b > 0 ? "\"upper\"" : "null");
   }
   fputs("], \"correlation\": [", f);
   for (size_t i = 0; i < r->nfree; i++) {

@@ -62,6 +62,14 @@ static int cmd_fit(vr_args *a) {
   vr_fit_view v = {0};
   int rc = 1;
   const char *data_path = a->operands[1];
+  if (a->noperands > 2) {
+    /* One sample per fit: several files would be fitted as one sample, or
+     * the extra ones ignored; neither is what a user means. */
+    fprintf(stderr, "vr-ellipso: fit takes one data file, %zu given (%s, %s%s): fit each sample "
+                    "on its own, or join the files of one sample into one\n",
+            a->noperands - 1, a->operands[1], a->operands[2], a->noperands > 3 ? ", ..." : "");
+    return 2;
+  }
   const char *model_path = vr_args_get(a, "model");
   const char *save = vr_args_get(a, "save");
   vr_ellipso_read_options ro = {.unit = vr_args_get(a, "units")};

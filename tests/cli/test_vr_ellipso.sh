@@ -101,4 +101,21 @@ check "... and nothing is saved" test $? -ne 0
 "$VR_BIN/../matdb/vr-matdb" show wrong --db "$tmp/w.db" > /dev/null 2>&1
 check "--force accepts it, warns and saves" test $rc -eq 0 -a $? -eq 0 -a -n "$(grep 'accepted with --force' "$tmp/force.err")"
 
+# The thermal oxide is 104.3 nm (samples/ellipsometry/README.md): with
+# max=50 the thickness ends at its bound, flagged, with no uncertainty.
+printf 'layer oxide cauchy thickness=40 A=1.46 B=0.0036 fit min=0 max=50\nsubstrate file:%s/Si_Aspnes.yml\n' "$s" > "$tmp/bound.model"
+"$bin" fit "$s/thermal_oxide.csv" --model "$tmp/bound.model" --json --force > "$tmp/bound.json" 2> /dev/null
+python3 - "$tmp/bound.json" <<'PY'
+import json, sys
+p = json.load(open(sys.argv[1]))["parameters"][0]
+assert p["at_bound"] == "upper" and p["value"] == 50 and p["stderr"] is None and p["ci90"] == [None, None], p
+PY
+check "a parameter at its bound is flagged and has no confidence limits" test $? -eq 0
+"$bin" fit "$s/thermal_oxide.csv" --model "$s/thermal_oxide.model" --json > "$tmp/free.json" 2> /dev/null
+python3 -c "import json,sys; p=json.load(open(sys.argv[1]))['parameters'][0]; assert p['at_bound'] is None and p['stderr'] > 0, p" "$tmp/free.json"
+check "a free parameter is not flagged" test $? -eq 0
+
+"$bin" fit "$s/thermal_oxide.csv" "$s/bare_glass.csv" > /dev/null 2> "$tmp/two.err"; rc=$?
+check "two data files are refused, not half-used" test $rc -eq 2 -a -n "$(grep 'fit takes one data file, 2 given' "$tmp/two.err")"
+
 finish

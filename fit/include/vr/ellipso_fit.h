@@ -44,6 +44,10 @@ typedef struct vr_fit_result {
   char **names;           /* nfree parameter names */
   double *value, *stderr_, *ci_lo, *ci_hi;
   double *correlation;    /* nfree x nfree, row-major; NAN when undetermined */
+  /* -1 / +1: the parameter ended at its lower / upper bound (within 1e-9
+   * of the range, or 1e-12 absolute); its stderr and limits are then NAN,
+   * since a pinned value is not a free estimate.  0 otherwise. */
+  int *at_bound;
   bool covariance_ok;     /* false: the Jacobian is rank deficient (message says why) */
   char covariance_message[256];
   double mse;             /* Woollam's MSE */
