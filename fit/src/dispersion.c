@@ -299,9 +299,9 @@ static vr_status index_direct(const vr_dispersion *d, double nm, vr_complex *N, 
     if (bad)
       return vr_error_set(err, VR_E_RANGE, "tabulated: %g nm is outside the %s table (%g-%g nm)",
                           nm, bad == tn ? "n" : "k", bad->nm[0], bad->nm[bad->n - 1]);
-    /* Monotone cubic: smooth for the fitter, and never below a 0 sample. */
-    n = vr_spectrum_eval(tn, nm, VR_INTERP_CUBIC);
-    k = tk ? vr_spectrum_eval(tk, nm, VR_INTERP_CUBIC) : 0;
+    /* The toolchain's rule for n, k tables (vr/spectrum.h). */
+    n = vr_spectrum_eval(tn, nm, VR_NK_INTERP);
+    k = tk ? vr_spectrum_eval(tk, nm, VR_NK_INTERP) : 0;
     break;
   }
   default: return vr_error_set(err, VR_E_ARG, "%s: not an n,k model", kind_name(d->kind));

@@ -185,10 +185,10 @@ vr_status vr_material_nk(const vr_material *m, double nm, bool allow, double *n,
   if (m->n_formula.type) {
     if ((st = vr_formula_eval(&m->n_formula, x, n, err))) return st;
   } else {
-    *n = vr_spectrum_eval(vr_material_spectrum(m, "n"), x, VR_INTERP_LINEAR);
+    *n = vr_spectrum_eval(vr_material_spectrum(m, "n"), x, VR_NK_INTERP);
   }
   const vr_spectrum *ks = vr_material_spectrum(m, "k");
-  *k = ks ? vr_spectrum_eval(ks, x, VR_INTERP_LINEAR) : 0.0;
+  *k = ks ? vr_spectrum_eval(ks, x, VR_NK_INTERP) : 0.0;
   return VR_OK;
 }
 

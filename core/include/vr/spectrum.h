@@ -26,6 +26,11 @@ typedef struct vr_spectrum {
 } vr_spectrum;
 
 typedef enum vr_interp { VR_INTERP_LINEAR = 0, VR_INTERP_CUBIC = 1 } vr_interp;
+/* The one rule for tabulated optical constants n(λ), k(λ) in the whole
+ * toolchain (vr-matdb eval, every fit, the renderer): linear in
+ * wavelength, as refellips and pyElli interpolate their tables, so the same
+ * table gives the same index everywhere (docs/conventions.md). */
+#define VR_NK_INTERP VR_INTERP_LINEAR
 typedef enum vr_quadrature { VR_TRAPEZOID = 0, VR_SIMPSON = 1 } vr_quadrature;
 
 /* Copies the samples; refuses n == 0, non-finite numbers and a grid that is
