@@ -64,7 +64,7 @@ static double bulk_error(const char *truth, double noise, bool *inverted) {
   double worst = 0;
   for (int i = 0; i <= 52; i++) {
     double nm = 300 + 10 * i;
-    vr_complex a, b;
+    vr_complex a = 0, b = 0;
     if (vr_model_layer_index(m, VR_OWNER_SUBSTRATE, nm, &a, &err) ||
         vr_model_layer_index(t, VR_OWNER_SUBSTRATE, nm, &b, &err))
       fail_msg("%s", err.message);
