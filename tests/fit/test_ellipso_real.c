@@ -166,11 +166,38 @@ static void refellips_ep4_demo(void **state) {
   vr_ellipso_data_free(&d);
 }
 
+/* refellips' spectroscopic demo data (WVASE-generated, 600 and 700 nm at
+ * 50-70 deg) with the same stack and tables: refellips' own check,
+ * tests/test_refellips.py test_smoke_test_a_fit @ 504eb3d5, is chi2 < 0.055
+ * (with its pnipam.csv, not published; PNIPAM here is the demo's Cauchy). */
+static void refellips_spectroscopic_demo(void **state) {
+  (void)state;
+  vr_ellipso_data d;
+  read_ok(REAL "WVASE_example_2nmSiO2_20nmPNIPAM_MultiWavelength.txt", NULL, &d);
+  const char *model = "ambient constant n=1.00027623\n"
+                      "layer pnipam cauchy thickness=15 A=1.47 B=0.00495 fit min=10 max=50\n"
+                      "layer oxide file:refellips_materials/silica.csv thickness=2\n"
+                      "substrate file:refellips_materials/silicon.csv\n";
+  vr_sample_model *m = NULL;
+  vr_error err = {0};
+  if (vr_model_parse(model, strlen(model), "spectro.model", REAL, NULL, &m, &err)) fail_msg("%s", err.message);
+  vr_fit_options opt = vr_fit_default_options();
+  vr_fit_result r = {0};
+  if (vr_ellipso_fit(m, &d, &opt, &r, &err)) fail_msg("%s", err.message);
+  print_message("refellips spectroscopic demo: %.4f nm, chi2 %.5f (refellips' bound 0.055)\n", r.value[0], r.chi2);
+  assert_true(r.chi2 < 0.055);
+  /* the data were generated for about 20 nm of PNIPAM */
+  assert_true(fabs(r.value[0] - 20) < 1);
+  vr_fit_result_free(&r);
+  vr_model_destroy(m);
+  vr_ellipso_data_free(&d);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(ep4_wvase_format),      cmocka_unit_test(completeease_dpole_ur),
       cmocka_unit_test(accurion_tables),       cmocka_unit_test(single_wavelength),
-      cmocka_unit_test(refellips_ep4_demo),
+      cmocka_unit_test(refellips_ep4_demo),    cmocka_unit_test(refellips_spectroscopic_demo),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
