@@ -41,6 +41,8 @@ static vr_dispersion *owner_disp(const vr_sample_model *m, long owner) {
 
 double *vr_model_param_value(vr_sample_model *m, size_t i) {
   const vr_model_param *p = &m->params[i];
+  if (p->owner == VR_OWNER_SAMPLE)
+    return p->slot == VR_SLOT_AOI_OFFSET ? &m->aoi_offset_deg : &m->delta_offset_deg;
   if (p->slot == VR_SLOT_THICKNESS)
     return p->owner == VR_OWNER_SUBSTRATE ? &m->substrate_thickness_nm : &m->layers[p->owner].thickness_nm;
   if (p->slot == VR_SLOT_FRACTION) return &m->layers[p->owner].fraction;
@@ -62,6 +64,8 @@ vr_sample_model *vr_model_copy(const vr_sample_model *m, vr_error *err) {
   if (!c) goto nomem;
   c->substrate_thickness_nm = m->substrate_thickness_nm;
   c->backside = m->backside;
+  c->aoi_offset_deg = m->aoi_offset_deg;
+  c->delta_offset_deg = m->delta_offset_deg;
   if (m->source && !(c->source = strdup(m->source))) goto nomem;
   if (!(c->ambient = vr_dispersion_copy(m->ambient, err))) goto fail;
   if (!(c->substrate = vr_dispersion_copy(m->substrate, err))) goto fail;
@@ -154,8 +158,25 @@ vr_status vr_model_layer_index(const vr_sample_model *m, long i, double nm, vr_c
 
 static double abs2(vr_complex z) { return creal(z) * creal(z) + cimag(z) * cimag(z); }
 
+static vr_status psi_delta(const vr_sample_model *m, double nm, double aoi_deg, double *psi,
+                           double *delta, double *depol, vr_error *err);
+
 vr_status vr_model_psi_delta(const vr_sample_model *m, double nm, double aoi_deg, double *psi,
                              double *delta, double *depol, vr_error *err) {
+  double a = aoi_deg + m->aoi_offset_deg;
+  if (!(a > 0 && a < 90))
+    return vr_error_set(err, VR_E_RANGE, "at %g nm: angle %g deg + offset %g deg is outside (0, 90)", nm,
+                        aoi_deg, m->aoi_offset_deg);
+  vr_status st = psi_delta(m, nm, a, psi, delta, depol, err);
+  if (!st && m->delta_offset_deg != 0) {
+    double d = fmod(*delta + m->delta_offset_deg, 360.0);
+    *delta = d < 0 ? d + 360.0 : d;
+  }
+  return st;
+}
+
+static vr_status psi_delta(const vr_sample_model *m, double nm, double aoi_deg, double *psi,
+                           double *delta, double *depol, vr_error *err) {
   size_t count = m->nlayers + 2;
   if (count > MAX_STACK) return vr_error_set(err, VR_E_ARG, "more than %d layers", MAX_STACK - 2);
   vr_layer L[MAX_STACK];

@@ -42,6 +42,14 @@ static vr_status add_param(parser *p, const char *owner_name, const char *pname,
   return VR_OK;
 }
 
+/* The measurement's own parameters, fixed at 0 unless a param line frees
+ * them: "sample.aoi_offset" (within ±10°) and "sample.delta_offset"
+ * (within ±180°). */
+static vr_status add_sample_params(parser *p) {
+  vr_status st = add_param(p, "sample", "aoi_offset", VR_OWNER_SAMPLE, VR_SLOT_AOI_OFFSET, -10, 10);
+  return st ? st : add_param(p, "sample", "delta_offset", VR_OWNER_SAMPLE, VR_SLOT_DELTA_OFFSET, -180, 180);
+}
+
 /* Registers every parameter of a dispersion under owner_name. */
 static vr_status add_disp_params(parser *p, const char *owner_name, long owner, const vr_dispersion *d) {
   for (size_t i = 0; i < vr_dispersion_nparams(d); i++) {
@@ -349,7 +357,7 @@ vr_status vr_model_parse(const char *text, size_t len, const char *name, const c
   memcpy(buf, text, len);
   buf[len] = '\0';
   parser p = {name, base_dir, db, m, err, 0};
-  vr_status st = VR_OK;
+  vr_status st = add_sample_params(&p);
   for (char *s = buf, *next; s && *s && !st; s = next) {
     p.line++;
     next = strchr(s, '\n');
@@ -409,7 +417,7 @@ vr_sample_model *vr_model_bulk(vr_dispersion *substrate, vr_error *err) {
   }
   m->substrate = substrate;
   parser p = {"bulk", NULL, NULL, m, err, 0};
-  if (!(m->ambient = vr_dispersion_create(VR_DISP_CONSTANT, err)) ||
+  if (add_sample_params(&p) || !(m->ambient = vr_dispersion_create(VR_DISP_CONSTANT, err)) ||
       add_disp_params(&p, "ambient", VR_OWNER_AMBIENT, m->ambient) ||
       add_disp_params(&p, "substrate", VR_OWNER_SUBSTRATE, substrate)) {
     vr_model_destroy(m);

@@ -53,11 +53,13 @@ typedef struct vr_model_layer {
   double thickness_nm;
 } vr_model_layer;
 
-/* Where a parameter lives: owner is a layer index, VR_OWNER_SUBSTRATE or
- * VR_OWNER_AMBIENT; slot is a dispersion parameter index, or
- * VR_SLOT_THICKNESS / VR_SLOT_FRACTION. */
-enum { VR_OWNER_SUBSTRATE = -1, VR_OWNER_AMBIENT = -2 };
-enum { VR_SLOT_THICKNESS = -1, VR_SLOT_FRACTION = -2 };
+/* Where a parameter lives: owner is a layer index, VR_OWNER_SUBSTRATE,
+ * VR_OWNER_AMBIENT or VR_OWNER_SAMPLE (the measurement: "sample.aoi_offset"
+ * and "sample.delta_offset"); slot is a dispersion parameter index, or
+ * VR_SLOT_THICKNESS / VR_SLOT_FRACTION / VR_SLOT_AOI_OFFSET /
+ * VR_SLOT_DELTA_OFFSET. */
+enum { VR_OWNER_SUBSTRATE = -1, VR_OWNER_AMBIENT = -2, VR_OWNER_SAMPLE = -3 };
+enum { VR_SLOT_THICKNESS = -1, VR_SLOT_FRACTION = -2, VR_SLOT_AOI_OFFSET = -3, VR_SLOT_DELTA_OFFSET = -4 };
 
 typedef struct vr_model_param {
   char *name;                /* "oxide.thickness", "oxide.A", ... */
@@ -75,6 +77,10 @@ typedef struct vr_sample_model {
   vr_model_layer *layers;
   vr_dispersion *substrate;
   double substrate_thickness_nm; /* > 0 with backside: incoherent slab */
+  /* The instrument's errors (degrees): the true angle of incidence is the
+   * nominal one + aoi_offset, and the measured Δ is the sample's +
+   * delta_offset (a retarder or window offset).  0 unless fitted or set. */
+  double aoi_offset_deg, delta_offset_deg;
   bool backside;
   size_t nparams;
   vr_model_param *params;
