@@ -146,7 +146,8 @@ vr_status vr_model_layer_index(const vr_sample_model *m, long i, double nm, vr_c
                                vr_error *err) {
   vr_sample_model *mm = (vr_sample_model *)m;
   vr_complex eps;
-  vr_status st;
+  vr_status st = vr_model_apply_couplings(mm, err);
+  if (st) return st;
   if (i == VR_OWNER_SUBSTRATE) st = memo_eps(m->substrate, &mm->substrate_memo, nm, &eps, err);
   else if (i == VR_OWNER_AMBIENT) st = memo_eps(m->ambient, &mm->ambient_memo, nm, &eps, err);
   else st = layer_eps(m, i, nm, &eps, err);
@@ -161,8 +162,24 @@ static double abs2(vr_complex z) { return creal(z) * creal(z) + cimag(z) * cimag
 static vr_status psi_delta(const vr_sample_model *m, double nm, double aoi_deg, double *psi,
                            double *delta, double *depol, vr_error *err);
 
+vr_status vr_model_apply_couplings(vr_sample_model *m, vr_error *err) {
+  for (size_t i = 0; i < m->nparams; i++) {
+    const vr_model_param *q = &m->params[i];
+    if (!q->coupled_to) continue;
+    double v = q->coef * vr_model_param_get(m, (size_t)(q->coupled_to - 1)) + q->offset;
+    if ((q->slot == VR_SLOT_THICKNESS && q->owner != VR_OWNER_SAMPLE && v < 0) ||
+        (q->slot == VR_SLOT_FRACTION && (v < 0 || v > 1)))
+      return vr_error_set(err, VR_E_RANGE, "coupled parameter %s = %g is outside its domain (it follows %s)",
+                          q->name, v, m->params[q->coupled_to - 1].name);
+    *vr_model_param_value(m, i) = v;
+  }
+  return VR_OK;
+}
+
 vr_status vr_model_psi_delta(const vr_sample_model *m, double nm, double aoi_deg, double *psi,
                              double *delta, double *depol, vr_error *err) {
+  vr_status cs = vr_model_apply_couplings((vr_sample_model *)m, err);
+  if (cs) return cs;
   double a = aoi_deg + m->aoi_offset_deg;
   if (!(a > 0 && a < 90))
     return vr_error_set(err, VR_E_RANGE, "at %g nm: angle %g deg + offset %g deg is outside (0, 90)", nm,

@@ -6,6 +6,7 @@
 #include "vr/matdb.h"
 #include "vr/material_io.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -36,7 +37,7 @@ static vr_status add_param(parser *p, const char *owner_name, const char *pname,
   m->params = q;
   char full[160];
   snprintf(full, sizeof full, "%s.%s", owner_name, pname);
-  vr_model_param np = {strdup(full), owner, slot, lower, upper, false, 0};
+  vr_model_param np = {strdup(full), owner, slot, lower, upper, false, 0, 0, 1, 0};
   if (!np.name) return vr_error_set(p->err, VR_E_NOMEM, "out of memory");
   m->params[m->nparams++] = np;
   return VR_OK;
@@ -176,6 +177,58 @@ static vr_status set_inline(parser *p, const char *owner, char **tok, size_t nto
     p->m->params[k].line = p->line;
   }
   return VR_OK;
+}
+
+/* "[a*]NAME[*a][+b|-b]" into parameter k's coupling (NAME another
+ * parameter that follows none). */
+static vr_status couple(parser *p, long k, const char *expr) {
+  vr_sample_model *m = p->m;
+  double coef = 1, offset = 0;
+  char name[160] = "";
+  const char *s = expr;
+  char *end;
+  double a = strtod(s, &end);
+  if (end != s && *end == '*') { /* a*NAME */
+    coef = a;
+    s = end + 1;
+  }
+  size_t n = 0;
+  if (!(isalpha((unsigned char)*s) || *s == '_'))
+    return fail(p, VR_E_PARSE,
+                "parameter %s: '%s' is neither a number nor a coupling such as "
+                "2*film1.A + 0.1",
+                m->params[k].name, expr);
+  while ((isalnum((unsigned char)*s) || *s == '_' || *s == '.') && n + 1 < sizeof name) name[n++] = *s++;
+  name[n] = '\0';
+  if (*s == '*') { /* NAME*a */
+    coef = strtod(s + 1, &end);
+    if (end == s + 1) return fail(p, VR_E_PARSE, "parameter %s: no number after '*' in '%s'", m->params[k].name, expr);
+    s = end;
+  }
+  if (*s == '+' || *s == '-') {
+    offset = strtod(s, &end);
+    if (end == s || end == s + 1) return fail(p, VR_E_PARSE, "parameter %s: no number after the sign in '%s'", m->params[k].name, expr);
+    s = end;
+  }
+  if (*s) return fail(p, VR_E_PARSE, "parameter %s: cannot read '%s' as [a*]NAME[*a][+b]", m->params[k].name, expr);
+  if (!isfinite(coef) || !isfinite(offset))
+    return fail(p, VR_E_RANGE, "parameter %s: '%s' is not finite", m->params[k].name, expr);
+  long r = vr_model_param_index(m, name);
+  if (r < 0) return fail(p, VR_E_PARSE, "parameter %s follows an unknown parameter '%s'", m->params[k].name, name);
+  if (r == k) return fail(p, VR_E_PARSE, "parameter %s cannot follow itself", name, NULL);
+  if (m->params[r].coupled_to)
+    return fail(p, VR_E_PARSE, "parameter %s follows %s, which itself follows another: couple both to the first",
+                m->params[k].name, name);
+  for (size_t i = 0; i < m->nparams; i++)
+    if (m->params[i].coupled_to == k + 1)
+      return fail(p, VR_E_PARSE, "parameter %s is followed by others and cannot follow %s", m->params[k].name, name);
+  m->params[k].coupled_to = r + 1;
+  m->params[k].coef = coef;
+  m->params[k].offset = offset;
+  m->params[k].line = p->line;
+  vr_status st = vr_model_apply_couplings(m, p->err);
+  if (st) vr_error_prefix(p->err, "%s:%ld: ", p->name, p->line);
+  return st;
 }
 
 /* fit / fixed / min=V / max=V for parameter k. */
@@ -332,9 +385,28 @@ static vr_status statement(parser *p, char **tok, size_t ntok) {
     }
     long k = vr_model_param_index(m, name);
     if (k < 0) return fail(p, VR_E_PARSE, "unknown parameter '%s'", name, NULL);
+    double v;
+    /* The value's words up to the first flag, joined: a number, or a
+     * coupling (a linear expression of another parameter). */
+    char expr[256] = "";
     if (value) {
-      double v;
-      if (vr_parse_double(value, &v)) return fail(p, VR_E_PARSE, "parameter %s: '%s' is not a number", name, value);
+      snprintf(expr, sizeof expr, "%s", value);
+      while (i < ntok && strcasecmp(tok[i], "fit") && strcasecmp(tok[i], "free") &&
+             strcasecmp(tok[i], "fixed") && strncasecmp(tok[i], "min=", 4) && strncasecmp(tok[i], "max=", 4)) {
+        size_t l = strlen(expr);
+        snprintf(expr + l, sizeof expr - l, "%s", tok[i++]);
+      }
+      value = expr;
+    }
+    if (value && vr_parse_double(value, &v)) {
+      vr_status st = couple(p, k, expr);
+      if (st) return st;
+      st = flags(p, k, tok + i, ntok - i);
+      if (!st && m->params[k].free)
+        return fail(p, VR_E_PARSE, "parameter %s follows another: it cannot also be fitted", name, NULL);
+      return st;
+    }
+    if (value) {
       if (m->params[k].slot == VR_SLOT_THICKNESS && v < 0)
         return fail(p, VR_E_RANGE, "parameter %s: negative thickness %s", name, value);
       *vr_model_param_value(m, (size_t)k) = v;

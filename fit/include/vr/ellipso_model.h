@@ -67,6 +67,10 @@ typedef struct vr_model_param {
   double lower, upper;
   bool free;
   long line;                 /* model-file line that set it, 0 if default */
+  /* Coupling ("param film2.A = 2*film1.A + 0.1"): 1 + the index of the
+   * parameter this one follows, 0 if none; value = coef * that + offset. */
+  long coupled_to;
+  double coef, offset;
 } vr_model_param;
 
 /* A model is used by one thread at a time (it keeps small caches). */
@@ -105,6 +109,11 @@ double vr_model_param_get(const vr_sample_model *m, size_t i);
 /* Checks every free parameter's value against its bounds and the model's
  * domain (thickness >= 0, 0 <= fraction <= 1). */
 vr_status vr_model_check(const vr_sample_model *m, vr_error *err);
+
+/* Sets every coupled parameter from the one it follows; VR_E_RANGE if that
+ * makes a thickness negative or a fraction leave [0, 1].  Model evaluation
+ * calls it. */
+vr_status vr_model_apply_couplings(vr_sample_model *m, vr_error *err);
 
 /* Ψ and Δ (degrees, Woollam's convention) at a wavelength and angle; with a
  * reflecting incoherent back side, the incoherent sum of the back-reflected
