@@ -28,6 +28,17 @@ TEXT(vr_seed_au)
 TEXT(vr_seed_ag)
 TEXT(vr_seed_cu)
 TEXT(vr_seed_al)
+TEXT(vr_seed_sio2_film)
+TEXT(vr_seed_si3n4)
+TEXT(vr_seed_si3n4_philipp)
+TEXT(vr_seed_al2o3)
+TEXT(vr_seed_al2o3_film)
+TEXT(vr_seed_ito)
+TEXT(vr_seed_gaas)
+TEXT(vr_seed_water)
+TEXT(vr_seed_pmma)
+TEXT(vr_seed_pc)
+TEXT(vr_seed_ps)
 extern const double vr_seed_astm_g173[];
 extern const unsigned vr_seed_astm_g173_rows, vr_seed_astm_g173_cols;
 
@@ -56,6 +67,20 @@ static const rii_seed RII[] = {
     {"Ag", VR_KIND_CONDUCTOR, vr_seed_ag, &vr_seed_ag_len, "ag_johnson.yml"},
     {"Cu", VR_KIND_CONDUCTOR, vr_seed_cu, &vr_seed_cu_len, "cu_johnson.yml"},
     {"Al", VR_KIND_CONDUCTOR, vr_seed_al, &vr_seed_al_len, "al_rakic.yml"},
+    /* Layers and media of ellipsometry labs (matdb/data/SOURCES.md). */
+    {"SiO2-film", VR_KIND_DIELECTRIC, vr_seed_sio2_film, &vr_seed_sio2_film_len,
+     "sio2_film_rodriguez_de_marcos.yml"},
+    {"Si3N4", VR_KIND_DIELECTRIC, vr_seed_si3n4, &vr_seed_si3n4_len, "si3n4_luke.yml"},
+    {"Si3N4-Philipp", VR_KIND_DIELECTRIC, vr_seed_si3n4_philipp, &vr_seed_si3n4_philipp_len,
+     "si3n4_philipp.yml"},
+    {"Al2O3", VR_KIND_DIELECTRIC, vr_seed_al2o3, &vr_seed_al2o3_len, "al2o3_malitson_o.yml"},
+    {"Al2O3-film", VR_KIND_DIELECTRIC, vr_seed_al2o3_film, &vr_seed_al2o3_film_len, "al2o3_boidin.yml"},
+    {"ITO", VR_KIND_DIELECTRIC, vr_seed_ito, &vr_seed_ito_len, "ito_konig.yml"},
+    {"GaAs", VR_KIND_DIELECTRIC, vr_seed_gaas, &vr_seed_gaas_len, "gaas_aspnes.yml"},
+    {"water", VR_KIND_DIELECTRIC, vr_seed_water, &vr_seed_water_len, "h2o_daimon_20_0c.yml"},
+    {"PMMA", VR_KIND_DIELECTRIC, vr_seed_pmma, &vr_seed_pmma_len, "pmma_sultanova.yml"},
+    {"polycarbonate", VR_KIND_DIELECTRIC, vr_seed_pc, &vr_seed_pc_len, "pc_sultanova.yml"},
+    {"polystyrene", VR_KIND_DIELECTRIC, vr_seed_ps, &vr_seed_ps_len, "ps_sultanova.yml"},
 };
 
 static vr_status provenance(vr_material *m, const char *source, const void *bytes, size_t len,

@@ -33,9 +33,10 @@ static void new_database_is_seeded_with_sources(void **state) {
   assert_int_equal(vr_matdb_open(path, 0, &db, &err), VR_OK);
   int n = 0;
   assert_int_equal(vr_matdb_list(db, NULL, count_visit, &n, &err), VR_OK);
-  /* 13 refractiveindex.info materials, 27 CIE + 3 ASTM G173 illuminants,
-   * 24 ColorChecker patches. */
-  assert_int_equal(n, 13 + 30 + 24);
+  /* 24 refractiveindex.info materials (13 glasses, metals, Si, TiO2 and 11
+   * lab layers), 27 CIE + 3 ASTM G173 illuminants, 24 ColorChecker
+   * patches. */
+  assert_int_equal(n, 24 + 30 + 24);
   n = 0;
   assert_int_equal(vr_matdb_list(db, "conductor", count_visit, &n, &err), VR_OK);
   assert_int_equal(n, 4);
@@ -58,7 +59,7 @@ static void new_database_is_seeded_with_sources(void **state) {
   assert_int_equal(vr_matdb_open(path, VR_MATDB_READONLY, &db, &err), VR_OK);
   n = 0;
   assert_int_equal(vr_matdb_list(db, NULL, count_visit, &n, &err), VR_OK);
-  assert_int_equal(n, 67);
+  assert_int_equal(n, 24 + 30 + 24);
   vr_matdb_close(db);
 }
 
@@ -238,9 +239,57 @@ static void validation_before_writing(void **state) {
   vr_matdb_close(db);
 }
 
+/* The layers of ellipsometry labs in the built-in library give their
+ * authors' values: Sellmeier formulas evaluated here from the published
+ * coefficients, tables at one of their rows (matdb/data/SOURCES.md). */
+static double sellmeier(double um, const double *b, const double *c, int terms, bool squared) {
+  double l2 = um * um, n2 = 1;
+  for (int i = 0; i < terms; i++) n2 += b[i] * l2 / (l2 - (squared ? c[i] * c[i] : c[i]));
+  return sqrt(n2);
+}
+
+static void lab_layers_match_their_sources(void **state) {
+  (void)state;
+  vr_matdb *db;
+  vr_error err = {0};
+  assert_int_equal(vr_matdb_open(fresh_path("layers.db"), 0, &db, &err), VR_OK);
+  /* Luke et al., Opt. Lett. 40, 4823 (2015), Si3N4 */
+  const double luke_b[2] = {3.0249, 40314}, luke_c[2] = {0.1353406, 1239.842};
+  /* Malitson & Dodge, JOSA 62, 1405 (1972), sapphire ordinary ray */
+  const double mal_b[3] = {1.4313493, 0.65054713, 5.3414021}, mal_c[3] = {0.0726631, 0.1193242, 18.028251};
+  /* Daimon & Masumura, Appl. Opt. 46, 3811 (2007), water at 20 °C (C in µm²) */
+  const double dai_b[4] = {5.684027565e-1, 1.726177391e-1, 2.086189578e-2, 1.130748688e-1},
+               dai_c[4] = {5.101829712e-3, 1.821153936e-2, 2.620722293e-2, 1.069792721e1};
+  /* Sultanova et al., Acta Phys. Pol. A 116, 585 (2009), PMMA (C in µm²) */
+  const double sul_b[1] = {1.1819}, sul_c[1] = {0.011313};
+  const struct {
+    const char *name;
+    double um, n, k;
+  } cases[] = {
+      {"Si3N4", 0.6328, sellmeier(0.6328, luke_b, luke_c, 2, true), 0},
+      {"Al2O3", 0.6328, sellmeier(0.6328, mal_b, mal_c, 3, true), 0},
+      {"water", 0.5893, sellmeier(0.5893, dai_b, dai_c, 4, false), 0},
+      {"PMMA", 0.5893, sellmeier(0.5893, sul_b, sul_c, 1, false), 0},
+      /* Aspnes, Kelso, Logan & Bhat, J. Appl. Phys. 60, 754 (1986): the
+       * row 0.6199 µm: n 3.878, k 0.211 */
+      {"GaAs", 0.6199, 3.878, 0.211},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+    vr_material *m = NULL;
+    if (vr_matdb_load(db, cases[i].name, 0, &m, &err)) fail_msg("%s", err.message);
+    double n, k;
+    if (vr_material_nk(m, cases[i].um * 1000, false, &n, &k, NULL, &err)) fail_msg("%s", err.message);
+    assert_near(n, cases[i].n, 1e-9);
+    assert_near(k, cases[i].k, 1e-12);
+    vr_material_destroy(m);
+  }
+  vr_matdb_close(db);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(new_database_is_seeded_with_sources),
+      cmocka_unit_test(lab_layers_match_their_sources),
       cmocka_unit_test(versions_history_and_removal),
       cmocka_unit_test(igdb_nfrc_102),
       cmocka_unit_test(igdb_bad_input),
