@@ -94,7 +94,7 @@ static const char *termination(const vr_fit_result *r) {
 
 void vr_fit_print_text(FILE *f, const vr_fit_view *v) {
   const vr_fit_result *r = v->fit;
-  fprintf(f, "MSE %.4f   (chi2 %.6g over %zu (Psi, Delta) pairs, %zu free parameters; %s after %d iterations, %d grid evaluations)\n",
+  fprintf(f, "MSE (J.A. Woollam's, on Psi and Delta) %.4f   (chi2 %.6g over %zu (Psi, Delta) pairs, %zu free parameters; %s after %d iterations, %d grid evaluations)\n",
           r->mse, r->chi2, r->npoints, r->nfree, termination(r), r->summary.iterations, r->grid_evaluations);
   fprintf(f, "\n%-24s %14s %12s %28s\n", "parameter", "value", "std error", "90% confidence limits");
   for (size_t i = 0; i < r->nfree; i++) {
@@ -145,6 +145,7 @@ void vr_fit_print_json(FILE *f, const vr_fit_view *v) {
   const vr_fit_result *r = v->fit;
   fputs("{\"mse\": ", f);
   vr_json_number(f, r->mse);
+  fputs(", \"mse_definition\": \"J.A. Woollam: sqrt(chi2 / (2N - M)) over Psi and Delta\"", f);
   fputs(", \"chi2\": ", f);
   vr_json_number(f, r->chi2);
   fprintf(f, ", \"points\": %zu, \"free_parameters\": %zu, \"iterations\": %d, \"termination\": \"%s\", \"parameters\": [",
