@@ -15,12 +15,22 @@
 #include <string.h>
 #include <strings.h>
 
+/* An effective-medium component named before its layer is defined (a
+ * roughness layer above its film): resolved when the file has been read. */
+typedef struct pending_component {
+  long layer, line;
+  int which; /* 0: A, 1: B */
+  char name[64];
+} pending_component;
+
 typedef struct parser {
   const char *name, *base_dir;
   vr_matdb *db;
   vr_sample_model *m;
   vr_error *err;
   long line;
+  pending_component pend[32];
+  size_t npend;
 } parser;
 
 static vr_status fail(parser *p, vr_status st, const char *fmt, const char *a, const char *b) {
@@ -315,8 +325,19 @@ static vr_status statement(parser *p, char **tok, size_t ntok) {
       else return fail(p, VR_E_PARSE, "unknown effective medium '%s'", kind, NULL);
       L.ema_a = layer_index(m, open + 1);
       L.ema_b = layer_index(m, comma + 1);
-      if (L.ema_a < -1 || L.ema_b < -1)
-        return fail(p, VR_E_PARSE, "effective medium of '%s' and '%s': name earlier layers or void", open + 1, comma + 1);
+      /* A component not defined yet is looked up when the file is read:
+       * it must then be a layer below with a material of its own. */
+      const char *cname[2] = {open + 1, comma + 1};
+      long *cidx[2] = {&L.ema_a, &L.ema_b};
+      for (int c = 0; c < 2; c++) {
+        if (*cidx[c] >= -1) continue;
+        if (p->npend == sizeof p->pend / sizeof *p->pend || strlen(cname[c]) >= sizeof p->pend[0].name)
+          return fail(p, VR_E_PARSE, "effective medium component '%s': too many or too long a name", cname[c], NULL);
+        pending_component *q = &p->pend[p->npend++];
+        q->layer = (long)m->nlayers, q->line = p->line, q->which = c;
+        snprintf(q->name, sizeof q->name, "%s", cname[c]);
+        *cidx[c] = -1;
+      }
     } else if (!(L.disp = material_disp(p, tok[2]))) {
       return p->err ? p->err->status : VR_E_PARSE;
     }
@@ -428,7 +449,7 @@ vr_status vr_model_parse(const char *text, size_t len, const char *name, const c
   }
   memcpy(buf, text, len);
   buf[len] = '\0';
-  parser p = {name, base_dir, db, m, err, 0};
+  parser p = {.name = name, .base_dir = base_dir, .db = db, .m = m, .err = err};
   vr_status st = add_sample_params(&p);
   for (char *s = buf, *next; s && *s && !st; s = next) {
     p.line++;
@@ -449,6 +470,21 @@ vr_status vr_model_parse(const char *text, size_t len, const char *name, const c
     if (!st && ntok) st = statement(&p, tok, ntok);
   }
   free(buf);
+  for (size_t i = 0; !st && i < p.npend; i++) {
+    const pending_component *q = &p.pend[i];
+    long k = layer_index(m, q->name);
+    if (k < -1)
+      st = vr_error_at(err, VR_E_PARSE, name, q->line, 0,
+                       "effective medium of layer '%s': no layer '%s' (name a layer of this model or void)",
+                       m->layers[q->layer].name, q->name);
+    else if (k >= 0 && !m->layers[k].disp)
+      st = vr_error_at(err, VR_E_PARSE, name, q->line, 0,
+                       "effective medium of layer '%s': '%s' comes later and is itself an effective "
+                       "medium; a component named before its layer must have a material of its own",
+                       m->layers[q->layer].name, q->name);
+    else if (q->which) m->layers[q->layer].ema_b = k;
+    else m->layers[q->layer].ema_a = k;
+  }
   if (!st && !m->substrate) st = vr_error_at(err, VR_E_PARSE, name, 0, 0, "no 'substrate' line");
   if (!st && !m->ambient) {
     /* Air by default. */
@@ -488,7 +524,7 @@ vr_sample_model *vr_model_bulk(vr_dispersion *substrate, vr_error *err) {
     return NULL;
   }
   m->substrate = substrate;
-  parser p = {"bulk", NULL, NULL, m, err, 0};
+  parser p = {.name = "bulk", .m = m, .err = err};
   if (add_sample_params(&p) || !(m->ambient = vr_dispersion_create(VR_DISP_CONSTANT, err)) ||
       add_disp_params(&p, "ambient", VR_OWNER_AMBIENT, m->ambient) ||
       add_disp_params(&p, "substrate", VR_OWNER_SUBSTRATE, substrate)) {

@@ -73,7 +73,7 @@ static void model_file_errors_name_the_line(void **state) {
       {"substrate constant\nparam substrate.n = 3 fit min=4\n", "test.model:2: parameter substrate.n: start value 3 is outside [4, inf]"},
       {"frobnicate\n", "test.model:1: unknown statement 'frobnicate'"},
       {"substrate db:Si\n", "test.model:1: material 'db:Si' needs the material database"},
-      {"layer r ema=bruggeman(x,void) thickness=2\nsubstrate constant\n", "test.model:1: effective medium of 'x' and 'void'"},
+      {"layer r ema=bruggeman(x,void) thickness=2\nsubstrate constant\n", "test.model:1: effective medium of layer 'r': no layer 'x'"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     vr_sample_model *m;
