@@ -34,7 +34,7 @@ static void roughness_above_film(void **state) {
   vr_sample_model *h = model(text, &err);
   if (!h) fail_msg("%s", err.message);
   for (double nm = 400; nm <= 800; nm += 100) {
-    double p1, d1, p2, d2;
+    double p1 = 0, d1 = 0, p2 = 0, d2 = 0;
     if (vr_model_psi_delta(m, nm, 70, &p1, &d1, NULL, &err) || vr_model_psi_delta(h, nm, 70, &p2, &d2, NULL, &err))
       fail_msg("%s", err.message);
     assert_near(p1, p2, 1e-10);
