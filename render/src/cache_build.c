@@ -4,9 +4,7 @@
  * mesh read once however often it is placed), appends each object's arrays
  * to a spill file, keeps a sample of primitive bounds, and fills the
  * replicated tables (bounds, areas, rect frames, emitters).  The kd-tree
- * of cells is then chosen on the sample exactly as vr_domains_build always
- * chose it: the cell with the most primitives is split at the median of
- * their centroids along the longest axis of its box.  Pass 2 deals the
+ * of cells is then chosen on the sample (cache_split.c).  Pass 2 deals the
  * spill file out: each primitive goes, with its vertices renumbered, to
  * every cell whose box it touches.  Pass 3 turns each cell's part into its
  * cache file and measures what Embree keeps for it. */
@@ -25,19 +23,15 @@
 #include <unistd.h>
 
 #include "cache_key.h"
+#include "cache_split.h"
 #include "mesh_cache.h"
 #include "vr/hash64.h"
 
 #define DIRMAX 4000  /* longest cache folder name */
 #define PATHMAX 4200 /* a folder name and a file name in it */
 #define SAMPLE_SEED 0x5CA1AB1Eull
-/* Planes tried along each axis when a cell is split: centroid quantiles. */
-#define SPLIT_CANDIDATES 64
 
-typedef struct sample {
-  uint64_t h;
-  float lo[3], hi[3];
-} sample;
+typedef vr_cache_sample sample;
 
 /* A cell's part while pass 2 fills it: bytes waiting to be appended to its
  * part file, the counts so far and the objects seen. */
@@ -63,10 +57,7 @@ typedef struct builder {
   size_t emit_cap;
   bool any;
   double lo[3], hi[3];
-  /* the kd-tree */
-  vr_kd_node *nodes;
-  int nnodes, ncells;
-  double (*clo)[3], (*chi)[3];
+  vr_cache_cells cells; /* the kd-tree */
   part *parts;
   size_t flush_at;
 } builder;
@@ -319,161 +310,6 @@ static vr_status pass1(builder *B) {
   return VR_OK;
 }
 
-/* ---- the kd-tree, on the sample ---- */
-
-typedef struct kcell {
-  uint32_t *idx;
-  size_t n;
-} kcell;
-
-static bool overlaps(const sample *s, const double lo[3], const double hi[3]) {
-  for (int a = 0; a < 3; a++)
-    if ((double)s->hi[a] < lo[a] || (double)s->lo[a] > hi[a]) return false;
-  return true;
-}
-
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static vr_status fill(builder *B, const kcell *parent, kcell *child, const double lo[3],
-                      const double hi[3]) {
-  child->idx = malloc((parent->n + 1) * sizeof *child->idx);
-  if (!child->idx) return nomem(B);
-  child->n = 0;
-  for (size_t i = 0; i < parent->n; i++)
-    if (overlaps(&B->heap[parent->idx[i]], lo, hi)) child->idx[child->n++] = parent->idx[i];
-  return VR_OK;
-}
-
-/* Primitives of sorted v[0..n) that are <= x (upper bound). */
-static size_t count_le(const double *v, size_t n, double x) {
-  size_t lo = 0, hi = n;
-  while (lo < hi) {
-    size_t mid = lo + (hi - lo) / 2;
-    if (v[mid] <= x)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  return lo;
-}
-
-/* Splits cell ci where the larger side holds the fewest primitives,
- * counting a primitive that straddles the plane on both sides: the cells
- * balance what they hold, duplicates included, so no cell is much larger
- * than the others.  Candidates are, along each axis, SPLIT_CANDIDATES
- * quantiles of the primitives' centroids and the middle of the box; ties go to the plane
- * that duplicates fewer primitives, then to the longer axis. */
-static vr_status split(builder *B, kcell *kc, int ci, int leaf) {
-  double *lo = B->clo[ci], *hi = B->chi[ci];
-  int axis = 0;
-  for (int a = 1; a < 3; a++)
-    if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
-  kcell *c = &kc[ci];
-  double at = 0.5 * (lo[axis] + hi[axis]);
-  size_t n = c->n;
-  if (n > 0) {
-    double *cs = malloc(n * sizeof *cs), *vlo = malloc(n * sizeof *vlo),
-           *vhi = malloc(n * sizeof *vhi);
-    if (!cs || !vlo || !vhi) {
-      free(cs), free(vlo), free(vhi);
-      return nomem(B);
-    }
-    size_t best_max = SIZE_MAX, best_sum = SIZE_MAX;
-    double best_len = -1;
-    for (int a = 0; a < 3; a++) {
-      double len = hi[a] - lo[a];
-      if (!(len > 0)) continue;
-      for (size_t i = 0; i < n; i++) {
-        const sample *p = &B->heap[c->idx[i]];
-        vlo[i] = p->lo[a];
-        vhi[i] = p->hi[a];
-        cs[i] = 0.5 * ((double)p->lo[a] + (double)p->hi[a]);
-      }
-      qsort(cs, n, sizeof *cs, cmp_double);
-      qsort(vlo, n, sizeof *vlo, cmp_double);
-      qsort(vhi, n, sizeof *vhi, cmp_double);
-      for (int q = 0; q <= SPLIT_CANDIDATES; q++) {
-        double x = q < SPLIT_CANDIDATES ? cs[(size_t)q * n / SPLIT_CANDIDATES] : 0.5 * (lo[a] + hi[a]);
-        if (q == 0 || !(x > lo[a] && x < hi[a])) continue; /* both sides need volume */
-        size_t below = count_le(vlo, n, x);            /* lo <= x */
-        size_t above = n - count_le(vhi, n, nextafter(x, -INFINITY)); /* hi >= x */
-        size_t mx = below > above ? below : above, sum = below + above;
-        if (mx < best_max || (mx == best_max && (sum < best_sum || (sum == best_sum && len > best_len)))) {
-          best_max = mx, best_sum = sum, best_len = len, axis = a, at = x;
-        }
-      }
-    }
-    free(cs), free(vlo), free(vhi);
-  }
-  int ai = B->ncells++;
-  double blo[3], bhi[3], alo[3], ahi[3];
-  memcpy(blo, lo, sizeof blo);
-  memcpy(bhi, hi, sizeof bhi);
-  memcpy(alo, lo, sizeof alo);
-  memcpy(ahi, hi, sizeof ahi);
-  bhi[axis] = at;
-  alo[axis] = at;
-  kcell below = {0}, above = {0};
-  vr_status st = fill(B, c, &below, blo, bhi);
-  if (!st) st = fill(B, c, &above, alo, ahi);
-  if (st) {
-    free(below.idx);
-    free(above.idx);
-    return st;
-  }
-  free(c->idx);
-  kc[ci] = below;
-  kc[ai] = above;
-  memcpy(B->clo[ci], blo, sizeof blo);
-  memcpy(B->chi[ci], bhi, sizeof bhi);
-  memcpy(B->clo[ai], alo, sizeof alo);
-  memcpy(B->chi[ai], ahi, sizeof ahi);
-  int nb = B->nnodes++, na = B->nnodes++;
-  B->nodes[nb] = (vr_kd_node){.axis = -1, .cell = ci};
-  B->nodes[na] = (vr_kd_node){.axis = -1, .cell = ai};
-  B->nodes[leaf] = (vr_kd_node){.axis = axis, .split = at, .child = {nb, na}, .cell = -1};
-  return VR_OK;
-}
-
-static vr_status choose_cells(builder *B) {
-  int S = B->b->subdomains;
-  B->nodes = calloc(2 * (size_t)S, sizeof *B->nodes);
-  B->clo = calloc((size_t)S, sizeof *B->clo);
-  B->chi = calloc((size_t)S, sizeof *B->chi);
-  kcell *kc = calloc((size_t)S, sizeof *kc);
-  if (!B->nodes || !B->clo || !B->chi || !kc) {
-    free(kc);
-    return nomem(B);
-  }
-  vr_status st = VR_OK;
-  memcpy(B->clo[0], B->t.bmin, sizeof B->clo[0]);
-  memcpy(B->chi[0], B->t.bmax, sizeof B->chi[0]);
-  kc[0].idx = malloc((B->nheap + 1) * sizeof *kc[0].idx);
-  if (!kc[0].idx) st = nomem(B);
-  for (size_t i = 0; !st && i < B->nheap; i++) kc[0].idx[i] = (uint32_t)i;
-  kc[0].n = B->nheap;
-  B->ncells = 1;
-  B->nnodes = 1;
-  B->nodes[0] = (vr_kd_node){.axis = -1, .cell = 0};
-  while (!st && B->ncells < S) {
-    /* The leaf with the most primitives; the first such node among equals. */
-    int best = -1;
-    for (int n = 0; n < B->nnodes; n++) {
-      if (B->nodes[n].axis >= 0) continue;
-      if (best < 0 || kc[B->nodes[n].cell].n > kc[B->nodes[best].cell].n) best = n;
-    }
-    st = split(B, kc, B->nodes[best].cell, best);
-  }
-  for (int c = 0; c < S; c++) free(kc[c].idx);
-  free(kc);
-  free(B->heap);
-  B->heap = NULL;
-  return st;
-}
-
 /* ---- pass 2: the spill file dealt out to the cells ---- */
 
 static vr_status flush_part(builder *B, int c) {
@@ -532,7 +368,7 @@ static int cells_of(const builder *B, const double lo[3], const double hi[3], in
   int stack[64], top = 0, n = 0;
   stack[top++] = 0;
   while (top) {
-    const vr_kd_node *k = &B->nodes[stack[--top]];
+    const vr_kd_node *k = &B->cells.nodes[stack[--top]];
     if (k->axis < 0) {
       out[n++] = k->cell;
       continue;
@@ -593,7 +429,7 @@ static vr_status chunk_read(builder *B, FILE *f, const char *path, chunk *k, boo
 static vr_status deal(builder *B, const chunk *k, uint32_t *mark, uint32_t *local,
                       uint32_t *gen) {
   const chunk_head *h = &k->h;
-  int S = B->ncells;
+  int S = B->cells.ncells;
   /* (cell, primitive) pairs grouped by cell with a counting sort. */
   size_t cap = h->ntris + h->nspheres + 16, npairs = 0;
   uint32_t *pc = malloc(cap * sizeof *pc), *pp = malloc(cap * sizeof *pp);
@@ -738,14 +574,14 @@ static vr_status pass2(builder *B) {
   snprintf(path, sizeof path, "%s/spill", B->tmp);
   FILE *f = fopen(path, "rb");
   if (!f) return io_fail(B, "read", path);
-  B->parts = calloc((size_t)B->ncells, sizeof *B->parts);
-  for (int c = 0; B->parts && c < B->ncells; c++)
+  B->parts = calloc((size_t)B->cells.ncells, sizeof *B->parts);
+  for (int c = 0; B->parts && c < B->cells.ncells; c++)
     for (int a = 0; a < 3; a++) {
       B->parts[c].glo[a] = INFINITY;
       B->parts[c].ghi[a] = -INFINITY;
     }
   /* Part buffers share about 64 MiB, at least 64 KiB each. */
-  B->flush_at = ((size_t)64 << 20) / (size_t)B->ncells;
+  B->flush_at = ((size_t)64 << 20) / (size_t)B->cells.ncells;
   if (B->flush_at < 65536) B->flush_at = 65536;
   vr_status st = B->parts ? VR_OK : nomem(B);
   uint32_t *mark = NULL, *local = NULL, gen = 0;
@@ -772,7 +608,7 @@ static vr_status pass2(builder *B) {
   unlink(path);
   free(mark);
   free(local);
-  for (int c = 0; !st && c < B->ncells; c++) {
+  for (int c = 0; !st && c < B->cells.ncells; c++) {
     st = flush_part(B, c);
     free(B->parts[c].buf); /* on disk now: pass 3 reads it back cell by cell */
     B->parts[c].buf = NULL;
@@ -794,8 +630,8 @@ static vr_status assemble(builder *B, int c, vr_cell_meta *meta) {
   meta->ntris = p->ntris;
   meta->nspheres = p->nspheres;
   meta->flags = p->flags;
-  memcpy(meta->lo, B->clo[c], sizeof meta->lo);
-  memcpy(meta->hi, B->chi[c], sizeof meta->hi);
+  memcpy(meta->lo, B->cells.lo[c], sizeof meta->lo);
+  memcpy(meta->hi, B->cells.hi[c], sizeof meta->hi);
   /* What a ray in the cell can meet: its primitives' bounds, within its
    * box (a primitive shared with a neighbour reaches past it). */
   for (int a = 0; a < 3; a++) {
@@ -864,10 +700,8 @@ static void builder_free(builder *B) {
   if (B->soup) fclose(B->soup);
   free(B->heap);
   vr_scene_tables_free(&B->t);
-  free(B->nodes);
-  free(B->clo);
-  free(B->chi);
-  for (int c = 0; B->parts && c < B->ncells; c++) {
+  vr_cache_cells_free(&B->cells);
+  for (int c = 0; B->parts && c < B->cells.ncells; c++) {
     free(B->parts[c].buf);
     free(B->parts[c].objects);
   }
@@ -911,24 +745,28 @@ vr_status vr_cache_build_run(const vr_cache_build *b, vr_cache_manifest **out, v
   vr_cache_manifest *m = calloc(1, sizeof *m);
   vr_status st = m ? pass1(&B) : nomem(&B);
   double t1 = now();
-  if (!st) st = choose_cells(&B);
+  if (!st) {
+    st = vr_cache_choose_cells(B.heap, B.nheap, B.t.bmin, B.t.bmax, b->subdomains, &B.cells, err);
+    free(B.heap); /* the sample has served */
+    B.heap = NULL;
+  }
   if (!st) st = pass2(&B);
   double t2 = now();
   if (!st) {
-    m->ncells = B.ncells;
-    m->nnodes = B.nnodes;
-    m->cells = calloc((size_t)B.ncells, sizeof *m->cells);
+    m->ncells = B.cells.ncells;
+    m->nnodes = B.cells.nnodes;
+    m->cells = calloc((size_t)B.cells.ncells, sizeof *m->cells);
     if (!m->cells) st = nomem(&B);
   }
   uint64_t bytes = 0;
-  for (int c = 0; !st && c < B.ncells; c++) {
+  for (int c = 0; !st && c < B.cells.ncells; c++) {
     st = assemble(&B, c, &m->cells[c]);
     bytes += m->cells[c].payload_bytes;
   }
   if (!st) {
     memcpy(m->key, b->key, 32);
-    m->nodes = B.nodes;
-    B.nodes = NULL;
+    m->nodes = B.cells.nodes;
+    B.cells.nodes = NULL;
     m->tables = B.t;
     memset(&B.t, 0, sizeof B.t);
     char path[PATHMAX];
