@@ -74,6 +74,7 @@ static vr_status exact_inversion(const vr_ellipso_data *d, vr_sample_model **m, 
          *kv = malloc(d->n * sizeof *kv);
   vr_status st = p && wl && nv && kv ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
   size_t nw = 0;
+  bool one_angle = true; /* one point per wavelength */
   if (!st) {
     memcpy(p, d->p, d->n * sizeof *p);
     qsort(p, d->n, sizeof *p, by_nm);
@@ -86,6 +87,7 @@ static vr_status exact_inversion(const vr_ellipso_data *d, vr_sample_model **m, 
         double a = 1.0 / fmax(en * en, 1e-30), b = 1.0 / fmax(ek * ek, 1e-30);
         sn += a * n, wn += a, sk += b * k, wk += b;
       }
+      one_angle = one_angle && j == i + 1;
       wl[nw] = p[i].nm, nv[nw] = sn / wn, kv[nw] = fmax(sk / wk, 0.0);
       nw++;
       i = j;
@@ -116,9 +118,6 @@ static vr_status exact_inversion(const vr_ellipso_data *d, vr_sample_model **m, 
     char v[sizeof r.verdict];
     /* One angle per wavelength: the inversion reproduces any data, and
      * nothing in them shows whether the sample is bare. */
-    bool one_angle = true;
-    for (size_t i = 0; i + 1 < d->n && one_angle; i++)
-      for (size_t j = i + 1; j < d->n && one_angle; j++) one_angle = d->p[i].nm != d->p[j].nm;
     char how[240];
     if (isfinite(smooth)) snprintf(how, sizeof how, "missed by %.3g times the noise", smooth);
     else snprintf(how, sizeof how, "failed: %.200s", why);

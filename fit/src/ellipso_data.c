@@ -19,6 +19,13 @@ double vr_delta_normalise(double d) {
   return d;
 }
 
+double vr_delta_difference(double x) {
+  x = fmod(x, 360.0);
+  if (x > 180.0) x -= 360.0;
+  if (x <= -180.0) x += 360.0;
+  return x;
+}
+
 double vr_ellipso_to_nm(double w, const char *unit) {
   vr_wl_unit u = vr_wavelength_unit_of(unit);
   return u == VR_UNIT_UNKNOWN ? NAN : vr_wavelength_to_nm(w, u);

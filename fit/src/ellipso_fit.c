@@ -26,13 +26,6 @@ typedef struct fit_ctx {
   vr_fit_residual residual;
 } fit_ctx;
 
-static double wrap180(double x) {
-  x = fmod(x, 360.0);
-  if (x > 180.0) x -= 360.0;
-  if (x <= -180.0) x += 360.0;
-  return x;
-}
-
 static void set_params(fit_ctx *c, const double *x) {
   for (size_t j = 0; j < c->nfree; j++) *vr_model_param_value(c->m, c->free_idx[j]) = x[j];
 }
@@ -52,7 +45,7 @@ static int residuals(const double *x, double *r, double *jac, void *user) {
       r[2 * k + 1] = cimag(d);
     } else {
       r[2 * k] = (psi - p->psi_deg) / p->sigma_psi;
-      r[2 * k + 1] = wrap180(delta - p->delta_deg) / p->sigma_delta;
+      r[2 * k + 1] = vr_delta_difference(delta - p->delta_deg) / p->sigma_delta;
     }
   }
   return 0;

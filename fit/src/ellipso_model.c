@@ -13,6 +13,7 @@
  * with g = t_down r_b t_up and h = r_up r_b.  tan Ψ = sqrt(I_pp / I_ss),
  * Δ = -arg X (Woollam's sign), depolarisation 1 - |X| / sqrt(I_pp I_ss). */
 #include "model_internal.h"
+#include "vr/ellipso_data.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -185,10 +186,7 @@ vr_status vr_model_psi_delta(const vr_sample_model *m, double nm, double aoi_deg
     return vr_error_set(err, VR_E_RANGE, "at %g nm: angle %g deg + offset %g deg is outside (0, 90)", nm,
                         aoi_deg, m->aoi_offset_deg);
   vr_status st = psi_delta(m, nm, a, psi, delta, depol, err);
-  if (!st && m->delta_offset_deg != 0) {
-    double d = fmod(*delta + m->delta_offset_deg, 360.0);
-    *delta = d < 0 ? d + 360.0 : d;
-  }
+  if (!st && m->delta_offset_deg != 0) *delta = vr_delta_normalise(*delta + m->delta_offset_deg);
   return st;
 }
 

@@ -13,13 +13,6 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-static double wrap180(double x) {
-  x = fmod(x, 360.0);
-  if (x > 180.0) x -= 360.0;
-  if (x <= -180.0) x += 360.0;
-  return x;
-}
-
 /* Σ of squared third differences of one quantity over the sweeps of the
  * file: runs of points at one angle whose wavelength keeps rising (or keeps
  * falling); *count the terms. */
@@ -36,7 +29,7 @@ static void third_differences(const vr_ellipso_data *d, bool delta, double *sum,
         double v[4];
         for (int j = 0; j < 4; j++) v[j] = delta ? d->p[i + j].delta_deg : d->p[i + j].psi_deg;
         /* Δ is compared as differences wrapped into (-180, 180]. */
-        double d1 = wrap180(v[1] - v[0]), d2 = wrap180(v[2] - v[1]), d3 = wrap180(v[3] - v[2]);
+        double d1 = vr_delta_difference(v[1] - v[0]), d2 = vr_delta_difference(v[2] - v[1]), d3 = vr_delta_difference(v[3] - v[2]);
         double t = d3 - 2 * d2 + d1;
         *sum += t * t;
         (*count)++;
@@ -77,7 +70,7 @@ void vr_fit_judge(vr_fit_result *r, const vr_ellipso_data *d, double limit) {
   double s = 0;
   for (size_t i = 0; i < d->n; i++) {
     double a = (r->psi_model[i] - d->p[i].psi_deg) / r->noise_psi;
-    double b = wrap180(r->delta_model[i] - d->p[i].delta_deg) / r->noise_delta;
+    double b = vr_delta_difference(r->delta_model[i] - d->p[i].delta_deg) / r->noise_delta;
     s += a * a + b * b;
   }
   r->misfit_ratio = d->n ? sqrt(s / (2.0 * (double)d->n)) : 0;
@@ -109,7 +102,7 @@ vr_status vr_ellipso_evaluate(const vr_sample_model *m, const vr_ellipso_data *d
       return st;
     }
     double a = (out->psi_model[k] - d->p[k].psi_deg) / d->p[k].sigma_psi;
-    double b = wrap180(out->delta_model[k] - d->p[k].delta_deg) / d->p[k].sigma_delta;
+    double b = vr_delta_difference(out->delta_model[k] - d->p[k].delta_deg) / d->p[k].sigma_delta;
     out->chi2 += a * a + b * b;
   }
   out->mse = out->dof ? sqrt(out->chi2 / out->dof) : 0;

@@ -78,6 +78,8 @@ size_t vr_ellipso_crop(vr_ellipso_data *d, double lo_nm, double hi_nm);
 
 /* Δ folded into [0, 360). */
 double vr_delta_normalise(double delta_deg);
+/* A difference of two Δ folded into (-180, 180]. */
+double vr_delta_difference(double d_deg);
 /* The distinct angles of incidence (sorted, merged within 0.01°). */
 size_t vr_ellipso_angles(const vr_ellipso_data *d, double *angles, size_t max);
 
