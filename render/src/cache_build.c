@@ -700,12 +700,12 @@ static void builder_free(builder *B) {
   if (B->soup) fclose(B->soup);
   free(B->heap);
   vr_scene_tables_free(&B->t);
-  vr_cache_cells_free(&B->cells);
   for (int c = 0; B->parts && c < B->cells.ncells; c++) {
     free(B->parts[c].buf);
     free(B->parts[c].objects);
   }
   free(B->parts);
+  vr_cache_cells_free(&B->cells); /* last: the parts are counted by it */
 }
 
 /* Folders an interrupted build left beside dir (dir.tmp-PID, dir.old-PID):
