@@ -47,18 +47,23 @@ static vr_status add_param(parser *p, const char *owner_name, const char *pname,
   m->params = q;
   char full[160];
   snprintf(full, sizeof full, "%s.%s", owner_name, pname);
-  vr_model_param np = {strdup(full), owner, slot, lower, upper, false, 0, 0, 1, 0};
+  vr_model_param np = {strdup(full), owner, slot, lower, upper, false, 0, 0, 1, 0, false};
   if (!np.name) return vr_error_set(p->err, VR_E_NOMEM, "out of memory");
   m->params[m->nparams++] = np;
   return VR_OK;
 }
 
-/* The measurement's own parameters, fixed at 0 unless a param line frees
- * them: "sample.aoi_offset" (within ±10°) and "sample.delta_offset"
- * (within ±180°). */
+/* The measurement's own parameters, 0 unless a param line sets or frees
+ * them: "sample.aoi_offset" (within ±10°), "sample.delta_offset" (within
+ * ±180°), "sample.thickness_nonuniformity" (percent full width, 0..100)
+ * and "sample.bandwidth" (nm FWHM, 0..100; naming it overrides the
+ * bandwidth a data file gives). */
 static vr_status add_sample_params(parser *p) {
   vr_status st = add_param(p, "sample", "aoi_offset", VR_OWNER_SAMPLE, VR_SLOT_AOI_OFFSET, -10, 10);
-  return st ? st : add_param(p, "sample", "delta_offset", VR_OWNER_SAMPLE, VR_SLOT_DELTA_OFFSET, -180, 180);
+  if (!st) st = add_param(p, "sample", "delta_offset", VR_OWNER_SAMPLE, VR_SLOT_DELTA_OFFSET, -180, 180);
+  if (!st)
+    st = add_param(p, "sample", "thickness_nonuniformity", VR_OWNER_SAMPLE, VR_SLOT_NONUNIFORMITY, 0, 100);
+  return st ? st : add_param(p, "sample", "bandwidth", VR_OWNER_SAMPLE, VR_SLOT_BANDWIDTH, 0, 100);
 }
 
 /* Registers every parameter of a dispersion under owner_name. */
@@ -248,10 +253,14 @@ static vr_status flags(parser *p, long k, char **tok, size_t ntok) {
     double v;
     if (!strcasecmp(tok[i], "fit") || !strcasecmp(tok[i], "free")) q->free = true;
     else if (!strcasecmp(tok[i], "fixed")) q->free = false;
+    else if (!strcasecmp(tok[i], "per-sample")) q->per_sample = true;
     else if (!strncasecmp(tok[i], "min=", 4) && !vr_parse_double(tok[i] + 4, &v)) q->lower = v;
     else if (!strncasecmp(tok[i], "max=", 4) && !vr_parse_double(tok[i] + 4, &v)) q->upper = v;
-    else return fail(p, VR_E_PARSE, "'%s': expected fit, fixed, min=V or max=V", tok[i], NULL);
+    else return fail(p, VR_E_PARSE, "'%s': expected fit, fixed, per-sample, min=V or max=V", tok[i], NULL);
   }
+  if (q->per_sample && !q->free)
+    return fail(p, VR_E_PARSE, "parameter %s: per-sample applies to a fitted parameter (add fit)", q->name, NULL);
+  if (q->slot == VR_SLOT_BANDWIDTH && q->owner == VR_OWNER_SAMPLE) p->m->bandwidth_set = true;
   if (!(q->lower <= q->upper)) return fail(p, VR_E_PARSE, "parameter %s: min exceeds max", q->name, NULL);
   double v = vr_model_param_get(p->m, (size_t)k);
   if (v < q->lower || v > q->upper) {
@@ -413,7 +422,8 @@ static vr_status statement(parser *p, char **tok, size_t ntok) {
     if (value) {
       snprintf(expr, sizeof expr, "%s", value);
       while (i < ntok && strcasecmp(tok[i], "fit") && strcasecmp(tok[i], "free") &&
-             strcasecmp(tok[i], "fixed") && strncasecmp(tok[i], "min=", 4) && strncasecmp(tok[i], "max=", 4)) {
+             strcasecmp(tok[i], "fixed") && strcasecmp(tok[i], "per-sample") && strncasecmp(tok[i], "min=", 4) &&
+             strncasecmp(tok[i], "max=", 4)) {
         size_t l = strlen(expr);
         snprintf(expr + l, sizeof expr - l, "%s", tok[i++]);
       }

@@ -59,7 +59,14 @@ typedef struct vr_model_layer {
  * VR_SLOT_THICKNESS / VR_SLOT_FRACTION / VR_SLOT_AOI_OFFSET /
  * VR_SLOT_DELTA_OFFSET. */
 enum { VR_OWNER_SUBSTRATE = -1, VR_OWNER_AMBIENT = -2, VR_OWNER_SAMPLE = -3 };
-enum { VR_SLOT_THICKNESS = -1, VR_SLOT_FRACTION = -2, VR_SLOT_AOI_OFFSET = -3, VR_SLOT_DELTA_OFFSET = -4 };
+enum {
+  VR_SLOT_THICKNESS = -1,
+  VR_SLOT_FRACTION = -2,
+  VR_SLOT_AOI_OFFSET = -3,
+  VR_SLOT_DELTA_OFFSET = -4,
+  VR_SLOT_NONUNIFORMITY = -5,
+  VR_SLOT_BANDWIDTH = -6
+};
 
 typedef struct vr_model_param {
   char *name;                /* "oxide.thickness", "oxide.A", ... */
@@ -71,6 +78,9 @@ typedef struct vr_model_param {
    * parameter this one follows, 0 if none; value = coef * that + offset. */
   long coupled_to;
   double coef, offset;
+  /* Multi-sample fits: a free parameter marked "per-sample" takes its own
+   * value for every data file; the others are shared by all of them. */
+  bool per_sample;
 } vr_model_param;
 
 /* A model is used by one thread at a time (it keeps small caches). */
@@ -85,6 +95,16 @@ typedef struct vr_sample_model {
    * nominal one + aoi_offset, and the measured Δ is the sample's +
    * delta_offset (a retarder or window offset).  0 unless fitted or set. */
   double aoi_offset_deg, delta_offset_deg;
+  /* Thickness non-uniformity over the light spot: every layer thickness
+   * scaled by 1 + u, u uniform over [-w/2, +w/2], w = this / 100 (percent
+   * full width).  The detected intensities add over u (vr_model_measure). */
+  double nonuniformity_pct;
+  /* The instrument's spectral bandwidth: full width at half maximum (nm) of
+   * a triangular slit function, over which intensities add.  Used when
+   * bandwidth_set (a "param sample.bandwidth" line); otherwise each data
+   * point's own bandwidth is used when its file gives one, else none. */
+  double bandwidth_nm;
+  bool bandwidth_set;
   bool backside;
   size_t nparams;
   vr_model_param *params;
@@ -115,9 +135,28 @@ vr_status vr_model_check(const vr_sample_model *m, vr_error *err);
  * calls it. */
 vr_status vr_model_apply_couplings(vr_sample_model *m, vr_error *err);
 
-/* Ψ and Δ (degrees, Woollam's convention) at a wavelength and angle; with a
- * reflecting incoherent back side, the incoherent sum of the back-reflected
- * beams is added and depolarisation (0..1) reported (0 otherwise). */
+/* What an ellipsometer reports at one point.  Ψ, Δ in degrees (Woollam's
+ * convention: tan Ψ = sqrt(I_pp / I_ss), Δ = -arg of the p-s cross term);
+ * the normalised Stokes-like values N = cos 2Ψ, C, S with
+ * C² + S² = (1 - depol)² - N²; depolarisation as Woollam's instruments
+ * report it, 1 - sqrt(N² + C² + S²), in 0..1. */
+typedef struct vr_model_response {
+  double psi, delta;
+  double N, C, S;
+  double depolarisation;
+} vr_model_response;
+
+/* The response at a wavelength and angle: the coherent stack, plus the
+ * incoherent beams of a reflecting back side, averaged in intensity over
+ * the thickness non-uniformity and the spectral bandwidth (the model's
+ * sample.bandwidth when set, else bandwidth_nm: the data point's, 0 or NAN
+ * for none).  Averages are composite Gauss-Legendre sums, 8 nodes per
+ * panel of at most π/2 of interference phase (ellipso_response.c). */
+vr_status vr_model_measure(const vr_sample_model *m, double nm, double aoi_deg, double bandwidth_nm,
+                           vr_model_response *r, vr_error *err);
+
+/* Ψ and Δ (degrees) and depolarisation (0..1; may be NULL) of
+ * vr_model_measure with no bandwidth beyond the model's own. */
 vr_status vr_model_psi_delta(const vr_sample_model *m, double nm, double aoi_deg, double *psi,
                              double *delta, double *depolarisation, vr_error *err);
 /* n, k of layer i (or of the substrate with i = -1) at a wavelength. */
