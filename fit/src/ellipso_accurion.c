@@ -30,19 +30,6 @@
 
 #define MAXCOL 64
 
-/* Splits s at tabs (empty fields kept); returns the count. */
-static size_t split_tabs(char *s, char **tok, size_t max) {
-  size_t n = 0;
-  while (n < max) {
-    tok[n++] = s;
-    char *t = strchr(s, '\t');
-    if (!t) break;
-    *t = '\0';
-    s = t + 1;
-  }
-  return n;
-}
-
 static void trim(char *s) {
   size_t n = strlen(s);
   while (n && (s[n - 1] == '\r' || s[n - 1] == ' ')) s[--n] = '\0';
@@ -75,7 +62,7 @@ vr_status vr_ellipso_parse_accurion(const char *text, size_t len, const char *na
     line++;
     trim(s);
     if (line == 1) {
-      nn = split_tabs(s + 1, names, MAXCOL);
+      nn = vr_ellipso_split_tabs(s + 1, names, MAXCOL);
       for (size_t i = 0; i < nn; i++) trim(names[i]);
       cl = column(names, nn, "Lambda"), ca = column(names, nn, "AOI");
       cp = column(names, nn, "Psi"), cd = column(names, nn, "Delta");
@@ -89,7 +76,7 @@ vr_status vr_ellipso_parse_accurion(const char *text, size_t len, const char *na
     }
     if (line == 2 && s[0] == '#') {
       /* The units: wavelengths in nm (or as named), angles in degrees. */
-      nu = split_tabs(s + 1, units, MAXCOL);
+      nu = vr_ellipso_split_tabs(s + 1, units, MAXCOL);
       for (size_t i = 0; i < nu; i++) trim(units[i]);
       if ((size_t)cl < nu) {
         wunit = units[cl];
@@ -109,7 +96,7 @@ vr_status vr_ellipso_parse_accurion(const char *text, size_t len, const char *na
       continue;
     }
     if (!*s || s[0] == '#') continue;
-    size_t n = split_tabs(s, tok, MAXCOL);
+    size_t n = vr_ellipso_split_tabs(s, tok, MAXCOL);
     if (n < nn) {
       st = vr_error_at(err, VR_E_PARSE, name, line, 0, "expected %zu tab-separated fields, found %zu",
                        nn, n);

@@ -89,6 +89,24 @@ static int looks_like_accurion(const char *text, size_t len) {
          strcasestr(first, "Delta");
 }
 
+/* Film Sense exports start with "Film_Sense_Data" or "Film_Sense_Dyn_Data". */
+static int looks_like_filmsense(const char *text, size_t len) {
+  return (len >= 15 && !strncmp(text, "Film_Sense_Data", 15)) ||
+         (len >= 19 && !strncmp(text, "Film_Sense_Dyn_Data", 19));
+}
+
+size_t vr_ellipso_split_tabs(char *s, char **tok, size_t max) {
+  size_t n = 0;
+  while (n < max) {
+    tok[n++] = s;
+    char *t = strchr(s, '\t');
+    if (!t) break;
+    *t = '\0';
+    s = t + 1;
+  }
+  return n;
+}
+
 void vr_ellipso_point_init(vr_ellipso_point *p) {
   memset(p, 0, sizeof *p);
   p->depolarisation = p->sigma_depolarisation = p->bandwidth_nm = NAN;
@@ -114,9 +132,13 @@ vr_status vr_ellipso_parse_with(const char *text, size_t len, const char *name,
   if (!o) o = &none;
   memset(out, 0, sizeof *out);
   if (!(out->source = strdup(name))) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  vr_status st = looks_like_accurion(text, len) ? vr_ellipso_parse_accurion(text, len, name, o, out, err)
+  out->record_time_s = NAN;
+  vr_status st = looks_like_filmsense(text, len) ? vr_ellipso_parse_filmsense(text, len, name, o, out, err)
+                 : looks_like_accurion(text, len) ? vr_ellipso_parse_accurion(text, len, name, o, out, err)
                  : looks_like_woollam(text, len) ? vr_ellipso_parse_woollam(text, len, name, o, out, err)
                                                  : vr_ellipso_parse_csv(text, len, name, o, out, err);
+  if (!st && o->record > 0 && !out->nrecords)
+    st = vr_error_at(err, VR_E_ARG, name, 0, 0, "a record was chosen (--record) but the file is not a run of records");
   if (!st && o->wavelength_nm > 0 && !strstr(out->format, "wavelength given"))
     st = vr_error_at(err, VR_E_ARG, name, 0, 0,
                      "a wavelength was given (--wavelength) but the file has its own "

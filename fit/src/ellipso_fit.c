@@ -1,4 +1,5 @@
-/* Fitting sample models to ellipsometry data: global search over the free
+/* Fitting sample models to ellipsometry data, one sample or several with
+ * shared and per-sample parameters: global search over the free
  * thicknesses on a subset of wavelengths, Levenberg-Marquardt from the best
  * grid minima on all data, then standard errors, 90 % limits and the
  * correlation matrix (conventions in vr/ellipso_fit.h). */
@@ -12,49 +13,83 @@
 #include <time.h>
 
 vr_fit_options vr_fit_default_options(void) {
-  vr_fit_options o = {0, 60, 3, 200, true, VR_RESID_PSI_DELTA};
+  vr_fit_options o = {0, 60, 3, 200, true, VR_RESID_PSI_DELTA, true};
   return o;
 }
 
+/* One fitted quantity: a model parameter, shared by every sample
+ * (sample < 0) or one sample's own copy of a per-sample parameter. */
+typedef struct fit_var {
+  size_t param;
+  long sample;
+} fit_var;
+
+/* A data point of one sample. */
+typedef struct fit_point {
+  size_t sample, index;
+} fit_point;
+
 typedef struct fit_ctx {
-  vr_sample_model *m;
-  const vr_ellipso_data *d;
-  const size_t *free_idx;
+  vr_sample_model *const *m; /* one model per sample, same parameter list */
+  const vr_ellipso_data *d;  /* one data set per sample */
+  size_t ns;
+  const fit_var *vars;
   size_t nfree;
-  const size_t *points;  /* data points used, NULL = all */
+  const fit_point *points;
   size_t npoints;
+  /* Depolarisation residuals, after the 2 npoints Ψ/Δ ones, for the points
+   * whose file gives it (ndep of them), when the model can depolarise. */
+  bool depol;
+  size_t ndep;
   vr_fit_residual residual;
 } fit_ctx;
 
 static void set_params(fit_ctx *c, const double *x) {
-  for (size_t j = 0; j < c->nfree; j++) *vr_model_param_value(c->m, c->free_idx[j]) = x[j];
+  for (size_t j = 0; j < c->nfree; j++)
+    for (size_t s = 0; s < c->ns; s++)
+      if (c->vars[j].sample < 0 || (size_t)c->vars[j].sample == s)
+        *vr_model_param_value(c->m[s], c->vars[j].param) = x[j];
+}
+
+static const vr_model_param *var_param(const fit_ctx *c, size_t j) {
+  return &c->m[0]->params[c->vars[j].param];
+}
+
+/* σ of a depolarisation value (percent): the file's, else 1 %. */
+static double sigma_depol(const vr_ellipso_point *p) {
+  return isfinite(p->sigma_depolarisation) && p->sigma_depolarisation > 0 ? p->sigma_depolarisation : 1.0;
 }
 
 static int residuals(const double *x, double *r, double *jac, void *user) {
   (void)jac;
   fit_ctx *c = user;
   set_params(c, x);
+  size_t q = 2 * c->npoints;
   for (size_t k = 0; k < c->npoints; k++) {
-    const vr_ellipso_point *p = &c->d->p[c->points ? c->points[k] : k];
-    double psi, delta;
-    if (vr_model_psi_delta(c->m, p->nm, p->aoi_deg, &psi, &delta, NULL, NULL)) return 1;
+    const vr_ellipso_point *p = &c->d[c->points[k].sample].p[c->points[k].index];
+    vr_model_response m;
+    if (vr_model_measure(c->m[c->points[k].sample], p->nm, p->aoi_deg, p->bandwidth_nm, &m, NULL)) return 1;
     if (c->residual == VR_RESID_RHO) {
-      vr_complex d = tan(psi * M_PI / 180) * cexp(I * delta * M_PI / 180) -
+      vr_complex d = tan(m.psi * M_PI / 180) * cexp(I * m.delta * M_PI / 180) -
                      tan(p->psi_deg * M_PI / 180) * cexp(I * p->delta_deg * M_PI / 180);
       r[2 * k] = creal(d);
       r[2 * k + 1] = cimag(d);
     } else {
-      r[2 * k] = (psi - p->psi_deg) / p->sigma_psi;
-      r[2 * k + 1] = vr_delta_difference(delta - p->delta_deg) / p->sigma_delta;
+      r[2 * k] = (m.psi - p->psi_deg) / p->sigma_psi;
+      r[2 * k + 1] = vr_delta_difference(m.delta - p->delta_deg) / p->sigma_delta;
     }
+    if (c->depol && isfinite(p->depolarisation))
+      r[q++] = (100.0 * m.depolarisation - p->depolarisation) / sigma_depol(p);
   }
   return 0;
 }
 
+static size_t nresiduals(const fit_ctx *c) { return 2 * c->npoints + (c->depol ? c->ndep : 0); }
+
 static double chi2_at(fit_ctx *c, const double *x, double *work) {
   if (residuals(x, work, NULL, c)) return INFINITY;
   double s = 0;
-  for (size_t k = 0; k < 2 * c->npoints; k++) s += work[k] * work[k];
+  for (size_t k = 0; k < nresiduals(c); k++) s += work[k] * work[k];
   return s;
 }
 
@@ -76,16 +111,19 @@ void vr_fit_result_free(vr_fit_result *r) {
   free(r->at_bound);
   free(r->psi_model);
   free(r->delta_model);
+  free(r->depol_model);
+  free(r->samples);
   memset(r, 0, sizeof *r);
 }
 
 /* Grid for one thickness: step a sixth of the shortest interference period
  * (n taken as 2.5, the high end of common films), over its bounds or, when
  * those are open, up to a few times the start value. */
-static size_t thickness_grid(const vr_model_param *p, double start, const vr_ellipso_data *d,
-                             int requested, double *grid, size_t max) {
+static size_t thickness_grid(const vr_model_param *p, double start, const fit_ctx *c, int requested,
+                             double *grid, size_t max) {
   double lmin = INFINITY;
-  for (size_t i = 0; i < d->n; i++) lmin = fmin(lmin, d->p[i].nm);
+  for (size_t s = 0; s < c->ns; s++)
+    for (size_t i = 0; i < c->d[s].n; i++) lmin = fmin(lmin, c->d[s].p[i].nm);
   double period = lmin / (2.0 * 2.5);
   double lo = fmax(p->lower, 0.0);
   double hi = p->upper;
@@ -104,8 +142,7 @@ static size_t thickness_grid(const vr_model_param *p, double start, const vr_ell
 static size_t scan(fit_ctx *c, double *x, size_t j, const vr_fit_options *opt, double *best,
                    size_t nbest, double *work, int *evals) {
   double grid[GRID_MAX], chi[GRID_MAX];
-  const vr_model_param *p = &c->m->params[c->free_idx[j]];
-  size_t n = thickness_grid(p, x[j], c->d, opt->grid_points, grid, GRID_MAX);
+  size_t n = thickness_grid(var_param(c, j), x[j], c, opt->grid_points, grid, GRID_MAX);
   double keep = x[j];
   for (size_t i = 0; i < n; i++) {
     x[j] = grid[i];
@@ -136,14 +173,14 @@ static size_t scan(fit_ctx *c, double *x, size_t j, const vr_fit_options *opt, d
 /* quick: a loose, short solve, enough to rank the grid candidates. */
 static vr_status local_fit(fit_ctx *c, double *x, const vr_fit_options *opt, bool quick,
                            vr_lsq_summary *sum, vr_lsq **keep, vr_error *err) {
-  vr_lsq *lsq = vr_lsq_create(c->nfree, 2 * c->npoints, residuals, c, false, err);
+  vr_lsq *lsq = vr_lsq_create(c->nfree, nresiduals(c), residuals, c, false, err);
   if (!lsq) return err ? err->status : VR_E_NOMEM;
   /* Forward differences halve the cost of each Jacobian; the model is
    * smooth in double precision, so a 1e-8 relative step keeps them accurate
    * to ~1e-8, far below the noise (the covariance uses central ones). */
   vr_status st = vr_lsq_set_forward_differences(lsq, true, err);
   for (size_t j = 0; j < c->nfree && !st; j++) {
-    const vr_model_param *p = &c->m->params[c->free_idx[j]];
+    const vr_model_param *p = var_param(c, j);
     if (!st) st = vr_lsq_set_step(lsq, j, 1e-8, err);
     double lo = p->lower, hi = p->upper;
     if (x[j] < lo) x[j] = lo;
@@ -160,78 +197,207 @@ static vr_status local_fit(fit_ctx *c, double *x, const vr_fit_options *opt, boo
   return st;
 }
 
-vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_fit_options *opt_in,
-                         vr_fit_result *out, vr_error *err) {
+/* Whether the model predicts any depolarisation (a back side, a
+ * non-uniformity or bandwidth set or fitted, or the data's bandwidth). */
+static bool can_depolarise(const fit_ctx *c) {
+  const vr_sample_model *m = c->m[0];
+  if (m->backside || m->nonuniformity_pct > 0 || (m->bandwidth_set && m->bandwidth_nm > 0)) return true;
+  for (size_t i = 0; i < m->nparams; i++)
+    if (m->params[i].free && m->params[i].owner == VR_OWNER_SAMPLE &&
+        (m->params[i].slot == VR_SLOT_NONUNIFORMITY || m->params[i].slot == VR_SLOT_BANDWIDTH))
+      return true;
+  for (size_t s = 0; !m->bandwidth_set && s < c->ns; s++)
+    for (size_t i = 0; i < c->d[s].n; i++)
+      if (c->d[s].p[i].bandwidth_nm > 0) return true;
+  return false;
+}
+
+/* The models' values at the solution, the MSEs and the verdicts. */
+static vr_status finish(fit_ctx *c, vr_fit_result *out, double limit, vr_error *err) {
+  size_t ntot = c->npoints;
+  out->psi_model = calloc(ntot ? ntot : 1, sizeof(double));
+  out->delta_model = calloc(ntot ? ntot : 1, sizeof(double));
+  out->depol_model = calloc(ntot ? ntot : 1, sizeof(double));
+  out->samples = calloc(c->ns, sizeof *out->samples);
+  if (!out->psi_model || !out->delta_model || !out->depol_model || !out->samples)
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  out->nsamples = c->ns;
+  double ncs = 0;
+  size_t ncs_file = 0;
+  for (size_t k = 0; k < ntot; k++) {
+    const fit_point *fp = &c->points[k];
+    const vr_ellipso_point *p = &c->d[fp->sample].p[fp->index];
+    vr_model_response m;
+    vr_status st = vr_model_measure(c->m[fp->sample], p->nm, p->aoi_deg, p->bandwidth_nm, &m, err);
+    if (st) return st;
+    out->psi_model[k] = m.psi;
+    out->delta_model[k] = m.delta;
+    out->depol_model[k] = m.depolarisation;
+    /* CompleteEASE's MSE compares N, C, S: the file's when it gives them,
+     * else those of its Ψ, Δ (and depolarisation when given). */
+    double N = p->N, C = p->C, S = p->S;
+    if (p->has_ncs) {
+      ncs_file++;
+    } else {
+      double dep = isfinite(p->depolarisation) ? p->depolarisation / 100.0 : 0.0;
+      double t = 2 * p->psi_deg * M_PI / 180, dl = p->delta_deg * M_PI / 180;
+      N = cos(t);
+      double rr = sqrt(fmax(0.0, (1 - dep) * (1 - dep) - N * N));
+      C = rr * cos(dl);
+      S = rr * sin(dl);
+    }
+    ncs += (m.N - N) * (m.N - N) + (m.C - C) * (m.C - C) + (m.S - S) * (m.S - S);
+  }
+  int ncs_dof = (int)(3 * ntot) - (int)c->nfree;
+  out->mse_ncs = ncs_dof > 0 ? 1000.0 * sqrt(ncs / ncs_dof) : NAN;
+  out->ncs_from_file = ncs_file == ntot && ntot > 0;
+  /* Verdicts per sample, the worst one reported for the whole fit. */
+  size_t first = 0;
+  out->describes = true;
+  for (size_t s = 0; s < c->ns; s++) {
+    vr_fit_result view = *out;
+    view.psi_model += first;
+    view.delta_model += first;
+    vr_fit_judge(&view, &c->d[s], limit);
+    vr_fit_sample *fs = &out->samples[s];
+    fs->source = c->d[s].source;
+    fs->first = first;
+    fs->npoints = c->d[s].n;
+    fs->misfit_ratio = view.misfit_ratio;
+    fs->noise_psi = view.noise_psi;
+    fs->noise_delta = view.noise_delta;
+    fs->describes = view.describes;
+    double chi = 0;
+    for (size_t i = 0; i < c->d[s].n; i++) {
+      const vr_ellipso_point *p = &c->d[s].p[i];
+      double a = (out->psi_model[first + i] - p->psi_deg) / p->sigma_psi;
+      double b = vr_delta_difference(out->delta_model[first + i] - p->delta_deg) / p->sigma_delta;
+      chi += a * a + b * b;
+    }
+    fs->mse = sqrt(chi / (double)(2 * c->d[s].n));
+    if (s == 0 || view.misfit_ratio > out->misfit_ratio) {
+      out->misfit_ratio = view.misfit_ratio;
+      out->noise_psi = view.noise_psi;
+      out->noise_delta = view.noise_delta;
+      if (c->ns == 1) memcpy(out->verdict, view.verdict, sizeof out->verdict);
+      else snprintf(out->verdict, sizeof out->verdict, "sample %zu (%.120s) %.480s", s + 1,
+                    fs->source ? fs->source : "data", view.verdict);
+    }
+    out->describes = out->describes && view.describes;
+    first += c->d[s].n;
+  }
+  return VR_OK;
+}
+
+vr_status vr_ellipso_fit_samples(vr_sample_model *const *models, const vr_ellipso_data *data, size_t ns,
+                                 const vr_fit_options *opt_in, vr_fit_result *out, vr_error *err) {
   memset(out, 0, sizeof *out);
   double t_start = now();
   vr_fit_options opt = opt_in ? *opt_in : vr_fit_default_options();
-  vr_status st = vr_model_check(m, err);
-  if (st) return st;
-  if (d->n == 0) return vr_error_set(err, VR_E_ARG, "no data points");
+  if (ns == 0) return vr_error_set(err, VR_E_ARG, "no data set");
+  vr_sample_model *m = models[0];
+  vr_status st = VR_OK;
+  size_t ntot = 0;
+  for (size_t s = 0; s < ns; s++) {
+    if ((st = vr_model_check(models[s], err))) return st;
+    bool same = models[s]->nparams == m->nparams;
+    for (size_t i = 0; same && i < m->nparams; i++)
+      same = !strcmp(models[s]->params[i].name, m->params[i].name) &&
+             models[s]->params[i].free == m->params[i].free && models[s]->params[i].per_sample == m->params[i].per_sample;
+    if (!same) return vr_error_set(err, VR_E_ARG, "the samples' models differ (sample %zu)", s + 1);
+    if (data[s].n == 0) return vr_error_set(err, VR_E_ARG, "%s: no data points", data[s].source ? data[s].source : "data");
+    ntot += data[s].n;
+  }
   size_t nfree = 0;
-  for (size_t i = 0; i < m->nparams; i++) nfree += m->params[i].free;
+  for (size_t i = 0; i < m->nparams; i++)
+    if (m->params[i].free) nfree += m->params[i].per_sample ? ns : 1;
   if (nfree == 0) return vr_error_set(err, VR_E_ARG, "the model has no free parameter (mark some with 'fit')");
-  if (2 * d->n <= nfree)
-    return vr_error_set(err, VR_E_ARG,
-                        "%zu data values cannot determine %zu free parameters (need more than %zu)",
-                        2 * d->n, nfree, nfree);
-  size_t *free_idx = calloc(nfree, sizeof *free_idx), *subset = calloc(d->n, sizeof *subset);
+  fit_var *vars = calloc(nfree, sizeof *vars);
+  fit_point *all_pts = calloc(ntot, sizeof *all_pts), *subset = calloc(ntot, sizeof *subset);
   double *x = calloc(nfree, sizeof *x), *best = calloc(nfree, sizeof *best),
-         *work = calloc(2 * d->n, sizeof *work), *cov = calloc(nfree * nfree, sizeof *cov);
-  if (!free_idx || !subset || !x || !best || !work || !cov) {
+         *work = calloc(3 * ntot, sizeof *work), *cov = calloc(nfree * nfree, sizeof *cov);
+  if (!vars || !all_pts || !subset || !x || !best || !work || !cov) {
     st = vr_error_set(err, VR_E_NOMEM, "out of memory");
     goto done;
   }
   nfree = 0;
-  for (size_t i = 0; i < m->nparams; i++)
-    if (m->params[i].free) free_idx[nfree++] = i;
-  for (size_t j = 0; j < nfree; j++) x[j] = vr_model_param_get(m, free_idx[j]);
+  for (size_t i = 0; i < m->nparams; i++) {
+    if (!m->params[i].free) continue;
+    if (m->params[i].per_sample && ns > 1)
+      for (size_t s = 0; s < ns; s++) vars[nfree++] = (fit_var){i, (long)s};
+    else vars[nfree++] = (fit_var){i, -1};
+  }
+  for (size_t j = 0; j < nfree; j++)
+    x[j] = vr_model_param_get(models[vars[j].sample < 0 ? 0 : (size_t)vars[j].sample], vars[j].param);
+  size_t k = 0, ndep = 0;
+  for (size_t s = 0; s < ns; s++)
+    for (size_t i = 0; i < data[s].n; i++) {
+      all_pts[k++] = (fit_point){s, i};
+      ndep += isfinite(data[s].p[i].depolarisation);
+    }
+  fit_ctx all = {models, data, ns, vars, nfree, all_pts, ntot, false, ndep, opt.residual};
+  all.depol = opt.fit_depolarisation && ndep > 0 && can_depolarise(&all) && opt.residual == VR_RESID_PSI_DELTA;
+  if (nresiduals(&all) <= nfree) {
+    st = vr_error_set(err, VR_E_ARG, "%zu data values cannot determine %zu free parameters (need more than %zu)",
+                      nresiduals(&all), nfree, nfree);
+    goto done;
+  }
 
   /* Every model evaluation must work at the start. */
-  fit_ctx all = {m, d, free_idx, nfree, NULL, d->n, opt.residual};
-  for (size_t k = 0; k < d->n; k++) {
-    double psi, delta;
-    if ((st = vr_model_psi_delta(m, d->p[k].nm, d->p[k].aoi_deg, &psi, &delta, NULL, err))) {
-      vr_error_prefix(err, "%s:%ld: ", d->source ? d->source : "data", d->p[k].line);
+  for (size_t q = 0; q < ntot; q++) {
+    const vr_ellipso_point *p = &data[all_pts[q].sample].p[all_pts[q].index];
+    vr_model_response resp;
+    if ((st = vr_model_measure(models[all_pts[q].sample], p->nm, p->aoi_deg, p->bandwidth_nm, &resp, err))) {
+      vr_error_prefix(err, "%s:%ld: ", data[all_pts[q].sample].source ? data[all_pts[q].sample].source : "data",
+                      p->line);
       goto done;
     }
   }
 
-  /* Global search on a subset of wavelengths (all angles kept). */
+  /* Global search on a subset of each sample's wavelengths (all angles kept). */
   size_t nthick = 0;
-  for (size_t j = 0; j < nfree; j++) nthick += m->params[free_idx[j]].slot == VR_SLOT_THICKNESS;
+  for (size_t j = 0; j < nfree; j++) nthick += var_param(&all, j)->slot == VR_SLOT_THICKNESS;
   double bestchi = INFINITY;
   int search_iterations = 0, search_evaluations = 0;
   memcpy(best, x, nfree * sizeof *x);
   if (opt.global_search && nthick > 0) {
-    size_t stride = 1, distinct = 0;
-    double last = -1;
-    for (size_t k = 0; k < d->n; k++)
-      if (d->p[k].nm != last) {
-        distinct++;
-        last = d->p[k].nm;
+    size_t ns_pts = 0, sub_dep = 0;
+    for (size_t s = 0; s < ns; s++) {
+      const vr_ellipso_data *d = &data[s];
+      size_t stride = 1, distinct = 0, w = 0;
+      double last = -1;
+      for (size_t q = 0; q < d->n; q++)
+        if (d->p[q].nm != last) {
+          distinct++;
+          last = d->p[q].nm;
+        }
+      if (opt.grid_wavelengths > 0 && distinct > (size_t)opt.grid_wavelengths)
+        stride = (distinct + (size_t)opt.grid_wavelengths - 1) / (size_t)opt.grid_wavelengths;
+      last = -1;
+      for (size_t q = 0; q < d->n; q++) {
+        if (d->p[q].nm != last) {
+          w++;
+          last = d->p[q].nm;
+        }
+        if ((w - 1) % stride == 0) {
+          subset[ns_pts++] = (fit_point){s, q};
+          sub_dep += isfinite(d->p[q].depolarisation);
+        }
       }
-    if (opt.grid_wavelengths > 0 && distinct > (size_t)opt.grid_wavelengths)
-      stride = (distinct + (size_t)opt.grid_wavelengths - 1) / (size_t)opt.grid_wavelengths;
-    size_t ns = 0, w = 0;
-    last = -1;
-    for (size_t k = 0; k < d->n; k++) {
-      if (d->p[k].nm != last) {
-        w++;
-        last = d->p[k].nm;
-      }
-      if ((w - 1) % stride == 0) subset[ns++] = k;
     }
-    fit_ctx sub = {m, d, free_idx, nfree, subset, ns, opt.residual};
-    size_t first = 0;
+    fit_ctx sub = all;
+    sub.points = subset;
+    sub.npoints = ns_pts;
+    sub.ndep = sub_dep;
+    size_t firstj = 0;
     for (size_t j = 0; j < nfree; j++)
-      if (m->params[free_idx[j]].slot == VR_SLOT_THICKNESS) {
-        first = j;
+      if (var_param(&all, j)->slot == VR_SLOT_THICKNESS) {
+        firstj = j;
         break;
       }
     double starts[16];
-    size_t nstart = scan(&sub, x, first, &opt, starts, opt.candidates > 16 ? 16 : (size_t)opt.candidates,
-                         work, &out->grid_evaluations);
+    size_t nstart = scan(&sub, x, firstj, &opt, starts, opt.candidates > 16 ? 16 : (size_t)opt.candidates, work,
+                         &out->grid_evaluations);
     for (size_t s = 0; s < nstart; s++) {
       double *y = calloc(nfree, sizeof *y);
       if (!y) {
@@ -239,10 +405,10 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
         goto done;
       }
       memcpy(y, x, nfree * sizeof *x);
-      y[first] = starts[s];
+      y[firstj] = starts[s];
       /* Other thicknesses: one coordinate scan each. */
       for (size_t j = 0; j < nfree; j++) {
-        if (j == first || m->params[free_idx[j]].slot != VR_SLOT_THICKNESS) continue;
+        if (j == firstj || var_param(&all, j)->slot != VR_SLOT_THICKNESS) continue;
         double b;
         if (scan(&sub, y, j, &opt, &b, 1, work, &out->grid_evaluations)) y[j] = b;
       }
@@ -269,9 +435,10 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
   out->summary.iterations += search_iterations;
   out->summary.residual_evaluations += search_evaluations;
   set_params(&all, best);
-  out->npoints = d->n;
+  out->npoints = ntot;
+  out->ndepol = all.depol ? ndep : 0;
   out->nfree = nfree;
-  out->dof = (int)(2 * d->n - nfree);
+  out->dof = (int)(nresiduals(&all) - nfree);
   out->chi2 = out->summary.chi2;
   out->mse = sqrt(out->chi2 / out->dof);
   out->names = calloc(nfree, sizeof *out->names);
@@ -281,10 +448,8 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
   out->ci_hi = calloc(nfree, sizeof(double));
   out->correlation = calloc(nfree * nfree, sizeof(double));
   out->at_bound = calloc(nfree, sizeof(int));
-  out->psi_model = calloc(d->n, sizeof(double));
-  out->delta_model = calloc(d->n, sizeof(double));
   if (!out->names || !out->value || !out->stderr_ || !out->ci_lo || !out->ci_hi || !out->correlation ||
-      !out->at_bound || !out->psi_model || !out->delta_model) {
+      !out->at_bound) {
     vr_lsq_destroy(lsq);
     st = vr_error_set(err, VR_E_NOMEM, "out of memory");
     goto done;
@@ -300,29 +465,31 @@ vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_
   }
   double t = gsl_cdf_tdist_Pinv(0.95, (double)out->dof);
   for (size_t j = 0; j < nfree; j++) {
-    if (!(out->names[j] = strdup(m->params[free_idx[j]].name))) {
+    const vr_model_param *mp = var_param(&all, j);
+    char name[192];
+    if (vars[j].sample >= 0) snprintf(name, sizeof name, "%s[%ld]", mp->name, vars[j].sample + 1);
+    else snprintf(name, sizeof name, "%s", mp->name);
+    if (!(out->names[j] = strdup(name))) {
       st = vr_error_set(err, VR_E_NOMEM, "out of memory");
       goto done;
     }
     out->value[j] = best[j];
-    const vr_model_param *mp = &m->params[free_idx[j]];
     double tol = fmax(1e-12, 1e-9 * (isfinite(mp->upper - mp->lower) ? mp->upper - mp->lower : fabs(best[j])));
     out->at_bound[j] = best[j] <= mp->lower + tol ? -1 : best[j] >= mp->upper - tol ? 1 : 0;
     double se = out->covariance_ok && !out->at_bound[j] ? sqrt(cov[j * nfree + j]) : NAN;
     out->stderr_[j] = se;
     out->ci_lo[j] = best[j] - t * se;
     out->ci_hi[j] = best[j] + t * se;
-    for (size_t k = 0; k < nfree; k++) {
-      double den = sqrt(cov[j * nfree + j] * cov[k * nfree + k]);
-      out->correlation[j * nfree + k] = out->covariance_ok && den > 0 ? cov[j * nfree + k] / den : NAN;
+    for (size_t q = 0; q < nfree; q++) {
+      double den = sqrt(cov[j * nfree + j] * cov[q * nfree + q]);
+      out->correlation[j * nfree + q] = out->covariance_ok && den > 0 ? cov[j * nfree + q] / den : NAN;
     }
   }
-  for (size_t k = 0; k < d->n; k++)
-    vr_model_psi_delta(m, d->p[k].nm, d->p[k].aoi_deg, &out->psi_model[k], &out->delta_model[k], NULL, NULL);
-  vr_fit_judge(out, d, VR_FIT_MAX_MISFIT);
+  if ((st = finish(&all, out, VR_FIT_MAX_MISFIT, err))) goto done;
   out->seconds = now() - t_start;
 done:
-  free(free_idx);
+  free(vars);
+  free(all_pts);
   free(subset);
   free(x);
   free(best);
@@ -330,6 +497,38 @@ done:
   free(cov);
   if (st) vr_fit_result_free(out);
   return st;
+}
+
+vr_status vr_ellipso_evaluate(const vr_sample_model *m, const vr_ellipso_data *d, vr_fit_result *out,
+                              vr_error *err) {
+  memset(out, 0, sizeof *out);
+  fit_point *pts = calloc(d->n ? d->n : 1, sizeof *pts);
+  vr_sample_model *mm = (vr_sample_model *)m;
+  fit_ctx c = {&mm, d, 1, NULL, 0, pts, d->n, false, 0, VR_RESID_PSI_DELTA};
+  vr_status st = pts ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t k = 0; k < d->n && !st; k++) pts[k] = (fit_point){0, k};
+  if (!st) st = finish(&c, out, VR_FIT_MAX_MISFIT, err);
+  for (size_t k = 0; k < d->n && !st; k++) {
+    double a = (out->psi_model[k] - d->p[k].psi_deg) / d->p[k].sigma_psi;
+    double b = vr_delta_difference(out->delta_model[k] - d->p[k].delta_deg) / d->p[k].sigma_delta;
+    out->chi2 += a * a + b * b;
+  }
+  free(pts);
+  if (st) {
+    vr_fit_result_free(out);
+    return st;
+  }
+  out->npoints = d->n;
+  out->dof = (int)(2 * d->n);
+  out->covariance_ok = true;
+  out->mse = out->dof ? sqrt(out->chi2 / out->dof) : 0;
+  out->summary.termination = VR_LSQ_CONVERGED;
+  return VR_OK;
+}
+
+vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_fit_options *opt,
+                         vr_fit_result *out, vr_error *err) {
+  return vr_ellipso_fit_samples(&m, d, 1, opt, out, err);
 }
 
 vr_complex vr_pseudo_epsilon(double psi_deg, double delta_deg, double aoi_deg) {

@@ -141,10 +141,15 @@ static vr_status layer_eps(const vr_sample_model *m, long i, double nm, vr_compl
 
 vr_status vr_model_layer_index(const vr_sample_model *m, long i, double nm, vr_complex *N,
                                vr_error *err) {
+  vr_status st = vr_model_apply_couplings((vr_sample_model *)m, err);
+  return st ? st : vr_model_layer_index_coupled(m, i, nm, N, err);
+}
+
+vr_status vr_model_layer_index_coupled(const vr_sample_model *m, long i, double nm, vr_complex *N,
+                                       vr_error *err) {
   vr_sample_model *mm = (vr_sample_model *)m;
   vr_complex eps;
-  vr_status st = vr_model_apply_couplings(mm, err);
-  if (st) return st;
+  vr_status st;
   if (i == VR_OWNER_SUBSTRATE) st = memo_eps(m->substrate, &mm->substrate_memo, nm, &eps, err);
   else if (i == VR_OWNER_AMBIENT) st = memo_eps(m->ambient, &mm->ambient_memo, nm, &eps, err);
   else st = layer_eps(m, i, nm, &eps, err);

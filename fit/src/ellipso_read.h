@@ -14,6 +14,12 @@ vr_status vr_ellipso_parse_woollam(const char *text, size_t len, const char *nam
 vr_status vr_ellipso_parse_accurion(const char *text, size_t len, const char *name,
                                     const vr_ellipso_read_options *o, vr_ellipso_data *out,
                                     vr_error *err);
+vr_status vr_ellipso_parse_filmsense(const char *text, size_t len, const char *name,
+                                     const vr_ellipso_read_options *o, vr_ellipso_data *out,
+                                     vr_error *err);
+/* Splits s at tabs in place (empty fields kept); returns the count, at
+ * most max (the last field then holds the rest of the line). */
+size_t vr_ellipso_split_tabs(char *s, char **tok, size_t max);
 /* A new point with the fields a file may leave out set to "not given". */
 void vr_ellipso_point_init(vr_ellipso_point *p);
 /* Counts a skipped row of type tag. */

@@ -29,8 +29,8 @@
  * weight has a kink) whose panels span at most π/2 of the interference
  * phase 4π Σ n_i d_i / λ, 8 nodes each (256 nodes at most per
  * dimension; beyond 128 quarter-waves the average is resolved coarser). */
+#include "model_internal.h"
 #include "vr/ellipso_data.h"
-#include "vr/ellipso_model.h"
 #include "vr/optics.h"
 
 #include <math.h>
@@ -51,13 +51,13 @@ static vr_status stack(const vr_sample_model *m, double nm, double scale, vr_lay
                        vr_error *err) {
   size_t c = m->nlayers + 2;
   if (c > MAX_STACK) return vr_error_set(err, VR_E_ARG, "more than %d layers", MAX_STACK - 2);
-  vr_status st = vr_model_layer_index(m, VR_OWNER_AMBIENT, nm, &L[0].n, err);
+  vr_status st = vr_model_layer_index_coupled(m, VR_OWNER_AMBIENT, nm, &L[0].n, err);
   for (size_t i = 0; !st && i < m->nlayers; i++) {
-    st = vr_model_layer_index(m, (long)i, nm, &L[i + 1].n, err);
+    st = vr_model_layer_index_coupled(m, (long)i, nm, &L[i + 1].n, err);
     L[i + 1].thickness_nm = m->layers[i].thickness_nm * scale;
     L[i + 1].incoherent = 0;
   }
-  if (!st) st = vr_model_layer_index(m, VR_OWNER_SUBSTRATE, nm, &L[c - 1].n, err);
+  if (!st) st = vr_model_layer_index_coupled(m, VR_OWNER_SUBSTRATE, nm, &L[c - 1].n, err);
   if (st) return st;
   L[0].thickness_nm = L[c - 1].thickness_nm = 0;
   L[0].incoherent = L[c - 1].incoherent = 0;
@@ -151,7 +151,7 @@ static vr_status optical_thickness(const vr_sample_model *m, double nm, double *
   *ot = 0;
   for (size_t i = 0; i < m->nlayers; i++) {
     vr_complex N;
-    vr_status st = vr_model_layer_index(m, (long)i, nm, &N, err);
+    vr_status st = vr_model_layer_index_coupled(m, (long)i, nm, &N, err);
     if (st) return st;
     *ot += fabs(creal(N)) * m->layers[i].thickness_nm;
   }
@@ -200,7 +200,11 @@ static vr_status averaged(const vr_sample_model *m, double nm, double theta, dou
     if (!(lam > 0)) return vr_error_set(err, VR_E_RANGE, "at %g nm: bandwidth %g nm reaches 0 nm", nm, b);
     for (int i = 0; i < nt; i++) {
       intensity one;
-      if ((st = intensities(m, lam, theta, 1 + xt[i], &one, err))) return st;
+      if ((st = intensities(m, lam, theta, 1 + xt[i], &one, err))) {
+        if (lam != nm && !m->bandwidth_set)
+          vr_error_prefix(err, "within the data's bandwidth (%g nm; 'param sample.bandwidth = 0' ignores it): ", b);
+        return st;
+      }
       sum->pp += weight * wt[i] * one.pp;
       sum->ss += weight * wt[i] * one.ss;
       sum->x += weight * wt[i] * one.x;
@@ -227,16 +231,18 @@ vr_status vr_model_measure(const vr_sample_model *m, double nm, double aoi_deg, 
     /* One coherent beam: the solver's own Ψ, Δ. */
     vr_layer L[MAX_STACK];
     size_t count;
+    vr_complex rho;
     if (!(st = stack(m, nm, 1.0, L, &count, err)))
-      st = vr_tmm_ellipsometry(L, count, theta, nm, &r->psi, &r->delta, NULL, err);
+      st = vr_tmm_ellipsometry(L, count, theta, nm, &r->psi, &r->delta, &rho, err);
     if (st) {
       vr_error_prefix(err, "at %g nm, %g deg: ", nm, a);
       return st;
     }
-    double p = r->psi * M_PI / 90.0, d = r->delta * M_PI / 180.0;
-    r->N = cos(p);
-    r->C = sin(p) * cos(d);
-    r->S = sin(p) * sin(d);
+    /* rho = tan Ψ e^{iΔ}: N = (1 - |rho|²)/(1 + |rho|²), C + iS = 2 rho/(1 + |rho|²). */
+    double q = 1.0 + creal(rho) * creal(rho) + cimag(rho) * cimag(rho);
+    r->N = (2.0 - q) / q;
+    r->C = 2.0 * creal(rho) / q;
+    r->S = 2.0 * cimag(rho) / q;
     r->depolarisation = 0;
   } else {
     intensity tot;

@@ -13,11 +13,12 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-/* Σ of squared third differences of one quantity over the sweeps of the
- * file: runs of points at one angle whose wavelength keeps rising (or keeps
- * falling); *count the terms. */
-static void third_differences(const vr_ellipso_data *d, bool delta, double *sum, size_t *count) {
-  size_t start = 0;
+/* The third differences of one quantity over the sweeps of the file: runs
+ * of points at one angle whose wavelength keeps rising (or keeps falling)
+ * and that have at least 8 points.  Writes at most d->n values into t;
+ * returns their number. */
+static size_t third_differences(const vr_ellipso_data *d, bool delta, double *t) {
+  size_t start = 0, count = 0;
   while (start < d->n) {
     size_t end = start + 1;
     double dir = end < d->n ? d->p[end].nm - d->p[start].nm : 0;
@@ -30,37 +31,35 @@ static void third_differences(const vr_ellipso_data *d, bool delta, double *sum,
         for (int j = 0; j < 4; j++) v[j] = delta ? d->p[i + j].delta_deg : d->p[i + j].psi_deg;
         /* Δ is compared as differences wrapped into (-180, 180]. */
         double d1 = vr_delta_difference(v[1] - v[0]), d2 = vr_delta_difference(v[2] - v[1]), d3 = vr_delta_difference(v[3] - v[2]);
-        double t = d3 - 2 * d2 + d1;
-        *sum += t * t;
-        (*count)++;
+        t[count++] = fabs(d3 - 2 * d2 + d1);
       }
     start = end;
   }
+  return count;
 }
 
 void vr_ellipso_noise(const vr_ellipso_data *d, double *psi_deg, double *delta_deg) {
   double out[2];
+  double *t = malloc((d->n ? d->n : 1) * sizeof *t);
   for (int q = 0; q < 2; q++) {
-    double sum = 0;
-    size_t count = 0;
-    third_differences(d, q == 1, &sum, &count);
+    size_t count = t ? third_differences(d, q == 1, t) : 0;
     if (count >= 4) {
-      out[q] = sqrt(sum / (double)count / 20.0);
-    } else if (d->has_sigma && d->n) {
-      double *s = malloc(d->n * sizeof *s);
-      if (!s) {
-        out[q] = 0.05;
-        continue;
-      }
-      for (size_t i = 0; i < d->n; i++) s[i] = q ? d->p[i].sigma_delta : d->p[i].sigma_psi;
-      qsort(s, d->n, sizeof *s, cmp_double);
-      out[q] = s[d->n / 2];
-      free(s);
+      /* Median |third difference| / (0.6745 sqrt(20)): the standard
+       * deviation of white noise, robust to the few large differences
+       * that a sharp feature or a table's kinks give. */
+      qsort(t, count, sizeof *t, cmp_double);
+      double med = count % 2 ? t[count / 2] : 0.5 * (t[count / 2 - 1] + t[count / 2]);
+      out[q] = med / (0.6745 * sqrt(20.0));
+    } else if (d->has_sigma && d->n && t) {
+      for (size_t i = 0; i < d->n; i++) t[i] = q ? d->p[i].sigma_delta : d->p[i].sigma_psi;
+      qsort(t, d->n, sizeof *t, cmp_double);
+      out[q] = t[d->n / 2];
     } else {
       out[q] = 0.05;
     }
     out[q] = fmax(out[q], 0.001);
   }
+  free(t);
   *psi_deg = out[0];
   *delta_deg = out[1];
 }
@@ -80,34 +79,12 @@ void vr_fit_judge(vr_fit_result *r, const vr_ellipso_data *d, double limit) {
            "limit %.3g)",
            r->describes ? "describes the data" : "does NOT describe the data", r->misfit_ratio,
            r->noise_psi, r->noise_delta, limit);
-}
-
-vr_status vr_ellipso_evaluate(const vr_sample_model *m, const vr_ellipso_data *d, vr_fit_result *out,
-                              vr_error *err) {
-  memset(out, 0, sizeof *out);
-  out->npoints = d->n;
-  out->dof = (int)(2 * d->n);
-  out->covariance_ok = true;
-  out->psi_model = calloc(d->n ? d->n : 1, sizeof(double));
-  out->delta_model = calloc(d->n ? d->n : 1, sizeof(double));
-  if (!out->psi_model || !out->delta_model) {
-    vr_fit_result_free(out);
-    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  if (r->nsamples == 1 && r->samples) {
+    r->samples[0].misfit_ratio = r->misfit_ratio;
+    r->samples[0].noise_psi = r->noise_psi;
+    r->samples[0].noise_delta = r->noise_delta;
+    r->samples[0].describes = r->describes;
   }
-  for (size_t k = 0; k < d->n; k++) {
-    vr_status st = vr_model_psi_delta(m, d->p[k].nm, d->p[k].aoi_deg, &out->psi_model[k],
-                                      &out->delta_model[k], NULL, err);
-    if (st) {
-      vr_fit_result_free(out);
-      return st;
-    }
-    double a = (out->psi_model[k] - d->p[k].psi_deg) / d->p[k].sigma_psi;
-    double b = vr_delta_difference(out->delta_model[k] - d->p[k].delta_deg) / d->p[k].sigma_delta;
-    out->chi2 += a * a + b * b;
-  }
-  out->mse = out->dof ? sqrt(out->chi2 / out->dof) : 0;
-  out->summary.termination = VR_LSQ_CONVERGED;
-  return VR_OK;
 }
 
 void vr_pseudo_index(const vr_ellipso_point *p, double *n, double *k, double *sigma_n, double *sigma_k) {

@@ -534,6 +534,10 @@ vr_sample_model *vr_model_bulk(vr_dispersion *substrate, vr_error *err) {
     return NULL;
   }
   m->substrate = substrate;
+  /* The bulk analysis inverts the measured values as they are: a bare
+   * substrate's Ψ, Δ vary slowly with wavelength, so an instrument's
+   * bandwidth changes them only to second order in b / λ. */
+  m->bandwidth_set = true;
   parser p = {.name = "bulk", .m = m, .err = err};
   if (add_sample_params(&p) || !(m->ambient = vr_dispersion_create(VR_DISP_CONSTANT, err)) ||
       add_disp_params(&p, "ambient", VR_OWNER_AMBIENT, m->ambient) ||

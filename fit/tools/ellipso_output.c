@@ -17,11 +17,12 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-vr_status vr_fit_view_init(vr_fit_view *v, const vr_sample_model *m, const vr_ellipso_data *d,
+vr_status vr_fit_view_init(vr_fit_view *v, const vr_sample_model *m, const vr_ellipso_data *d, size_t nd,
                            const vr_fit_result *r, const char *layer, vr_error *err) {
   memset(v, 0, sizeof *v);
   v->model = m;
   v->data = d;
+  v->ndata = nd;
   v->fit = r;
   v->layer = VR_OWNER_SUBSTRATE;
   v->layer_name = "substrate";
@@ -46,11 +47,19 @@ vr_status vr_fit_view_init(vr_fit_view *v, const vr_sample_model *m, const vr_el
     v->layer = pick;
     v->layer_name = pick >= 0 ? m->layers[pick].name : "substrate";
   }
-  v->wl = malloc((d->n ? d->n : 1) * sizeof *v->wl);
+  for (size_t j = 0; nd > 1 && j < m->nparams; j++) {
+    const vr_model_param *q = &m->params[j];
+    if (q->free && q->per_sample && q->owner == v->layer && q->slot != VR_SLOT_THICKNESS) v->nk_per_sample = true;
+  }
+  size_t total = 0;
+  for (size_t s = 0; s < nd; s++) total += d[s].n;
+  v->wl = malloc((total ? total : 1) * sizeof *v->wl);
   if (!v->wl) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  for (size_t i = 0; i < d->n; i++) v->wl[i] = d->p[i].nm;
-  qsort(v->wl, d->n, sizeof *v->wl, cmp_double);
-  for (size_t i = 0; i < d->n; i++)
+  size_t at = 0;
+  for (size_t s = 0; s < nd; s++)
+    for (size_t i = 0; i < d[s].n; i++) v->wl[at++] = d[s].p[i].nm;
+  qsort(v->wl, total, sizeof *v->wl, cmp_double);
+  for (size_t i = 0; i < total; i++)
     if (!v->nwl || v->wl[i] != v->wl[v->nwl - 1]) v->wl[v->nwl++] = v->wl[i];
   v->n = malloc(v->nwl * sizeof *v->n);
   v->k = malloc(v->nwl * sizeof *v->k);
@@ -94,8 +103,18 @@ static const char *termination(const vr_fit_result *r) {
 
 void vr_fit_print_text(FILE *f, const vr_fit_view *v) {
   const vr_fit_result *r = v->fit;
-  fprintf(f, "MSE (J.A. Woollam's, on Psi and Delta) %.4f   (chi2 %.6g over %zu (Psi, Delta) pairs, %zu free parameters; %s after %d iterations, %d grid evaluations)\n",
-          r->mse, r->chi2, r->npoints, r->nfree, termination(r), r->summary.iterations, r->grid_evaluations);
+  fprintf(f, "MSE (J.A. Woollam's, on Psi and Delta%s) %.4f   (chi2 %.6g over %zu (Psi, Delta) pairs%s, %zu free parameters; %s after %d iterations, %d grid evaluations)\n",
+          r->ndepol ? " and depolarisation" : "", r->mse, r->chi2, r->npoints, r->ndepol ? " and their depolarisation" : "",
+          r->nfree, termination(r), r->summary.iterations, r->grid_evaluations);
+  if (isfinite(r->mse_ncs))
+    fprintf(f, "MSE (CompleteEASE's, on N, C, S x 1000, %s) %.4f\n",
+            r->ncs_from_file ? "the file's own N, C, S" : "N, C, S computed from the file's Psi, Delta", r->mse_ncs);
+  if (r->nsamples > 1) {
+    fprintf(f, "\n%-8s %-40s %8s %10s %10s\n", "sample", "data", "points", "MSE", "misfit");
+    for (size_t s = 0; s < r->nsamples; s++)
+      fprintf(f, "%-8zu %-40.40s %8zu %10.4f %10.3g%s\n", s + 1, r->samples[s].source, r->samples[s].npoints,
+              r->samples[s].mse, r->samples[s].misfit_ratio, r->samples[s].describes ? "" : "  DOES NOT DESCRIBE");
+  }
   fprintf(f, "\n%-24s %14s %12s %28s\n", "parameter", "value", "std error", "90% confidence limits");
   for (size_t i = 0; i < r->nfree; i++) {
     if (r->at_bound && r->at_bound[i])
@@ -122,6 +141,7 @@ void vr_fit_print_text(FILE *f, const vr_fit_view *v) {
   }
   high_correlations(r, f, true);
   fprintf(f, "\nverdict: %s\n", r->verdict);
+  if (v->nk_per_sample) fprintf(f, "note: the optical constants of %s are fitted per sample; those of sample 1 follow\n", v->layer_name);
   if (r->exact_inversion) {
     /* Point by point: the exact inversion and its propagated deviations. */
     const vr_ellipso_data *d = v->data;
@@ -145,7 +165,23 @@ void vr_fit_print_json(FILE *f, const vr_fit_view *v) {
   const vr_fit_result *r = v->fit;
   fputs("{\"mse\": ", f);
   vr_json_number(f, r->mse);
-  fputs(", \"mse_definition\": \"J.A. Woollam: sqrt(chi2 / (2N - M)) over Psi and Delta\"", f);
+  fputs(r->ndepol ? ", \"mse_definition\": \"J.A. Woollam: sqrt(chi2 / (2N + D - M)) over Psi, Delta and depolarisation\""
+                  : ", \"mse_definition\": \"J.A. Woollam: sqrt(chi2 / (2N - M)) over Psi and Delta\"", f);
+  fputs(", \"mse_ncs\": ", f);
+  vr_json_number(f, r->mse_ncs);
+  fprintf(f, ", \"mse_ncs_definition\": \"CompleteEASE: 1000 sqrt(sum((dN)^2 + (dC)^2 + (dS)^2) / (3N - M)) on %s\"",
+          r->ncs_from_file ? "the file's N, C, S" : "N, C, S of the file's Psi, Delta");
+  fprintf(f, ", \"depolarisation_points\": %zu, \"samples\": [", r->ndepol);
+  for (size_t s = 0; s < r->nsamples; s++) {
+    fputs(s ? ", {\"data\": " : "{\"data\": ", f);
+    vr_json_string(f, r->samples[s].source);
+    fprintf(f, ", \"points\": %zu, \"mse\": ", r->samples[s].npoints);
+    vr_json_number(f, r->samples[s].mse);
+    fputs(", \"misfit_ratio\": ", f);
+    vr_json_number(f, r->samples[s].misfit_ratio);
+    fprintf(f, ", \"describes\": %s}", r->samples[s].describes ? "true" : "false");
+  }
+  fputc(']', f);
   fputs(", \"chi2\": ", f);
   vr_json_number(f, r->chi2);
   fprintf(f, ", \"points\": %zu, \"free_parameters\": %zu, \"iterations\": %d, \"termination\": \"%s\", \"parameters\": [",
@@ -176,6 +212,7 @@ void vr_fit_print_json(FILE *f, const vr_fit_view *v) {
   fprintf(f, "], \"high_correlations\": %d, \"covariance_ok\": %s, \"layer\": ", high_correlations(r, f, false),
           r->covariance_ok ? "true" : "false");
   vr_json_string(f, v->layer_name);
+  fprintf(f, ", \"nk_per_sample\": %s", v->nk_per_sample ? "true" : "false");
   fprintf(f, ", \"verdict\": {\"describes\": %s", r->describes ? "true" : "false");
   const char *vk[3] = {"misfit_ratio", "noise_psi_deg", "noise_delta_deg"};
   const double vv[3] = {r->misfit_ratio, r->noise_psi, r->noise_delta};
@@ -217,26 +254,32 @@ void vr_fit_print_json(FILE *f, const vr_fit_view *v) {
 static const unsigned COLOURS[] = {0x1f77b4, 0xd62728, 0x2ca02c, 0x9467bd, 0xff7f0e, 0x8c564b};
 
 static bool plot_quantity(FILE *f, const vr_fit_view *v, bool delta) {
-  const vr_ellipso_data *d = v->data;
-  double angles[16];
-  size_t na = vr_ellipso_angles(d, angles, 16);
   vr_plot *p = vr_plot_create(delta ? "Delta: measured (dots) and model (lines)" : "Psi: measured (dots) and model (lines)",
                               "wavelength (nm)", delta ? "Delta (deg)" : "Psi (deg)");
-  double *x = malloc(d->n * sizeof *x), *ym = malloc(d->n * sizeof *ym), *yf = malloc(d->n * sizeof *yf);
+  size_t most = 1, first = 0, series = 0;
+  for (size_t s = 0; s < v->ndata; s++) most = v->data[s].n > most ? v->data[s].n : most;
+  double *x = malloc(most * sizeof *x), *ym = malloc(most * sizeof *ym), *yf = malloc(most * sizeof *yf);
   bool ok = p && x && ym && yf;
-  for (size_t a = 0; ok && a < na; a++) {
-    size_t n = 0;
-    for (size_t i = 0; i < d->n; i++)
-      if (fabs(d->p[i].aoi_deg - angles[a]) < 0.01) {
-        x[n] = d->p[i].nm;
-        ym[n] = delta ? d->p[i].delta_deg : d->p[i].psi_deg;
-        yf[n] = delta ? v->fit->delta_model[i] : v->fit->psi_model[i];
-        n++;
-      }
-    char label[48];
-    snprintf(label, sizeof label, "%.2f deg", angles[a]);
-    unsigned c = COLOURS[a % 6];
-    ok = vr_plot_add(p, n, x, ym, c, true, label) && vr_plot_add(p, n, x, yf, c, false, "");
+  for (size_t s = 0; ok && s < v->ndata; s++) {
+    const vr_ellipso_data *d = &v->data[s];
+    double angles[16];
+    size_t na = vr_ellipso_angles(d, angles, 16);
+    for (size_t a = 0; ok && a < na; a++) {
+      size_t n = 0;
+      for (size_t i = 0; i < d->n; i++)
+        if (fabs(d->p[i].aoi_deg - angles[a]) < 0.01) {
+          x[n] = d->p[i].nm;
+          ym[n] = delta ? d->p[i].delta_deg : d->p[i].psi_deg;
+          yf[n] = delta ? v->fit->delta_model[first + i] : v->fit->psi_model[first + i];
+          n++;
+        }
+      char label[48];
+      if (v->ndata > 1) snprintf(label, sizeof label, "sample %zu, %.2f deg", s + 1, angles[a]);
+      else snprintf(label, sizeof label, "%.2f deg", angles[a]);
+      unsigned c = COLOURS[series++ % 6];
+      ok = vr_plot_add(p, n, x, ym, c, true, label) && vr_plot_add(p, n, x, yf, c, false, "");
+    }
+    first += d->n;
   }
   if (ok) ok = vr_plot_write_svg(p, f, 720, 360);
   vr_plot_destroy(p);
@@ -265,11 +308,20 @@ vr_status vr_fit_write_report(const char *path, const vr_fit_view *v, vr_error *
         "<style>body{font-family:sans-serif;max-width:980px;margin:2em auto}table{border-collapse:collapse}"
         "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}.warn{color:#b00}</style></head><body>\n", f);
   fputs("<h1>Ellipsometry fit</h1>\n<p>Data: ", f);
-  html_text(f, v->data->source);
+  for (size_t s = 0; s < v->ndata; s++) {
+    if (s) fputs("; ", f);
+    html_text(f, v->data[s].source);
+  }
   fputs("<br>Model: ", f);
   html_text(f, v->model->source);
-  fprintf(f, "<br>MSE = %.4f (Woollam's definition, sqrt(chi2 / (2N - M))), chi2 = %.6g, N = %zu, M = %zu; %s after %d iterations.</p>\n",
-          r->mse, r->chi2, r->npoints, r->nfree, termination(r), r->summary.iterations);
+  fprintf(f, "<br>MSE = %.4f (Woollam's definition, sqrt(chi2 / (2N%s - M))), chi2 = %.6g, N = %zu, M = %zu; %s after %d iterations.",
+          r->mse, r->ndepol ? " + D" : "", r->chi2, r->npoints, r->nfree, termination(r), r->summary.iterations);
+  if (isfinite(r->mse_ncs))
+    fprintf(f, "<br>MSE = %.4f (CompleteEASE's definition on N, C, S x 1000, %s).", r->mse_ncs,
+            r->ncs_from_file ? "the file's own N, C, S" : "from the file's Psi, Delta");
+  fputs("</p>\n<p>Verdict: ", f);
+  html_text(f, r->verdict);
+  fputs("</p>\n", f);
   fputs("<h2>Parameters</h2>\n<table><tr><th>parameter</th><th>value</th><th>std error</th><th>90% limits</th></tr>\n", f);
   for (size_t i = 0; i < r->nfree; i++) {
     fputs("<tr><td style=\"text-align:left\">", f);
@@ -321,8 +373,16 @@ vr_status vr_fit_write_report(const char *path, const vr_fit_view *v, vr_error *
   return vr_atomic_file_commit(&af, err);
 }
 
-vr_status vr_fit_save(vr_matdb *db, const char *name, const vr_fit_view *v, const char *data_path,
-                      const char *model_path, vr_error *err) {
+vr_status vr_fit_save(vr_matdb *db, const char *name, const vr_fit_view *v, const char *const *data_paths,
+                      size_t npaths, const char *model_path, vr_error *err) {
+  if (v->nk_per_sample)
+    return vr_error_set(err, VR_E_ARG, "the optical constants of %s differ per sample: there is no one n, k to save",
+                        v->layer_name);
+  char joined[4096] = "";
+  for (size_t i = 0; i < npaths; i++) {
+    size_t l = strlen(joined);
+    snprintf(joined + l, sizeof joined - l, "%s%s", i ? "; " : "", data_paths[i]);
+  }
   vr_complex N;
   vr_status st = vr_model_layer_index(v->model, v->layer, 550.0, &N, NULL);
   vr_material *m = vr_material_create(name, st == VR_OK && cimag(N) > creal(N) ? VR_KIND_CONDUCTOR : VR_KIND_DIELECTRIC, err);
@@ -336,12 +396,23 @@ vr_status vr_fit_save(vr_matdb *db, const char *name, const vr_fit_view *v, cons
   char model[256];
   snprintf(model, sizeof model, "ellipsometry fit of layer '%s' in %s", v->layer_name, model_path ? model_path : "an automatic bulk model");
   if ((st = vr_material_add_spectrum(m, "n", n, err)) || (st = vr_material_add_spectrum(m, "k", k, err)) ||
-      (st = vr_material_set_text(&m->prov.source_path, data_path, err)) ||
+      (st = vr_material_set_text(&m->prov.source_path, joined, err)) ||
       (st = vr_material_set_text(&m->prov.tool, "vr-ellipso fit", err)) ||
       (st = vr_material_set_text(&m->prov.tool_version, vr_version(), err)) ||
       (st = vr_material_set_text(&m->prov.model, model, err)))
     goto done;
-  if ((st = vr_sha256_file(data_path, m->prov.sha256, err))) goto done;
+  if (npaths == 1) {
+    if ((st = vr_sha256_file(data_paths[0], m->prov.sha256, err))) goto done;
+  } else {
+    vr_sha256 all;
+    vr_sha256_init(&all);
+    for (size_t i = 0; i < npaths; i++) {
+      char one[65];
+      if ((st = vr_sha256_file(data_paths[i], one, err))) goto done;
+      vr_sha256_update(&all, one, 64);
+    }
+    vr_sha256_final(&all, m->prov.sha256);
+  }
   m->prov.residual = v->fit->mse;
   for (size_t i = 0; i < v->fit->nfree && !st; i++)
     st = vr_material_add_parameter(m, v->fit->names[i], v->fit->value[i], v->fit->stderr_[i], NULL, err);

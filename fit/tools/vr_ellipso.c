@@ -29,20 +29,26 @@ static const vr_option OPTIONS[] = {
     {"seed", 0, "N", "simulate: random seed for --noise (default 1)"},
     {"json", 'j', NULL, "fit: JSON output"},
     {"force", 0, NULL, "fit: accept (exit 0) and --save a fit that does not describe the data"},
+    {"record", 0, "N", "fit: the record (1-based) of a file of several, e.g. a Film Sense kinetic run"},
+    {"no-depolarisation", 0, NULL, "fit: do not fit the depolarisation a file gives"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
 
 static const char USAGE[] =
-    "fit DATA [--model FILE] [--save NAME] [--db FILE] [--report FILE.html] [--json]\n"
+    "fit DATA... [--model FILE] [--save NAME] [--db FILE] [--report FILE.html] [--json]\n"
     "       vr-ellipso simulate --model FILE --angles LIST --wavelengths FROM:TO:STEP [--noise SPSI,SDELTA]";
 static const char ABOUT[] =
     "Fits spectroscopic ellipsometry data (Psi, Delta; CSV, J.A. Woollam WVASE/CompleteEASE\n"
-    ".dat and WVASE-format exports, Accurion EP4 tables, Sentech SpectraRay exports) to optical constants and layer thicknesses.  With a model: a global search over the\n"
-    "free thicknesses, then Levenberg-Marquardt (Ceres); each parameter is printed with its\n"
-    "standard error and 90% confidence limits, the correlation matrix (warning above 0.95) and\n"
-    "Woollam's MSE.  Without a model the sample is treated as bulk: pseudo-optical constants\n"
-    "per wavelength, then a Cauchy/Urbach or B-spline dispersion fit.  Delta follows Woollam's\n"
-    "convention (bare Si at 70 deg, 633 nm: Psi 10.6, Delta 179.3).";
+    ".dat and WVASE-format exports, Accurion EP4 tables, Film Sense exports, Sentech\n"
+    "SpectraRay exports) to optical constants and layer thicknesses.  With a model: a global\n"
+    "search over the free thicknesses, then Levenberg-Marquardt (Ceres); each parameter is\n"
+    "printed with its standard error and 90% confidence limits, the correlation matrix (warning\n"
+    "above 0.95), Woollam's MSE and CompleteEASE's N, C, S MSE.  Several data files are fitted\n"
+    "as several samples of one model: parameters marked 'per-sample' take one value per file,\n"
+    "the others are shared.  Without a model (one file) the sample is treated as bulk:\n"
+    "pseudo-optical constants per wavelength, then a dispersion fit or the exact inversion.\n"
+    "A fit that does not describe its data exits 1 and is not saved unless --force.  Delta\n"
+    "follows Woollam's convention (bare Si at 70 deg, 633 nm: Psi 10.6, Delta 179.3).";
 
 static int fail(const vr_error *e) {
   fprintf(stderr, "vr-ellipso: %s\n", e->message);
@@ -55,58 +61,78 @@ static vr_status open_db(const vr_args *a, int flags, vr_matdb **db, vr_error *e
 
 static int cmd_fit(vr_args *a) {
   vr_error err = {0};
-  vr_ellipso_data d;
+  size_t nd = a->noperands - 1;
+  const char *const *paths = &a->operands[1];
+  vr_ellipso_data *d = calloc(nd, sizeof *d);
+  vr_sample_model **m = calloc(nd, sizeof *m);
   vr_matdb *db = NULL;
-  vr_sample_model *m = NULL;
   vr_fit_result r = {0};
   vr_fit_view v = {0};
   int rc = 1;
-  const char *data_path = a->operands[1];
-  if (a->noperands > 2) {
-    /* One sample per fit: several files would be fitted as one sample, or
-     * the extra ones ignored; neither is what a user means. */
-    fprintf(stderr, "vr-ellipso: fit takes one data file, %zu given (%s, %s%s): fit each sample "
-                    "on its own, or join the files of one sample into one\n",
-            a->noperands - 1, a->operands[1], a->operands[2], a->noperands > 3 ? ", ..." : "");
-    return 2;
-  }
   const char *model_path = vr_args_get(a, "model");
   const char *save = vr_args_get(a, "save");
   vr_ellipso_read_options ro = {.unit = vr_args_get(a, "units")};
-  const char *wl = vr_args_get(a, "wavelength");
+  const char *wl = vr_args_get(a, "wavelength"), *rec = vr_args_get(a, "record");
+  double recd = 0;
+  if (!d || !m) {
+    fprintf(stderr, "vr-ellipso: out of memory\n");
+    goto out;
+  }
+  if (nd > 1 && !model_path) {
+    fprintf(stderr, "vr-ellipso: %zu data files and no --model: several files are fitted as several samples "
+                    "of one model (mark per-sample parameters in it); without a model, fit each file on its own\n",
+            nd);
+    rc = 2;
+    goto out;
+  }
   if (wl && (vr_parse_double(wl, &ro.wavelength_nm) || !(ro.wavelength_nm > 0))) {
     fprintf(stderr, "vr-ellipso: --wavelength '%s': expected a wavelength in nm > 0\n", wl);
-    return 2;
+    rc = 2;
+    goto out;
   }
-  if (vr_ellipso_read_with(data_path, &ro, &d, &err)) return fail(&err);
-  fprintf(stderr, "vr-ellipso: %s: %zu points (%s)\n", data_path, d.n, d.format);
-  for (size_t i = 0; i < d.nskipped; i++)
-    fprintf(stderr, "vr-ellipso: note: %s: skipped %zu row%s of type '%s' (not Psi/Delta measurements)\n",
-            data_path, d.skipped[i].rows, d.skipped[i].rows == 1 ? "" : "s", d.skipped[i].tag);
+  if (rec && (vr_parse_double(rec, &recd) || !(recd >= 1) || recd != floor(recd) || recd > 1e9)) {
+    fprintf(stderr, "vr-ellipso: --record '%s': expected a record number from 1\n", rec);
+    rc = 2;
+    goto out;
+  }
+  ro.record = (size_t)recd;
+  for (size_t s = 0; s < nd; s++) {
+    if (vr_ellipso_read_with(paths[s], &ro, &d[s], &err)) goto out;
+    fprintf(stderr, "vr-ellipso: %s: %zu points (%s)", paths[s], d[s].n, d[s].format);
+    if (d[s].nrecords > 1) fprintf(stderr, ", record %zu of %zu at %g s", d[s].record, d[s].nrecords, d[s].record_time_s);
+    fputc('\n', stderr);
+    for (size_t i = 0; i < d[s].nskipped; i++)
+      fprintf(stderr, "vr-ellipso: note: %s: skipped %zu row%s of type '%s' (not Psi/Delta measurements)\n", paths[s],
+              d[s].skipped[i].rows, d[s].skipped[i].rows == 1 ? "" : "s", d[s].skipped[i].tag);
+  }
   vr_fit_options opt = vr_fit_default_options();
   opt.global_search = !vr_args_flag(a, "no-global");
+  opt.fit_depolarisation = !vr_args_flag(a, "no-depolarisation");
   if ((save || (model_path && vr_matdb_named_in(model_path))) && open_db(a, 0, &db, &err)) goto out;
   if (model_path) {
-    if (vr_model_read(model_path, db, &m, &err)) goto out;
-    if (vr_ellipso_fit(m, &d, &opt, &r, &err)) goto out;
+    if (vr_model_read(model_path, db, &m[0], &err)) goto out;
+    for (size_t s = 1; s < nd; s++)
+      if (!(m[s] = vr_model_copy(m[0], &err))) goto out;
+    if (vr_ellipso_fit_samples(m, d, nd, &opt, &r, &err)) goto out;
   } else {
-    if (vr_ellipso_fit_bulk(&d, &opt, &m, &r, &err)) goto out;
+    if (vr_ellipso_fit_bulk(&d[0], &opt, &m[0], &r, &err)) goto out;
   }
-  if (vr_fit_view_init(&v, m, &d, &r, vr_args_get(a, "layer"), &err)) goto out;
+  if (r.ndepol) fprintf(stderr, "vr-ellipso: fitting %zu depolarisation values as well (--no-depolarisation: Psi, Delta only)\n", r.ndepol);
+  if (vr_fit_view_init(&v, m[0], d, nd, &r, vr_args_get(a, "layer"), &err)) goto out;
   if (vr_args_flag(a, "json")) vr_fit_print_json(stdout, &v);
   else vr_fit_print_text(stdout, &v);
   const char *report = vr_args_get(a, "report");
   if (report && vr_fit_write_report(report, &v, &err)) goto out;
+  const char *what = nd > 1 ? "the data files" : paths[0];
   if (!r.describes && !vr_args_flag(a, "force")) {
-    fprintf(stderr, "vr-ellipso: %s: the fit %s%s\n", data_path, r.verdict,
-            save ? "; not saved (--force saves it anyway)" : "");
+    fprintf(stderr, "vr-ellipso: %s: the fit %s%s\n", what, r.verdict, save ? "; not saved (--force saves it anyway)" : "");
     rc = 1;
     err.message[0] = '\0';
     goto out;
   }
-  if (!r.describes) fprintf(stderr, "vr-ellipso: warning: %s: the fit %s (accepted with --force)\n", data_path, r.verdict);
+  if (!r.describes) fprintf(stderr, "vr-ellipso: warning: %s: the fit %s (accepted with --force)\n", what, r.verdict);
   if (save) {
-    if (vr_fit_save(db, save, &v, data_path, model_path, &err)) goto out;
+    if (vr_fit_save(db, save, &v, paths, nd, model_path, &err)) goto out;
     fprintf(stderr, "vr-ellipso: saved '%s' to %s\n", save, vr_matdb_path(db));
   }
   fprintf(stderr, "vr-ellipso: fit took %.3f s\n", r.seconds);
@@ -115,9 +141,11 @@ out:
   if (rc && err.message[0]) fail(&err);
   vr_fit_view_free(&v);
   vr_fit_result_free(&r);
-  vr_model_destroy(m);
+  for (size_t s = 0; m && s < nd; s++) vr_model_destroy(m[s]);
   vr_matdb_close(db);
-  vr_ellipso_data_free(&d);
+  for (size_t s = 0; d && s < nd; s++) vr_ellipso_data_free(&d[s]);
+  free(m);
+  free(d);
   return rc;
 }
 

@@ -116,6 +116,52 @@ python3 -c "import json,sys; p=json.load(open(sys.argv[1]))['parameters'][0]; as
 check "a free parameter is not flagged" test $? -eq 0
 
 "$bin" fit "$s/thermal_oxide.csv" "$s/bare_glass.csv" > /dev/null 2> "$tmp/two.err"; rc=$?
-check "two data files are refused, not half-used" test $rc -eq 2 -a -n "$(grep 'fit takes one data file, 2 given' "$tmp/two.err")"
+check "two data files without a model are refused, not half-used" test $rc -eq 2 -a -n "$(grep '2 data files and no --model' "$tmp/two.err")"
+
+# Multi-sample: two oxides (50 nm and 250 nm, simulated with noise) share the
+# oxide's Sellmeier table and have their own thicknesses; the truth comes from
+# the simulation (an analytic truth: the data are the model's plus noise).
+cp "$s"/*.yml "$tmp/"
+for t in 50 250; do
+  sed "s/thickness=100 fit min=0 max=2000/thickness=$t/" "$s/thermal_oxide.model" > "$tmp/ox$t.model"
+  "$bin" simulate --model "$tmp/ox$t.model" --angles 65,75 --wavelengths 300:800:5 --noise 0.01,0.02 --seed $t > "$tmp/ox$t.csv"
+done
+sed "s/fit min=0 max=2000/fit per-sample min=0 max=2000/" "$s/thermal_oxide.model" > "$tmp/multi.model"
+"$bin" fit "$tmp/ox50.csv" "$tmp/ox250.csv" --model "$tmp/multi.model" --json --report "$tmp/multi.html" \
+  --save OX-multi > "$tmp/multi.json" 2> "$tmp/multi.err"; rc=$?
+check "two files with a model: one multi-sample fit" test $rc -eq 0
+python3 - "$tmp/multi.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+p = {x["name"]: x for x in d["parameters"]}
+assert set(p) == {"oxide.thickness[1]", "oxide.thickness[2]"}, p.keys()
+for name, truth in (("oxide.thickness[1]", 50), ("oxide.thickness[2]", 250)):
+    assert abs(p[name]["value"] - truth) < 4 * p[name]["stderr"] < 0.05, (name, p[name])
+assert len(d["samples"]) == 2 and d["samples"][1]["data"].endswith("ox250.csv"), d["samples"]
+assert all(s["describes"] for s in d["samples"])
+assert d["points"] == 404 and 0.7 < d["mse"] < 1.4, d["mse"]
+assert "CompleteEASE" in d["mse_ncs_definition"] and d["mse_ncs"] > 0
+PY
+check "... per-sample thicknesses within 4 standard errors of the truth, both samples judged" test $? -eq 0
+check "... the report names both data files and draws its three plots" \
+  test -n "$(grep 'ox50.csv; .*ox250.csv' "$tmp/multi.html")" -a "$(grep -o '<svg' "$tmp/multi.html" | wc -l)" -eq 3
+"$VR_BIN/../matdb/vr-matdb" show OX-multi > "$tmp/show2"
+check "... saved with both files named" grep -q "ox50.csv; .*ox250.csv" "$tmp/show2"
+
+# Film Sense: N, C, S per LED; the CompleteEASE-style MSE uses the file's own.
+fs="$src/tests/data/ellipsometry/real"
+printf 'layer oxide file:%s thickness=2 fit min=0 max=20\nsubstrate file:%s\n' \
+  "$src/matdb/data/fused_silica_malitson.yml" "$src/matdb/data/si_green2008.yml" > "$tmp/native.model"
+"$bin" fit "$fs/Filmsense_staticTest.txt" --model "$tmp/native.model" --json > "$tmp/fs.json" 2> "$tmp/fs.err"; rc=$?
+python3 - "$tmp/fs.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert "the file's N, C, S" in d["mse_ncs_definition"], d["mse_ncs_definition"]
+PY
+check "Film Sense static export: fitted, N, C, S MSE on the file's own values" test $? -eq 0 -a $rc -eq 0
+"$bin" fit "$fs/Filmsense_kineticTest.txt" --model "$tmp/native.model" > /dev/null 2> "$tmp/fsk.err"; rc=$?
+check "Film Sense kinetic run without --record: refused with the count" test $rc -ne 0 -a -n "$(grep 'kinetic run of 7 records' "$tmp/fsk.err")"
+"$bin" fit "$fs/Filmsense_kineticTest.txt" --record 3 --model "$tmp/native.model" > /dev/null 2> "$tmp/fsk.err"; rc=$?
+check "... --record 3 reads the record at 24.77 s" grep -q "record 3 of 7 at 24.766 s" "$tmp/fsk.err"
 
 finish

@@ -28,6 +28,10 @@ typedef struct vr_ellipso_point {
    * not measured; its standard deviation, NAN if not given. */
   double depolarisation, sigma_depolarisation;
   double bandwidth_nm;           /* spectral bandwidth if the file gives it, else NAN */
+  /* The normalised Stokes-like values N, C, S when the instrument gives
+   * them (Film Sense), has_ncs false otherwise. */
+  double N, C, S;
+  int has_ncs;
   long line;                     /* 1-based line in the source file */
 } vr_ellipso_point;
 
@@ -47,17 +51,24 @@ typedef struct vr_ellipso_data {
   const char *format;            /* the reader that read it (static text) */
   size_t nskipped;               /* kinds of rows skipped, at most VR_ELLIPSO_MAX_SKIPPED */
   vr_ellipso_skipped skipped[VR_ELLIPSO_MAX_SKIPPED];
+  /* Files of several records (a Film Sense kinetic run): how many, which
+   * one was read (1-based) and its time in s; 0, 0, NAN otherwise. */
+  size_t nrecords;
+  size_t record;
+  double record_time_s;
 } vr_ellipso_data;
 
 /* How to read a file; zeroed fields take the defaults. */
 typedef struct vr_ellipso_read_options {
   const char *unit;              /* overrides the file's wavelength unit ("nm", "um", "A", "eV") */
   double wavelength_nm;          /* > 0: the wavelength of a file that has no wavelength column */
+  size_t record;                 /* > 0: the record (1-based) of a file of several (Film Sense kinetic) */
 } vr_ellipso_read_options;
 
 /* Reads a file: Woollam WVASE / CompleteEASE .dat and the WVASE-format
  * exports of other instruments (recognised by content), Accurion EP4
- * tables ("#Lambda\tAOI\t..." with a units line), Sentech SpectraRay
+ * tables ("#Lambda\tAOI\t..." with a units line), J.A. Woollam Film Sense
+ * static and kinetic exports (N, C, S, P per LED), Sentech SpectraRay
  * exports, or CSV with a header naming the columns (wavelength or energy with its
  * unit; aoi/angle; psi; delta; optional sigma_psi/sigma_delta).  unit, when
  * not NULL, overrides the wavelength unit ("nm", "um", "A", "eV"). */

@@ -3,13 +3,26 @@
  * Levenberg-Marquardt on all free parameters, then uncertainties.
  *
  * Residuals are r = (Ψ_model - Ψ)/σΨ and (Δ_model - Δ)/σΔ with the Δ
- * difference wrapped into (-180°, 180°].  The reported figure of merit is
- * Woollam's mean squared error
- *     MSE = sqrt( Σ r² / (2N - M) ),
- * N the number of (Ψ, Δ) pairs, M the number of free parameters.  Standard
- * errors are sqrt(diag(C)) with C = (JᵀJ)⁻¹ · Σ r² / (2N - M) (the
- * covariance scaled by the reduced chi-square, so wrong σ do not make them
- * dishonest); 90 % limits are value ± t(0.95, 2N - M) · stderr. */
+ * difference wrapped into (-180°, 180°], and, when the file gives the
+ * depolarisation and the model can produce some (a back side, thickness
+ * non-uniformity, bandwidth), (dep_model - dep)/σdep in percent (σdep the
+ * file's, else 1 %).  The reported figure of merit is Woollam's mean
+ * squared error
+ *     MSE = sqrt( Σ r² / (2N + D - M) ),
+ * N the number of (Ψ, Δ) pairs, D the depolarisation values fitted, M the
+ * number of free parameters.  CompleteEASE's MSE is also reported:
+ *     MSE_NCS = 1000 sqrt( Σ [(N_m - N)² + (C_m - C)² + (S_m - S)²] / (3N - M) ),
+ * on the file's N, C, S when it gives them (Film Sense), else on those of
+ * its Ψ, Δ (and depolarisation).  Standard errors are sqrt(diag(C)) with
+ * C = (JᵀJ)⁻¹ · Σ r² / (2N + D - M) (the covariance scaled by the reduced
+ * chi-square, so wrong σ do not make them dishonest); 90 % limits are
+ * value ± t(0.95, 2N + D - M) · stderr.
+ *
+ * Several samples (vr_ellipso_fit_samples): one model per data file, all
+ * with the same parameter list; a free parameter marked per_sample takes
+ * one value per sample (named "layer.thickness[2]" for the second), the
+ * others are shared.  Each sample is judged on its own (vr_fit_judge); the
+ * fit describes the data only if it describes every sample. */
 #ifndef VR_ELLIPSO_FIT_H
 #define VR_ELLIPSO_FIT_H
 
@@ -35,9 +48,20 @@ typedef struct vr_fit_options {
   int max_iterations;     /* LM iterations (default 200) */
   bool global_search;     /* default true */
   vr_fit_residual residual; /* default VR_RESID_PSI_DELTA */
+  bool fit_depolarisation;  /* default true: fit it where the file gives it and the model can produce it */
 } vr_fit_options;
 
 vr_fit_options vr_fit_default_options(void);
+
+/* One sample of a fit: its data file, its points' place in the result's
+ * per-point arrays, its MSE (over its own Ψ, Δ, no parameter count) and
+ * verdict figures. */
+typedef struct vr_fit_sample {
+  const char *source;     /* borrowed from the data set */
+  size_t first, npoints;
+  double mse, misfit_ratio, noise_psi, noise_delta;
+  bool describes;
+} vr_fit_sample;
 
 typedef struct vr_fit_result {
   size_t nfree;
@@ -51,10 +75,17 @@ typedef struct vr_fit_result {
   bool covariance_ok;     /* false: the Jacobian is rank deficient (message says why) */
   char covariance_message[256];
   double mse;             /* Woollam's MSE */
+  double mse_ncs;         /* CompleteEASE's N, C, S MSE (x 1000); NAN when 3N <= M */
+  bool ncs_from_file;     /* mse_ncs used the file's own N, C, S */
   double chi2;            /* Σ r² */
-  size_t npoints;         /* N (Ψ, Δ pairs) */
-  int dof;                /* 2N - M */
-  double *psi_model, *delta_model; /* per data point, at the solution */
+  size_t npoints;         /* N (Ψ, Δ pairs), over all samples */
+  size_t ndepol;          /* D: depolarisation values fitted (0: not fitted) */
+  int dof;                /* 2N + D - M */
+  /* Per data point at the solution, the samples' points one after the
+   * other: Ψ, Δ (degrees), depolarisation (0..1). */
+  double *psi_model, *delta_model, *depol_model;
+  size_t nsamples;
+  vr_fit_sample *samples;
   vr_lsq_summary summary;  /* iterations and evaluations summed over all candidate fits */
   int grid_evaluations;
   double seconds;
@@ -73,10 +104,13 @@ typedef struct vr_fit_result {
  * not describe the data (flagged; vr-ellipso exits 1 and saves only with
  * --force). */
 #define VR_FIT_MAX_MISFIT 10.0
-/* The noise of Ψ and Δ (degrees) as the data show it: the rms third
- * difference along wavelength of each angle's series over sqrt(20) (white
- * noise of standard deviation s gives third differences of variance 20 s²;
- * a smooth spectrum contributes little).  Series of fewer than 8
+/* The noise of Ψ and Δ (degrees) as the data show it: the median absolute
+ * third difference along wavelength of each angle's series over
+ * 0.6745 sqrt(20) (white noise of standard deviation s gives normal third
+ * differences of variance 20 s², whose median magnitude is 0.6745 of
+ * their deviation; a smooth spectrum contributes little, and the median
+ * ignores the few large differences of a sharp feature or a table's
+ * kinks).  Series of fewer than 8
  * wavelengths say nothing; when none says anything the file's σ (median)
  * is used, and when the file gives none, 0.05° (a typical instrument).
  * Never below 0.001°. */
@@ -97,6 +131,10 @@ void vr_pseudo_index(const vr_ellipso_point *p, double *n, double *k, double *si
 /* Fits m (its free parameters) to d; m holds the solution on return. */
 vr_status vr_ellipso_fit(vr_sample_model *m, const vr_ellipso_data *d, const vr_fit_options *opt,
                          vr_fit_result *out, vr_error *err);
+/* Fits ns samples at once: models[s] (copies of one model, with their own
+ * start values) to data[s]; every model holds the solution on return. */
+vr_status vr_ellipso_fit_samples(vr_sample_model *const *models, const vr_ellipso_data *data, size_t ns,
+                                 const vr_fit_options *opt, vr_fit_result *out, vr_error *err);
 void vr_fit_result_free(vr_fit_result *r);
 
 /* Pseudo-optical constants of a bulk sample from one (Ψ, Δ) pair:

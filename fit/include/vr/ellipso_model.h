@@ -6,10 +6,16 @@
  * Model files are text, one statement per line ('#' comments):
  *
  *   ambient   MATERIAL
- *   layer     NAME MATERIAL thickness=NM [fit] [min=V] [max=V]
+ *   layer     NAME MATERIAL thickness=NM [fit] [per-sample] [min=V] [max=V]
  *   layer     NAME ema=bruggeman|maxwell-garnett(A,B) fraction=F [fit] thickness=NM ...
  *   substrate MATERIAL [thickness=MM backside]
- *   param     NAME.PARAMETER = VALUE [fit] [min=V] [max=V]
+ *   param     NAME.PARAMETER = VALUE [fit] [per-sample] [min=V] [max=V]
+ *   param     NAME.PARAMETER = COEF*OTHER.PARAMETER + OFFSET     (coupling)
+ *
+ * The measurement's own parameters are named sample.aoi_offset,
+ * sample.delta_offset, sample.thickness_nonuniformity (percent) and
+ * sample.bandwidth (nm).  "per-sample" marks a fitted parameter that takes
+ * its own value in each data file of a multi-sample fit.
  *
  * MATERIAL is a dispersion model with its parameters at their defaults
  * (constant, cauchy, sellmeier:N, sellmeier2:N, genosc:TERM+TERM+...

@@ -71,7 +71,7 @@ typedef struct vr_parameter {
 
 typedef struct vr_provenance {
   char *source_path;   /* file the data came from, or "built-in:..." */
-  char sha256[65];     /* of that file's bytes, hex; "" if none */
+  char sha256[65];     /* of that file's bytes, hex (several files: of their hex digests in order); "" if none */
   char *tool;          /* "vr-matdb import", "vr-ellipso fit", ... */
   char *tool_version;
   char *model;         /* "rii formula 2 + tabulated k", "Cauchy", ... */
