@@ -168,12 +168,74 @@ static void file_bandwidth_used_unless_model_sets_it(void **state) {
   assert_contains(err.message, "bad.model:2");
 }
 
+/* A thick film whose thickness varies by 3 % across the spot, simulated
+ * with its depolarisation (the model's own: an analytic truth), then
+ * fitted with the thickness and the non-uniformity free: both come back,
+ * the depolarisation values enter the fit and the MSE's degrees of freedom
+ * (2N + D - M, Woollam's definition with depolarisation). */
+static void nonuniformity_fitted_with_depolarisation(void **state) {
+  (void)state;
+  vr_sample_model *truth = film(1500, 3, 0);
+  vr_ellipso_data d = {0};
+  d.p = calloc(2 * 80, sizeof *d.p);
+  d.source = strdup("nonuniform.dat");
+  d.record_time_s = NAN;
+  for (int a = 0; a < 2; a++)
+    for (int i = 0; i < 80; i++) {
+      vr_ellipso_point *p = &d.p[d.n++];
+      p->nm = 400 + 5 * i;
+      p->aoi_deg = a ? 75 : 65;
+      p->sigma_psi = p->sigma_delta = 0.01;
+      p->sigma_depolarisation = 0.1;
+      p->bandwidth_nm = NAN;
+      p->line = (long)d.n;
+      vr_model_response r;
+      vr_error err = {0};
+      if (vr_model_measure(truth, p->nm, p->aoi_deg, NAN, &r, &err)) fail_msg("%s", err.message);
+      p->psi_deg = r.psi;
+      p->delta_deg = r.delta;
+      p->depolarisation = 100 * r.depolarisation;
+    }
+  char text[512];
+  snprintf(text, sizeof text,
+           "layer film constant n=%.17g thickness=1490 fit min=1400 max=1600\nsubstrate constant n=%.17g\n"
+           "param sample.thickness_nonuniformity = 1 fit min=0 max=10\n",
+           N1, N2);
+  vr_sample_model *m = NULL;
+  vr_error err = {0};
+  if (vr_model_parse(text, strlen(text), "fit.model", ".", NULL, &m, &err)) fail_msg("%s", err.message);
+  vr_fit_result r;
+  if (vr_ellipso_fit(m, &d, NULL, &r, &err)) fail_msg("%s", err.message);
+  /* The measurement's parameters come first in the list. */
+  assert_string_equal(r.names[0], "sample.thickness_nonuniformity");
+  assert_string_equal(r.names[1], "film.thickness");
+  assert_near(r.value[1], 1500, 1e-4);
+  assert_near(r.value[0], 3, 1e-5);
+  assert_int_equal(r.ndepol, d.n);
+  assert_int_equal(r.dof, (int)(3 * d.n - 2));
+  assert_true(r.depol_model[10] > 0);
+  vr_fit_result_free(&r);
+  /* --no-depolarisation: Ψ, Δ only. */
+  vr_fit_options o = vr_fit_default_options();
+  o.fit_depolarisation = false;
+  *vr_model_param_value(m, (size_t)vr_model_param_index(m, "film.thickness")) = 1490;
+  if (vr_ellipso_fit(m, &d, &o, &r, &err)) fail_msg("%s", err.message);
+  assert_int_equal(r.ndepol, 0);
+  assert_int_equal(r.dof, (int)(2 * d.n - 2));
+  assert_near(r.value[0], 3, 1e-4);
+  vr_fit_result_free(&r);
+  vr_model_destroy(m);
+  vr_model_destroy(truth);
+  vr_ellipso_data_free(&d);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(nonuniformity_matches_airy_average),
       cmocka_unit_test(bandwidth_matches_airy_average),
       cmocka_unit_test(full_period_is_incoherent),
       cmocka_unit_test(file_bandwidth_used_unless_model_sets_it),
+      cmocka_unit_test(nonuniformity_fitted_with_depolarisation),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
