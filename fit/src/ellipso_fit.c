@@ -274,6 +274,7 @@ static vr_status finish(fit_ctx *c, vr_fit_result *out, double limit, vr_error *
       double b = vr_delta_difference(out->delta_model[first + i] - p->delta_deg) / p->sigma_delta;
       chi += a * a + b * b;
     }
+    fs->chi2 = chi;
     fs->mse = sqrt(chi / (double)(2 * c->d[s].n));
     if (s == 0 || view.misfit_ratio > out->misfit_ratio) {
       out->misfit_ratio = view.misfit_ratio;
@@ -508,17 +509,13 @@ vr_status vr_ellipso_evaluate(const vr_sample_model *m, const vr_ellipso_data *d
   vr_status st = pts ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
   for (size_t k = 0; k < d->n && !st; k++) pts[k] = (fit_point){0, k};
   if (!st) st = finish(&c, out, VR_FIT_MAX_MISFIT, err);
-  for (size_t k = 0; k < d->n && !st; k++) {
-    double a = (out->psi_model[k] - d->p[k].psi_deg) / d->p[k].sigma_psi;
-    double b = vr_delta_difference(out->delta_model[k] - d->p[k].delta_deg) / d->p[k].sigma_delta;
-    out->chi2 += a * a + b * b;
-  }
   free(pts);
   if (st) {
     vr_fit_result_free(out);
     return st;
   }
   out->npoints = d->n;
+  out->chi2 = out->samples[0].chi2;
   out->dof = (int)(2 * d->n);
   out->covariance_ok = true;
   out->mse = out->dof ? sqrt(out->chi2 / out->dof) : 0;

@@ -54,11 +54,12 @@ typedef struct vr_fit_options {
 vr_fit_options vr_fit_default_options(void);
 
 /* One sample of a fit: its data file, its points' place in the result's
- * per-point arrays, its MSE (over its own Ψ, Δ, no parameter count) and
+ * per-point arrays, its χ² and MSE (over its own Ψ, Δ, no parameter count) and
  * verdict figures. */
 typedef struct vr_fit_sample {
   const char *source;     /* borrowed from the data set */
   size_t first, npoints;
+  double chi2;            /* Σ of its Ψ, Δ residuals squared */
   double mse, misfit_ratio, noise_psi, noise_delta;
   bool describes;
 } vr_fit_sample;
