@@ -9,4 +9,5 @@ set(VR_RECOVER_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/src/recover_qp.c
   ${CMAKE_CURRENT_LIST_DIR}/src/recover_bounded.c
   ${CMAKE_CURRENT_LIST_DIR}/src/recover_regularised.c
+  ${CMAKE_CURRENT_LIST_DIR}/src/recover_pixel.c
 )

@@ -1,7 +1,8 @@
 /* Figures for vr-rgb2spec's recovery: (a) how close the recovered spectra of
  * the 24 ColorChecker patches (BabelColor averages) come to the true ones as
  * lights are added, for exact, 16-bit linear and 8-bit sRGB input; (b) the
- * per-pixel throughput of Matrix R on four 12-megapixel photos, 2 threads.
+ * tool itself, run as a child process, on four 12-megapixel photos to a
+ * spectral EXR texture (--per-pixel), for each EXR compression.
  *
  * Camera: the CIE 1931 observer with sRGB primaries on 400-700 nm / 10 nm.
  * Lights, in order: D65, A, LED-B3, F2 (the line "4 lights (F11)" swaps F2
@@ -15,7 +16,9 @@
 #include "vr/recover.h"
 
 #include <math.h>
-#include <pthread.h>
+#include <sys/stat.h>
+
+#include "bench_child.h"
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -125,62 +128,74 @@ static stats run(const vr_recovery_system *s, size_t nl, const vr_spectrum *cons
   return st;
 }
 
-/* ---- (b) per-pixel Matrix R ------------------------------------------- */
+/* ---- (b) the tool end to end on a 12-megapixel capture ---------------- */
 
-#define MP12 12000000UL
-#define PAD 32
-
-typedef struct job {
-  const uint16_t *photo[MAXL];
-  const float *pt; /* 3L x PAD: column i of P (times 1/65535), padded */
-  size_t m, n, begin, end;
-  float *out; /* pixels x n */
-  double checksum;
-} job;
-
-static void *matrix_r_worker(void *arg) {
-  job *jb = arg;
-  size_t m = jb->m, n = jb->n;
-  double sum = 0.0;
-  for (size_t px = jb->begin; px < jb->end; px++) {
-    float acc[PAD] = {0};
-    for (size_t l = 0; l < m / 3; l++)
-      for (size_t ch = 0; ch < 3; ch++) {
-        float c = (float)jb->photo[l][3 * px + ch];
-        const float *col = jb->pt + (3 * l + ch) * PAD;
-        for (size_t j = 0; j < PAD; j++) acc[j] += c * col[j];
-      }
-    memcpy(jb->out + px * n, acc, n * sizeof(float));
-    sum += acc[n / 2];
-  }
-  jb->checksum = sum;
-  return NULL;
+/* samples/photos' manifest scaled to 4000 x 3000: the chart and the six
+ * material rectangles five times larger, 8-bit sRGB PNGs simulated by the
+ * tool itself (sigma 0.002 on linear values). */
+static void write_manifest(const char *dir) {
+  char path[4200];
+  snprintf(path, sizeof path, "%s/manifest.txt", dir);
+  FILE *f = fopen(path, "w");
+  if (!f) bench_die(path);
+  fprintf(f, "camera cie1931-srgb\ngrid 400 700 10\n"
+             "photo d65.png light=D65 scale=0.9\nphoto a.png light=A scale=0.5\n"
+             "photo led.png light=LED-B3 scale=0.75\nphoto f11.png light=F11 scale=0.75\n"
+             "chart grid=100,100,2150,1450\n");
+  static const char *const mat[6][2] = {{"brick", "brick_red"}, {"pine", "wood_pine"},
+                                        {"cotton", "cotton_fabric_white"},
+                                        {"carpet", "carpet_nylon_lightbrown"},
+                                        {"concrete", "concrete_lightgray"},
+                                        {"paint", "white_pigment_tio2"}};
+  for (int k = 0; k < 6; k++)
+    fprintf(f, "region %s rect=%d,%d,400,300 reference=file:%s/samples/photos/materials/%s.csv\n",
+            mat[k][0], 2400 + 500 * (k % 2), 150 + 450 * (k / 2), VR_SOURCE_DIR, mat[k][1]);
+  fclose(f);
 }
 
-static double throughput(const vr_recovery_system *s, int threads, uint16_t *const *photos,
-                         float *out, double *checksum) {
-  size_t n = vr_recovery_system_samples(s), m = vr_recovery_system_rows(s);
-  double P[64 * 3 * MAXL];
-  vr_recovery_matrix(s, P);
-  float pt[3 * MAXL * PAD];
-  memset(pt, 0, sizeof pt);
-  for (size_t i = 0; i < m; i++)
-    for (size_t j = 0; j < n; j++) pt[i * PAD + j] = (float)(P[j * m + i] / 65535.0);
-  job jobs[8];
-  pthread_t tid[8];
-  double t0 = now();
-  for (int t = 0; t < threads; t++) {
-    jobs[t] = (job){.pt = pt, .m = m, .n = n, .out = out, .begin = MP12 * (size_t)t / (size_t)threads,
-                    .end = MP12 * (size_t)(t + 1) / (size_t)threads};
-    for (size_t l = 0; l < m / 3; l++) jobs[t].photo[l] = photos[l];
-    pthread_create(&tid[t], NULL, matrix_r_worker, &jobs[t]);
-  }
-  *checksum = 0.0;
-  for (int t = 0; t < threads; t++) {
-    pthread_join(tid[t], NULL);
-    *checksum += jobs[t].checksum;
-  }
-  return now() - t0;
+static void end_to_end(void) {
+  char dir[] = "/tmp/bench-rgb2spec-XXXXXX", tool[4200], manifest[4200], exr[4200], log[4200];
+  if (!mkdtemp(dir)) bench_die("mkdtemp");
+  snprintf(tool, sizeof tool, "%s/acquire/vr-rgb2spec", VR_BINARY_DIR);
+  snprintf(manifest, sizeof manifest, "%s/manifest.txt", dir);
+  snprintf(exr, sizeof exr, "%s/texture.exr", dir);
+  snprintf(log, sizeof log, "%s/log.txt", dir);
+  write_manifest(dir);
+  char *sim[] = {tool, "simulate", "--manifest", manifest, "--size", "4000x3000", "--seed", "3", NULL};
+  if (bench_run(sim, log)) bench_die("vr-rgb2spec simulate (see its log)");
+  printf("\n(b) vr-rgb2spec end to end: 4 photos of 4000 x 3000 (8-bit sRGB PNG) -> regions, light "
+         "check and a 31-band spectral EXR with preview and flags; best of 2 runs, wall time\n");
+  static const char *const comp[] = {"none", "rle", "zips", "zip", "piz"};
+  for (int half = 1; half >= 0; half--)
+    for (size_t k = 0; k < sizeof comp / sizeof comp[0]; k++)
+      for (int threads = 2; threads >= 1; threads--) {
+        if (threads == 1 && strcmp(comp[k], "zips")) continue;
+        if (!half && strcmp(comp[k], "none") && strcmp(comp[k], "zips")) continue;
+        char th[8];
+        snprintf(th, sizeof th, "%d", threads);
+        char *argv[16] = {tool, "--manifest", manifest, "--per-pixel", exr, "--exr-compression",
+                          (char *)comp[k], "--threads", th, NULL};
+        if (!half) argv[9] = "--exr-float", argv[10] = NULL;
+        double best = INFINITY, wall;
+        for (int rep = 0; rep < 2; rep++) {
+          if (bench_run_timed(argv, log, &wall)) bench_die("vr-rgb2spec --per-pixel (see its log)");
+          best = fmin(best, wall);
+        }
+        struct stat sb;
+        double mb = stat(exr, &sb) ? NAN : (double)sb.st_size / 1048576.0;
+        printf("    %-5s %-5s %d thread%s: %6.2f s = %5.2f Mpixel/s, EXR %6.0f MiB%s\n",
+               half ? "half" : "float", comp[k], threads, threads > 1 ? "s" : " ", best,
+               12.0 / best, mb, threads == 2 ? "  (target >= 5 Mpixel/s)" : "");
+      }
+  /* The last run's report lines (texture accuracy). */
+  FILE *f = fopen(log, "r");
+  char line[1024];
+  while (f && fgets(line, sizeof line, f))
+    if (!strncmp(line, "per-pixel:", 10)) printf("    %s", line);
+  if (f) fclose(f);
+  char cmd[4300];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+  if (system(cmd)) fprintf(stderr, "bench_rgb2spec: could not remove %s\n", dir);
 }
 
 int main(void) {
@@ -250,44 +265,7 @@ int main(void) {
     vr_recovery_system_destroy(s8);
   }
 
-  /* (b) Four 16-bit linear photos of 12 megapixels (synthetic values), one
-   * spectrum of n floats per pixel. */
-  const vr_spectrum *set[MAXL] = {lights[0], lights[1], lights[2], lights[3]};
-  vr_recovery_system *s = exposed_system(cam, MAXL, set, NULL);
-  uint16_t *photos[MAXL];
-  uint64_t state = 0x9e3779b97f4a7c15ULL;
-  for (int l = 0; l < MAXL; l++) {
-    photos[l] = malloc(MP12 * 3 * sizeof(uint16_t));
-    if (!photos[l]) {
-      fprintf(stderr, "bench_rgb2spec: out of memory\n");
-      return 1;
-    }
-    for (size_t i = 0; i < MP12 * 3; i++) {
-      state ^= state << 13;
-      state ^= state >> 7;
-      state ^= state << 17;
-      photos[l][i] = (uint16_t)(state >> 48);
-    }
-  }
-  float *out = malloc(MP12 * n * sizeof(float));
-  if (!out) {
-    fprintf(stderr, "bench_rgb2spec: out of memory\n");
-    return 1;
-  }
-  printf("\n(b) Matrix R per pixel, 4 lights x 12 MP 16-bit RGB -> %zu float samples per pixel\n",
-         n);
-  double check;
-  throughput(s, 2, photos, out, &check); /* first touch of the output pages */
-  for (int threads = 1; threads <= 2; threads++) {
-    double best = INFINITY;
-    for (int rep = 0; rep < 3; rep++) best = fmin(best, throughput(s, threads, photos, out, &check));
-    printf("    %d thread%s: %.3f s for 12 MP = %.1f MP/s (target >= 5 on 2 threads)  "
-           "[checksum %.6g]\n",
-           threads, threads > 1 ? "s" : " ", best, 12.0 / best, check);
-  }
-  for (int l = 0; l < MAXL; l++) free(photos[l]);
-  free(out);
-  vr_recovery_system_destroy(s);
+  end_to_end();
   for (int i = 0; i <= MAXL; i++) vr_spectrum_destroy(lights[i]);
   for (size_t p = 0; p < PATCHES; p++) vr_spectrum_destroy(truth[p]);
   vr_camera_destroy(cam);

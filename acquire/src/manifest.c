@@ -2,11 +2,13 @@
 #include "vr/manifest.h"
 
 #include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "vr/calibrate.h"
 #include "vr/colorchecker.h"
@@ -14,6 +16,7 @@
 #include "vr/csv.h"
 #include "vr/file.h"
 #include "vr/matdb.h"
+#include "vr/sha256.h"
 
 typedef struct parser {
   vr_capture *c;
@@ -331,14 +334,20 @@ static vr_status statement(parser *p, char **tok, size_t n) {
   return FAIL(p, kw, VR_E_PARSE, "unknown statement \"%s\" (camera, grid, photo, labels, region, chart)", kw);
 }
 
-vr_status vr_capture_parse(const char *text, size_t len, const char *path, vr_matdb *db,
-                           vr_capture **out, vr_error *err) {
+/* Parses text, named path in messages; relative paths are resolved against
+ * dir ("" for the working directory). */
+static vr_status parse_in(const char *text, size_t len, const char *path, char *dir, bool stream,
+                          vr_matdb *db, vr_capture **out, vr_error *err) {
   *out = NULL;
   vr_capture *c = calloc(1, sizeof *c);
-  if (!c) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  if (!c) {
+    free(dir);
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  }
   c->path = strdup(path);
-  const char *slash = strrchr(path, '/');
-  c->dir = slash ? strndup(path, (size_t)(slash - path)) : strdup("");
+  c->dir = dir;
+  c->stream = stream;
+  vr_sha256_buffer(text, len, c->sha256);
   c->grid[0] = 400, c->grid[1] = 700, c->grid[2] = 10;
   parser p = {c, db, path, 0, NULL, err};
   vr_status st = (c->path && c->dir) ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -383,14 +392,83 @@ vr_status vr_capture_parse(const char *text, size_t len, const char *path, vr_ma
   return VR_OK;
 }
 
+/* The folder of path ("" when it has none): where its relative paths go. */
+static char *folder_of(const char *path) {
+  const char *slash = strrchr(path, '/');
+  return slash ? strndup(path, (size_t)(slash - path)) : strdup("");
+}
+
+vr_status vr_capture_parse(const char *text, size_t len, const char *path, vr_matdb *db,
+                           vr_capture **out, vr_error *err) {
+  return parse_in(text, len, path, folder_of(path), false, db, out, err);
+}
+
+enum { MANIFEST_MAX_BYTES = 1 << 20 };
+
+/* A manifest read whole, once: from standard input for "-", else from the
+ * file named, which is a stream when it is not a regular file (a pipe, a
+ * FIFO, a terminal) or lies under /dev or /proc (/dev/stdin, /dev/fd/N):
+ * a name there says nothing of where the photos are. */
+typedef struct loaded {
+  char *text;
+  size_t len;
+  const char *name; /* for messages */
+  bool stream;
+} loaded;
+
+static vr_status load(const char *path, loaded *m, vr_error *err) {
+  memset(m, 0, sizeof *m);
+  if (!strcmp(path, "-")) {
+    m->name = "<stdin>";
+    m->stream = true;
+    return vr_read_stream(stdin, m->name, MANIFEST_MAX_BYTES, &m->text, &m->len, err);
+  }
+  m->name = path;
+  FILE *f = fopen(path, "rb");
+  if (!f) return vr_error_set(err, VR_E_IO, "%s: cannot open: %s", path, strerror(errno));
+  struct stat sb;
+  m->stream = fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode) || !strncmp(path, "/dev/", 5) ||
+              !strncmp(path, "/proc/", 6);
+  vr_status st = vr_read_stream(f, path, MANIFEST_MAX_BYTES, &m->text, &m->len, err);
+  fclose(f);
+  return st;
+}
+
+static vr_status parse_loaded(const loaded *m, vr_matdb *db, vr_capture **out, vr_error *err) {
+  return parse_in(m->text, m->len, m->name, m->stream ? strdup("") : folder_of(m->name),
+                  m->stream, db, out, err);
+}
+
 vr_status vr_capture_read(const char *path, vr_matdb *db, vr_capture **out, vr_error *err) {
   *out = NULL;
-  char *buf;
-  size_t n;
-  vr_status st = vr_read_file(path, 1 << 20, &buf, &n, err);
-  if (st) return st;
-  st = vr_capture_parse(buf, n, path, db, out, err);
-  free(buf);
+  loaded m;
+  vr_status st = load(path, &m, err);
+  if (!st) st = parse_loaded(&m, db, out, err);
+  free(m.text);
+  return st;
+}
+
+/* Does the text name a db: material outside '#' comments?  The same test
+ * as vr_matdb_named_in, on text already read. */
+static bool names_db(const char *text, size_t len) {
+  bool comment = false;
+  for (size_t i = 0; i < len; i++) {
+    if (text[i] == '\n') comment = false;
+    else if (text[i] == '#') comment = true;
+    else if (!comment && i + 3 <= len && !memcmp(text + i, "db:", 3)) return true;
+  }
+  return false;
+}
+
+vr_status vr_capture_read_db(const char *path, const char *db_path, int db_flags, bool need_db,
+                             vr_matdb **db, vr_capture **out, vr_error *err) {
+  *db = NULL;
+  *out = NULL;
+  loaded m;
+  vr_status st = load(path, &m, err);
+  if (!st && (need_db || names_db(m.text, m.len))) st = vr_matdb_open(db_path, db_flags, db, err);
+  if (!st) st = parse_loaded(&m, *db, out, err);
+  free(m.text);
   return st;
 }
 

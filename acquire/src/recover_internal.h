@@ -59,8 +59,15 @@ typedef struct vr_gcv_problem {
   const double *a, *c;
   const double *lpinv, *nl; /* from vr_recover_smoothness */
   double rank_tol, rho, lambda;
+  int rule;   /* vr_lambda_rule (AUTO reads GCV here) or VR_LAMBDA_PIXEL_RISK */
+  double tau; /* discrepancy factor */
   const char *what;
 } vr_gcv_problem;
+
+/* A rule of vr_recover_gcv_solve beside the public ones: the lambda that
+ * minimises the expected predictive risk of one pixel of unit noise whose
+ * noise-free responses are c (vr_recover_pixel_lambda). */
+#define VR_LAMBDA_PIXEL_RISK 100
 
 typedef struct vr_gcv_result {
   double lambda; /* the weight used */
@@ -115,9 +122,11 @@ vr_status vr_recover_matrix_r(const vr_recovery_system *s, const double *c,
 vr_status vr_recover_bounded(const vr_recovery_system *s, const double *c,
                              const unsigned char *clipped, double *r, vr_recover_info *info,
                              vr_error *err);
+/* sigma: the noise standard deviation of each observation (units of c),
+ * or NULL for the system's noise model. */
 vr_status vr_recover_regularised(const vr_recovery_system *s, const double *c,
-                                 const unsigned char *clipped, double *r, vr_recover_info *info,
-                                 vr_error *err);
+                                 const double *sigma, const unsigned char *clipped, double *r,
+                                 vr_recover_info *info, vr_error *err);
 
 /* Slack direction of a clipped observation: row A_i r + sign * s_i = c_i with
  * s_i >= 0 reads A_i r >= c_i for VR_CLIP_HIGH (sign -1) and A_i r <= c_i
@@ -125,6 +134,10 @@ vr_status vr_recover_regularised(const vr_recovery_system *s, const double *c,
 static inline double vr_recover_slack_sign(unsigned char mark) {
   return mark == VR_CLIP_HIGH ? -1.0 : 1.0;
 }
+
+/* The 99.9 % point of chi-squared with k degrees of freedom (Wilson and
+ * Hilferty's approximation); 0 for k = 0. */
+double vr_recover_chi2_limit(size_t k);
 
 /* Fills info's residuals and clip violation for the result r. */
 void vr_recover_finish_info(const vr_recovery_system *s, const double *c,

@@ -72,14 +72,57 @@ static double gcv_eval(const gcv_data *g, double lambda) {
   return m * num / (tr * tr);
 }
 
-/* The lambda that minimises GCV, and its value. */
-static double gcv_minimise(const gcv_data *g, double *value) {
+/* The squared weighted residual ||(I - H) c'||^2 at lambda. */
+static double residual2(const gcv_data *g, double lambda) {
+  double num = g->rperp2;
+  for (size_t i = 0; i < g->k; i++) {
+    double s2 = g->s[i] * g->s[i], one_minus_f = lambda / (s2 + lambda);
+    num += one_minus_f * one_minus_f * g->beta[i] * g->beta[i];
+  }
+  return num;
+}
+
+/* trace H = n0 + sum f_i and trace H^2 = n0 + sum f_i^2 at lambda. */
+static void traces(const gcv_data *g, double lambda, double *tr, double *tr2) {
+  double n0 = (double)g->m - g->dof0;
+  *tr = n0;
+  *tr2 = n0;
+  for (size_t i = 0; i < g->k; i++) {
+    double f = g->s[i] * g->s[i] / (g->s[i] * g->s[i] + lambda);
+    *tr += f;
+    *tr2 += f * f;
+  }
+}
+
+/* Unbiased predictive risk (Mallows' C_L; Vogel, "Computational Methods
+ * for Inverse Problems", SIAM 2002, section 7.1) with unit noise in the
+ * weighted units: ||(I - H) c'||^2 + 2 tr H - m. */
+static double upre_eval(const gcv_data *g, double lambda) {
+  double tr, tr2;
+  traces(g, lambda, &tr, &tr2);
+  return residual2(g, lambda) + 2.0 * tr - (double)g->m;
+}
+
+/* Expected predictive risk of one pixel with unit noise whose noise-free
+ * responses are c' (a region's mean, whose own noise is far smaller):
+ * ||(I - H) c'||^2 + tr H^2, bias plus the variance the smoother lets
+ * through. */
+static double pixel_risk_eval(const gcv_data *g, double lambda) {
+  double tr, tr2;
+  traces(g, lambda, &tr, &tr2);
+  return residual2(g, lambda) + tr2;
+}
+
+typedef double (*score_fn)(const gcv_data *g, double lambda);
+
+/* The lambda that minimises score over the search range, and its value. */
+static double score_minimise(const gcv_data *g, score_fn score, double *value) {
   double lo = log10(g->s[g->k - 1] * g->s[g->k - 1]) - 6.0;
   double hi = log10(g->s[0] * g->s[0]) + 2.0;
   double step = (hi - lo) / (GCV_GRID - 1), best = INFINITY;
   int at = 0;
   for (int i = 0; i < GCV_GRID; i++) {
-    double v = gcv_eval(g, pow(10.0, lo + step * i));
+    double v = score(g, pow(10.0, lo + step * i));
     if (v < best) {
       best = v;
       at = i;
@@ -88,20 +131,20 @@ static double gcv_minimise(const gcv_data *g, double *value) {
   double a = lo + step * (at > 0 ? at - 1 : 0), b = lo + step * (at < GCV_GRID - 1 ? at + 1 : at);
   const double phi = 0.5 * (sqrt(5.0) - 1.0);
   double x1 = b - phi * (b - a), x2 = a + phi * (b - a);
-  double f1 = gcv_eval(g, pow(10.0, x1)), f2 = gcv_eval(g, pow(10.0, x2));
+  double f1 = score(g, pow(10.0, x1)), f2 = score(g, pow(10.0, x2));
   for (int it = 0; it < 60 && b - a > 1e-6; it++) {
     if (f1 <= f2) {
       b = x2;
       x2 = x1;
       f2 = f1;
       x1 = b - phi * (b - a);
-      f1 = gcv_eval(g, pow(10.0, x1));
+      f1 = score(g, pow(10.0, x1));
     } else {
       a = x1;
       x1 = x2;
       f1 = f2;
       x2 = a + phi * (b - a);
-      f2 = gcv_eval(g, pow(10.0, x2));
+      f2 = score(g, pow(10.0, x2));
     }
   }
   double xm = f1 <= f2 ? x1 : x2, fm = fmin(f1, f2);
@@ -113,13 +156,36 @@ static double gcv_minimise(const gcv_data *g, double *value) {
   return pow(10.0, lo + step * at);
 }
 
-/* Noise weight of an observation (see vr_noise_model). */
-static double noise_weight(vr_noise_model model, double c) {
+/* Morozov's discrepancy principle: the largest lambda whose weighted
+ * residual is no more than tau m, the misfit that noise of unit variance
+ * per weighted observation explains (Morozov 1966; Hansen 1998, section
+ * 7.2).  The residual grows with lambda, so the root is bracketed in
+ * log lambda over the search range and found by bisection.  When even the
+ * smallest lambda misses the target (the data ask for more than the prior
+ * can give) the smallest is taken; when even the largest stays within it
+ * (a straight line explains the data) the largest. */
+static double discrepancy_lambda(const gcv_data *g, double tau) {
+  double target = tau * (double)g->m;
+  double lo = log10(g->s[g->k - 1] * g->s[g->k - 1]) - 6.0;
+  double hi = log10(g->s[0] * g->s[0]) + 2.0;
+  if (residual2(g, pow(10.0, lo)) >= target) return pow(10.0, lo);
+  if (residual2(g, pow(10.0, hi)) <= target) return pow(10.0, hi);
+  for (int it = 0; it < 80 && hi - lo > 1e-9; it++) {
+    double mid = 0.5 * (lo + hi);
+    if (residual2(g, pow(10.0, mid)) <= target) lo = mid;
+    else hi = mid;
+  }
+  return pow(10.0, lo);
+}
+
+/* Noise weight of observation i: 1 / sigma_i when the caller measured the
+ * noise, else from the system's noise model (vr_noise_model). */
+static double noise_weight(vr_noise_model model, const double *sigma, size_t i, double c) {
+  if (sigma) return 1.0 / sigma[i];
   if (model != VR_NOISE_SRGB8) return 1.0;
   double lin = fmin(fmax(c, 0.0), 1.0), v = vr_srgb_encode(lin);
   double slope = v <= 0.04045 ? 1.0 / 12.92 : 2.4 / 1.055 * pow((v + 0.055) / 1.055, 1.4);
-  double sigma = slope / (255.0 * sqrt(12.0));
-  return 1.0 / sigma;
+  return 255.0 * sqrt(12.0) / slope; /* 1 / (step / sqrt 12), step = slope / 255 */
 }
 
 typedef struct reg_work {
@@ -231,12 +297,23 @@ vr_status vr_recover_gcv_solve(const vr_gcv_problem *q, double *r, vr_gcv_result
   if (q->lambda >= 0.0) {
     lambda = q->lambda;
     gcv = kq ? gcv_eval(&g, lambda) : 0.0;
-  } else if (kq > 0 && mu - n0 <= 1) {
+  } else if (kq > 0 && mu - n0 <= 1 && (q->rule == VR_LAMBDA_GCV || q->rule == VR_LAMBDA_AUTO)) {
     lambda = w.sa[kq - 1] * w.sa[kq - 1] * 1e-6;
     gcv = gcv_eval(&g, lambda);
     res->flat = 1;
+  } else if (kq > 0 && q->rule == VR_LAMBDA_DISCREPANCY) {
+    lambda = discrepancy_lambda(&g, q->tau);
+    gcv = gcv_eval(&g, lambda);
+  } else if (kq > 0 && q->rule == VR_LAMBDA_UPRE) {
+    double ignored;
+    lambda = score_minimise(&g, upre_eval, &ignored);
+    gcv = gcv_eval(&g, lambda);
+  } else if (kq > 0 && q->rule == VR_LAMBDA_PIXEL_RISK) {
+    double ignored;
+    lambda = score_minimise(&g, pixel_risk_eval, &ignored);
+    gcv = gcv_eval(&g, lambda);
   } else if (kq > 0) {
-    lambda = gcv_minimise(&g, &gcv);
+    lambda = score_minimise(&g, gcv_eval, &gcv);
   } else {
     /* No direction left for lambda to act on: the fit is the straight line
      * through the data whatever lambda is, and lambda only matters once the
@@ -281,7 +358,8 @@ vr_status vr_recover_gcv_solve(const vr_gcv_problem *q, double *r, vr_gcv_result
 
 /* The unconstrained regularised solution on the mu unclipped rows. */
 static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
-                                 const unsigned char *clipped, size_t mu, double *r,
+                                 const double *sigma, const unsigned char *clipped, size_t mu,
+                                 double *r,
                                  double *lambda_out, vr_recover_info *info, vr_error *err) {
   size_t n = s->n, m = s->m;
   double *au = malloc(mu * n * sizeof *au), *cu = malloc(mu * sizeof *cu);
@@ -293,13 +371,17 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
   size_t k = 0;
   for (size_t i = 0; i < m; i++) {
     if (clipped && clipped[i] != VR_CLIP_NONE) continue;
-    double wt = noise_weight(s->opt.noise, c[i]);
+    double wt = noise_weight(s->opt.noise, sigma, i, c[i]);
     for (size_t j = 0; j < n; j++) au[k * n + j] = wt * s->a[i * n + j];
     cu[k++] = wt * c[i];
   }
   vr_gcv_problem q = {.m = mu, .n = n, .a = au, .c = cu, .lpinv = s->lpinv, .nl = s->nl,
                       .rank_tol = s->opt.rank_tol, .rho = s->opt.gcv_rho,
-                      .lambda = s->opt.lambda, .what = "regularised recovery"};
+                      .lambda = s->opt.lambda, .tau = s->opt.discrepancy_tau,
+                      .rule = s->opt.lambda_rule == VR_LAMBDA_AUTO
+                                  ? (sigma ? VR_LAMBDA_UPRE : VR_LAMBDA_GCV)
+                                  : (int)s->opt.lambda_rule,
+                      .what = "regularised recovery"};
   vr_gcv_result res;
   vr_status st = vr_recover_gcv_solve(&q, r, &res, err);
   free(au);
@@ -312,12 +394,12 @@ static vr_status solve_unbounded(const vr_recovery_system *s, const double *c,
 }
 
 vr_status vr_recover_regularised(const vr_recovery_system *s, const double *c,
-                                 const unsigned char *clipped, double *r, vr_recover_info *info,
-                                 vr_error *err) {
+                                 const double *sigma, const unsigned char *clipped, double *r,
+                                 vr_recover_info *info, vr_error *err) {
   size_t n = s->n, m = s->m, mu = info->used, nc = info->clipped, nv = n + nc;
   double lambda = 1.0;
   if (mu > 0) {
-    vr_status st = solve_unbounded(s, c, clipped, mu, r, &lambda, info, err);
+    vr_status st = solve_unbounded(s, c, sigma, clipped, mu, r, &lambda, info, err);
     if (st != VR_OK) return st;
   } else {
     /* Nothing but inequalities: lambda = 1 only balances them against
@@ -356,7 +438,7 @@ vr_status vr_recover_regularised(const vr_recovery_system *s, const double *c,
   }
   size_t slack = n;
   for (size_t i = 0; i < m; i++) {
-    double wt = noise_weight(s->opt.noise, c[i]), ar = 0.0;
+    double wt = noise_weight(s->opt.noise, sigma, i, c[i]), ar = 0.0;
     for (size_t j = 0; j < n; j++) {
       g[i * nv + j] = wt * s->a[i * n + j];
       ar += s->a[i * n + j] * x[j];
@@ -395,5 +477,33 @@ done:
   free(lo);
   free(hi);
   free(x);
+  return st;
+}
+
+vr_status vr_recover_pixel_lambda(const vr_recovery_system *s, const double *c_mean,
+                                  const double *sigma_pixel, const unsigned char *clipped,
+                                  double *lambda, vr_error *err) {
+  if (!s || !c_mean || !sigma_pixel || !lambda)
+    return vr_error_set(err, VR_E_ARG, "vr_recover_pixel_lambda: NULL argument");
+  size_t n = s->n, m = s->m, mu = 0;
+  for (size_t i = 0; i < m; i++) {
+    if (!isfinite(c_mean[i]) || !(isfinite(sigma_pixel[i]) && sigma_pixel[i] > 0.0))
+      return vr_error_set(err, VR_E_ARG, "vr_recover_pixel_lambda: response %zu or its noise "
+                                         "is not a finite number (noise must be > 0)", i);
+    if (!clipped || clipped[i] == VR_CLIP_NONE) mu++;
+  }
+  if (mu < 2)
+    return vr_error_set(err, VR_E_ARG, "vr_recover_pixel_lambda: %zu unclipped responses, need 2",
+                        mu);
+  double *r = malloc(n * sizeof *r);
+  if (!r) return vr_error_set(err, VR_E_NOMEM, "vr_recover_pixel_lambda: out of memory");
+  vr_recovery_system tmp = *s;
+  tmp.opt.lambda = -1.0;
+  tmp.opt.lambda_rule = (vr_lambda_rule)VR_LAMBDA_PIXEL_RISK;
+  vr_recover_info info = {0};
+  double lam = 0.0;
+  vr_status st = solve_unbounded(&tmp, c_mean, sigma_pixel, clipped, mu, r, &lam, &info, err);
+  free(r);
+  if (st == VR_OK) *lambda = lam;
   return st;
 }

@@ -9,6 +9,8 @@
 #include "vr/manifest.h"
 #include "vr/matdb.h"
 #include "vr/recover.h"
+#include "vr/spectral_exr.h"
+#include <stdio.h>
 
 #define RGB2SPEC_MAX_LIGHTS 16
 
@@ -19,8 +21,16 @@ typedef struct rg_region {
   double c[3 * RGB2SPEC_MAX_LIGHTS];       /* linear responses */
   double rendered[3 * RGB2SPEC_MAX_LIGHTS];
   unsigned char clipped[3 * RGB2SPEC_MAX_LIGHTS];
-  double de[RGB2SPEC_MAX_LIGHTS];           /* CIEDE2000 photo vs re-rendered, per light */
-  double de_mean, de_max;
+  int box[4];                                /* x0, y0, x1, y1 of pixels inside it; x1 = 0: none */
+  double sigma[3 * RGB2SPEC_MAX_LIGHTS];       /* noise of the mean response (linear) */
+  double sigma_pixel[3 * RGB2SPEC_MAX_LIGHTS]; /* noise of one pixel (linear) */
+  long pixels[RGB2SPEC_MAX_LIGHTS];            /* pixels averaged in each photo */
+  /* CIEDE2000 photo vs re-rendered per light; NAN for a light with a
+   * clipped channel (the photo's value there is a bound, not a colour). */
+  double de[RGB2SPEC_MAX_LIGHTS];
+  double de_mean, de_max; /* over the lights without clipped channels (NAN: none) */
+  size_t nclipped_lights; /* lights left out of de_mean for clipping */
+  bool misfit;            /* misses its photos by more than their noise explains */
   double *r;                                 /* recovered spectrum on the grid */
   vr_recover_info info;
   double rmse;                               /* vs the reference, NAN without one */
@@ -30,6 +40,7 @@ typedef struct rg_region {
 
 typedef struct rg_run {
   const vr_capture *cap;
+  const vr_camera *cam;
   size_t nphotos;
   const vr_capture_photo *photo[RGB2SPEC_MAX_LIGHTS];
   vr_recovery_system *sys;
@@ -42,7 +53,20 @@ typedef struct rg_run {
   rg_region *regions;
   const char *heldout_name[8];
   size_t nheldout;
+  size_t nmisfit; /* regions flagged misfit */
+  /* Consistency of each photo with its light: the regions recovered from
+   * the other photos, re-rendered under this light, against this photo
+   * (median CIEDE2000 over the regions; NAN with fewer than 3 photos). */
+  double loo_de[RGB2SPEC_MAX_LIGHTS];
+  bool light_suspect[RGB2SPEC_MAX_LIGHTS];
 } rg_run;
+
+/* Median leave-one-photo-out CIEDE2000 above which a photo's light is
+ * reported as inconsistent with it (rgb2spec_checks.c). */
+#define RG_LOO_LIMIT 6.0
+vr_status rg_check_lights(rg_run *run, vr_error *err);
+/* true when the spectra of the two lights agree in shape (rgb2spec_checks.c). */
+bool rg_same_light(const vr_spectrum *a, const vr_spectrum *b);
 
 /* Outputs (rgb2spec_output.c). */
 void rg_print_text(const rg_run *run);
@@ -55,14 +79,31 @@ vr_status rg_save(vr_matdb *db, const char *prefix, const rg_run *run, vr_error 
 double rg_delta_e(const rg_run *run, size_t light, const double a[3], const double b[3]);
 
 /* Per-pixel recovery into a spectral OpenEXR (rgb2spec_pixels.c). */
+typedef struct rg_pixel_options {
+  int threads;
+  vr_exr_compression compression;
+  bool half; /* 16-bit half bands (default) */
+} rg_pixel_options;
+
 typedef struct rg_pixels {
   long pixels;
-  double clamped_fraction; /* of all spectral samples, clamped into [0, 1] */
-  double rgb_rms;          /* RMS of re-rendered minus photo linear responses, after clamping */
-  double *mean;            /* mean spectrum over the pixels (n), malloc'ed */
+  double lambda;                 /* per-pixel smoothing, weighted units */
+  double sigma[3 * RGB2SPEC_MAX_LIGHTS]; /* per-pixel noise used (linear) */
+  long bounded, clipped, misfit, no_data, fallback; /* pixels with each flag */
+  double chi2_per_channel;       /* mean over pixels of chi2 / unclipped channels */
+  double *mean;                  /* mean spectrum over the pixels (n), malloc'ed */
+  /* Texture against the regions, over the pixels of rect and chart regions:
+   * RMSE of the pixels' spectra against the region's own (patch) recovery
+   * and against its reference (NAN without one). */
+  long *region_pixels;           /* nregions, malloc'ed */
+  double *region_rmse_patch, *region_rmse_ref;
+  double rmse_patch, rmse_ref;   /* over every counted pixel */
+  double seconds;                /* recovery and writing */
 } rg_pixels;
-vr_status rg_per_pixel(const rg_run *run, const vr_image *img, const char *path, int threads,
-                       rg_pixels *res, vr_error *err);
+vr_status rg_per_pixel(const rg_run *run, const vr_image *img, const char *path,
+                       const rg_pixel_options *opt, rg_pixels *res, vr_error *err);
+void rg_pixels_free(rg_pixels *px);
+void rg_print_pixels(FILE *out, const rg_run *run, const rg_pixels *px, const char *path);
 vr_status rg_save_texture(vr_matdb *db, const char *name, const char *path, const rg_run *run,
                           const rg_pixels *px, vr_error *err);
 

@@ -24,7 +24,8 @@ static void flags_text(unsigned f, char *out, size_t size) {
            {VR_RECOVER_FLAG_OUTSIDE_UNIT, "outside-[0,1]"},
            {VR_RECOVER_FLAG_MAX_ITER, "max-iterations"},
            {VR_RECOVER_FLAG_NO_DATA, "no-data"},
-           {VR_RECOVER_FLAG_GCV_FLAT, "gcv-flat"}};
+           {VR_RECOVER_FLAG_GCV_FLAT, "gcv-flat"},
+           {VR_RECOVER_FLAG_MISFIT, "misfit"}};
   size_t used = 0;
   out[0] = '\0';
   for (size_t i = 0; i < sizeof F / sizeof F[0]; i++)
@@ -37,17 +38,30 @@ void rg_print_text(const rg_run *run) {
   printf("# condition number of the stacked system: %.4g\n", run->condition);
   printf("# lights:");
   for (size_t l = 0; l < run->nphotos; l++) printf(" %s", run->photo[l]->light_name);
-  printf("\nregion           dE00 mean  dE00 max  spectral RMSE  held-out dE00 max  flags\n");
+  printf("\n# held-out lights:");
+  for (size_t h = 0; h < run->nheldout; h++) printf(" %s", run->heldout_name[h]);
+  if (!isnan(run->loo_de[0])) {
+    printf("\n# light check (median dE00 of each photo predicted from the others, limit %.0f):",
+           RG_LOO_LIMIT);
+    for (size_t l = 0; l < run->nphotos; l++)
+      printf(" %s %.2f%s", run->photo[l]->light_name, run->loo_de[l],
+             run->light_suspect[l] ? " (SUSPECT)" : "");
+  }
+  printf("\n# dE00 against the photos over lights without clipped channels; [k] = k lights left "
+         "out for clipping\n");
+  printf("region           dE00 mean  dE00 max  spectral RMSE  held-out dE00 max  flags\n");
   for (size_t i = 0; i < run->nregions; i++) {
     const rg_region *g = &run->regions[i];
     char f[160];
     flags_text(g->info.flags, f, sizeof f);
     double hmax = 0;
     for (size_t h = 0; h < g->nheldout; h++) hmax = fmax(hmax, g->heldout_de[h]);
+    char clipnote[32] = "";
+    if (g->nclipped_lights) snprintf(clipnote, sizeof clipnote, " [%zu]", g->nclipped_lights);
     printf("%-16s %9.4f %9.4f ", g->def->name, g->de_mean, g->de_max);
     if (isnan(g->rmse)) printf("%14s %18s", "-", "-");
     else printf("%14.4f %18.3f", g->rmse, hmax);
-    printf("  %s\n", f);
+    printf("  %s%s\n", f, clipnote);
   }
 }
 
@@ -76,6 +90,10 @@ void rg_print_json(const rg_run *run) {
     if (h) printf(", ");
     vr_json_string(stdout, run->heldout_name[h]);
   }
+  printf("], \"light_check_deltaE00\": ");
+  json_array(run->loo_de, run->nphotos);
+  printf(", \"light_suspect\": [");
+  for (size_t l = 0; l < run->nphotos; l++) printf("%s%s", l ? ", " : "", run->light_suspect[l] ? "true" : "false");
   printf("], \"regions\": [");
   for (size_t i = 0; i < run->nregions; i++) {
     const rg_region *g = &run->regions[i];
@@ -95,10 +113,20 @@ void rg_print_json(const rg_run *run) {
     vr_json_string(stdout, f);
     printf(", \"residual\": ");
     vr_json_number(stdout, g->info.residual);
+    printf(", \"chi2\": ");
+    vr_json_number(stdout, g->info.chi2);
+    printf(", \"chi2_limit\": ");
+    vr_json_number(stdout, g->info.chi2_limit);
+    printf(", \"lambda\": ");
+    vr_json_number(stdout, g->info.lambda);
+    printf(", \"misfit\": %s, \"lights_left_out_for_clipping\": %zu", g->misfit ? "true" : "false",
+           g->nclipped_lights);
     printf(", \"per_light\": [");
     for (size_t l = 0; l < run->nphotos; l++) {
       printf("%s{\"photo_rgb\": ", l ? ", " : "");
       json_array(&g->c[3 * l], 3);
+      printf(", \"noise_rgb\": ");
+      json_array(&g->sigma[3 * l], 3);
       printf(", \"rendered_rgb\": ");
       json_array(&g->rendered[3 * l], 3);
       printf(", \"clipped\": [%d, %d, %d], \"deltaE00\": ", g->clipped[3 * l], g->clipped[3 * l + 1],
@@ -181,14 +209,17 @@ vr_status rg_write_report(const char *path, const rg_run *run, vr_error *err) {
     const rg_region *g = &run->regions[i];
     for (size_t l = 0; l < run->nphotos; l++) {
       int a[3], b[3];
+      char de_text[32];
+      if (isnan(g->de[l])) snprintf(de_text, sizeof de_text, "(clipped)");
+      else snprintf(de_text, sizeof de_text, "%.4f", g->de[l]);
       display_rgb(run, l, &g->c[3 * l], a);
       display_rgb(run, l, &g->rendered[3 * l], b);
       fprintf(o, "<tr><td>%s</td><td>%s</td><td>%.4f %.4f %.4f</td><td>%.4f %.4f %.4f</td>"
                  "<td><span class=sw style=\"background:rgb(%d,%d,%d)\"></span><span class=sw "
-                 "style=\"background:rgb(%d,%d,%d)\"></span></td><td>%.4f</td><td>%s</td></tr>\n",
+                 "style=\"background:rgb(%d,%d,%d)\"></span></td><td>%s</td><td>%s</td></tr>\n",
               g->def->name, run->photo[l]->light_name, g->c[3 * l], g->c[3 * l + 1], g->c[3 * l + 2],
               g->rendered[3 * l], g->rendered[3 * l + 1], g->rendered[3 * l + 2], a[0], a[1], a[2],
-              b[0], b[1], b[2], g->de[l],
+              b[0], b[1], b[2], de_text,
               g->clipped[3 * l] || g->clipped[3 * l + 1] || g->clipped[3 * l + 2] ? "yes" : "");
     }
   }
@@ -255,7 +286,8 @@ vr_status rg_save(vr_matdb *db, const char *prefix, const rg_run *run, vr_error 
     if (!st) st = vr_material_add_property(m, "condition_number", NULL, run->condition, NULL, err);
     if (!st) st = vr_material_add_property(m, "deltaE00_mean", NULL, g->de_mean, NULL, err);
     if (!st) st = vr_material_set_text(&m->prov.source_path, run->cap->path, err);
-    if (!st) st = vr_sha256_file(run->cap->path, m->prov.sha256, err);
+    /* The hash of the manifest bytes as read: also right for a pipe. */
+    if (!st) memcpy(m->prov.sha256, run->cap->sha256, sizeof m->prov.sha256);
     if (!st) st = vr_material_set_text(&m->prov.tool, "vr-rgb2spec", err);
     if (!st) st = vr_material_set_text(&m->prov.tool_version, vr_version(), err);
     if (!st) st = vr_material_set_text(&m->prov.model, model, err);

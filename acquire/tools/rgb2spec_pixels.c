@@ -1,202 +1,347 @@
 /* vr-rgb2spec --per-pixel: a spectral texture from the photos, one
  * reflectance spectrum per pixel, written as a spectral OpenEXR in the
  * layout of Fichet, Pacanowski and Wilkie (JCGT 2021; reflective channels
- * "T.<nm>nm") with an sRGB-linear preview under D65, and, with --texture
+ * "T.<nm>nm") with an sRGB-linear preview under D65 and a "flags" channel
+ * (VR_PIXEL_* bits: clipped, bounded, misfit, ...), and, with --texture
  * NAME, referenced from the material database.
  *
- * Every pixel goes through the same linear map: the Matrix-R fundamental
- * metamer r = P c of its stacked linear responses c (P = A^+, computed once
- * by vr_recovery_matrix), then clamped into [0, 1] so that the texture is
- * physically possible; the fraction of samples clamped is reported, and so
- * is the RGB round trip after clamping, which is what the clamp costs.
- * The per-region methods (bounded, regularised) solve a problem per
- * region and are not used here: one matrix product per pixel is what makes
- * 12-megapixel photos practical (bench_rgb2spec).
+ * Every pixel gets the regions' prior and bounds (vr/recover_pixel.h): the
+ * regularised estimate through a precomputed operator, the bounded
+ * correction only where it leaves [0, 1].  Its weights are the per-pixel
+ * noise measured in the regions (median over the regions of each channel's
+ * pixel scatter and code step), its lambda the median over the regions of
+ * the one that minimises a single pixel's expected predictive risk
+ * (vr_recover_pixel_lambda).
  *
- * Decoding: integer photos go through a table of their decoded values
- * (manifest encoding or the camera's stored tone curve, vr_capture_decode),
- * float photos through vr_capture_decode directly. */
+ * The pixels are recovered chunk by chunk inside the EXR writer's workers
+ * (vr_spectral_exr_write_rows), so recovery and compression share the
+ * threads and the texture is never held whole in memory.
+ *
+ * Decoding: integer photos go through tables of their decoded values and
+ * clip marks (manifest encoding or the camera's stored tone curve,
+ * vr_capture_decode), float photos through vr_capture_decode directly. */
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "rgb2spec.h"
 #include "vr/camera.h"
 #include "vr/colour.h"
 #include "vr/file.h"
+#include "vr/recover_pixel.h"
 #include "vr/sha256.h"
-#include "vr/spectral_exr.h"
 #include "vr/version.h"
 
-typedef struct job {
+typedef struct tstats {
+  vr_pixel_workspace *ws;
+  long pixels, bounded, clipped, misfit, no_data, fallback;
+  double chi2_per_channel;
+  double *sum;        /* n */
+  long *rpix;         /* nregions */
+  double *rse_patch, *rse_ref; /* nregions: sums of squared differences */
+} tstats;
+
+typedef struct ctx {
   const rg_run *run;
-  const vr_image *img;        /* nphotos */
-  float *lut[RGB2SPEC_MAX_LIGHTS][3]; /* decoded values of integer photos, or NULL */
+  const vr_image *img;
+  size_t L, m, n;
+  int width;
+  float *lut[RGB2SPEC_MAX_LIGHTS][3];         /* integer photos: decoded value per code */
+  unsigned char *clip[RGB2SPEC_MAX_LIGHTS];   /* integer photos: clip mark per code */
   int levels[RGB2SPEC_MAX_LIGHTS];
-  const double *P;            /* n x 3L */
-  const double *A;            /* 3L x n */
-  const double *preview;      /* 3 x n: sRGB-linear responses under D65 */
-  vr_spectral_image *out;
-  vr_image *rgb;
-  int y0, y1;
-  /* results of this slice */
-  double clamped, samples, rt_se, rt_n;
-  double *sum;                /* n */
-} job;
+  double **ref;                               /* nregions: reference on the grid or NULL */
+  double **patch;                             /* nregions: the region's spectrum, in [0, 1] */
+  tstats *ts;
+} ctx;
 
-static double decode(const job *j, size_t l, int ch, float v) {
-  if (j->lut[l][ch]) {
-    long k = lrint((double)v * (j->levels[l] - 1));
-    if (k < 0) k = 0;
-    if (k >= j->levels[l]) k = j->levels[l] - 1;
-    return j->lut[l][ch][k];
-  }
-  const rg_run *run = j->run;
-  return vr_capture_decode(run->cap, run->photo[l], ch, v, false);
+static float decode_float(const ctx *x, size_t l, int ch, float v, unsigned char *mark) {
+  const vr_capture_photo *p = x->run->photo[l];
+  *mark = v >= p->clip ? VR_CLIP_HIGH : VR_CLIP_NONE;
+  return (float)vr_capture_decode(x->run->cap, p, ch, v, false);
 }
 
-static void *work(void *arg) {
-  job *j = arg;
-  const rg_run *run = j->run;
-  size_t n = run->n, m = 3 * run->nphotos;
-  int W = j->img[0].width;
-  double c[3 * RGB2SPEC_MAX_LIGHTS], r[1024];
-  for (int y = j->y0; y < j->y1; y++)
-    for (int x = 0; x < W; x++) {
-      size_t px = (size_t)y * (size_t)W + (size_t)x;
-      for (size_t l = 0; l < run->nphotos; l++)
-        for (int ch = 0; ch < 3; ch++) c[3 * l + ch] = decode(j, l, ch, j->img[l].data[px * 3 + (size_t)ch]);
-      for (size_t i = 0; i < n; i++) {
-        double v = 0;
-        for (size_t k = 0; k < m; k++) v += j->P[i * m + k] * c[k];
-        if (v < 0 || v > 1) {
-          j->clamped++;
-          v = v < 0 ? 0 : 1;
+static vr_status fill_rows(void *user, int thread, int y0, int y1, float *spectra, float *rgb,
+                           uint32_t *flags, vr_error *err) {
+  (void)err;
+  ctx *x = user;
+  tstats *t = &x->ts[thread];
+  size_t n = x->n, m = x->m, W = (size_t)x->width;
+  float c[3 * RGB2SPEC_MAX_LIGHTS];
+  unsigned char marks[3 * RGB2SPEC_MAX_LIGHTS];
+  for (int y = y0; y < y1; y++)
+    for (size_t px = 0; px < W; px++) {
+      size_t at = (size_t)y * W + px, out = (size_t)(y - y0) * W + px;
+      bool any_clip = false;
+      for (size_t l = 0; l < x->L; l++) {
+        const float *v = x->img[l].data + at * 3;
+        for (int ch = 0; ch < 3; ch++) {
+          size_t i = 3 * l + (size_t)ch;
+          if (x->lut[l][0]) {
+            /* v = code / (levels - 1) exactly as read: round back to the code. */
+            float f = v[ch] * (float)(x->levels[l] - 1) + 0.5f;
+            long code = f <= 0.0f ? 0 : (long)f;
+            code = code >= x->levels[l] ? x->levels[l] - 1 : code;
+            c[i] = x->lut[l][ch][code];
+            marks[i] = x->clip[l][code];
+          } else {
+            c[i] = decode_float(x, l, ch, v[ch], &marks[i]);
+          }
+          any_clip |= marks[i] != VR_CLIP_NONE;
         }
-        r[i] = v;
-        j->sum[i] += v;
-        j->out->data[px * n + i] = (float)v;
       }
-      j->samples += (double)n;
-      for (size_t k = 0; k < m; k++) {
-        double v = 0;
-        for (size_t i = 0; i < n; i++) v += j->A[k * n + i] * r[i];
-        j->rt_se += (v - c[k]) * (v - c[k]);
-      }
-      j->rt_n += (double)m;
-      for (int ch = 0; ch < 3; ch++) {
-        double v = 0;
-        for (size_t i = 0; i < n; i++) v += j->preview[(size_t)ch * n + i] * r[i];
-        j->rgb->data[px * 3 + (size_t)ch] = (float)v;
-      }
+      float chi2;
+      float *r = spectra + out * n;
+      unsigned f = vr_pixel_recover(t->ws, c, any_clip ? marks : NULL, r, rgb + out * 3, &chi2);
+      flags[out] = f;
+      t->pixels++;
+      t->bounded += (f & VR_PIXEL_BOUNDED) != 0;
+      t->clipped += (f & (VR_PIXEL_CLIPPED_HIGH | VR_PIXEL_CLIPPED_LOW)) != 0;
+      t->misfit += (f & VR_PIXEL_MISFIT) != 0;
+      t->no_data += (f & VR_PIXEL_NO_DATA) != 0;
+      t->fallback += (f & VR_PIXEL_FALLBACK) != 0;
+      size_t used = m;
+      for (size_t i = 0; any_clip && i < m; i++) used -= marks[i] != VR_CLIP_NONE;
+      if (used) t->chi2_per_channel += chi2 / (double)used;
+      for (size_t j = 0; j < n; j++) t->sum[j] += r[j];
     }
-  return NULL;
+  /* The pixels of rect and chart regions against the regions' spectra. */
+  const rg_run *run = x->run;
+  for (size_t g = 0; g < run->nregions; g++) {
+    const rg_region *rg = &run->regions[g];
+    if (rg->box[2] <= rg->box[0]) continue;
+    int ya = rg->box[1] > y0 ? rg->box[1] : y0, yb = rg->box[3] < y1 ? rg->box[3] : y1;
+    int xa = rg->box[0] > 0 ? rg->box[0] : 0, xb = rg->box[2] < x->width ? rg->box[2] : x->width;
+    for (int y = ya; y < yb; y++)
+      for (int px = xa; px < xb; px++) {
+        const float *r = spectra + ((size_t)(y - y0) * W + (size_t)px) * n;
+        double e2 = 0.0, f2 = 0.0;
+        for (size_t j = 0; j < n; j++) {
+          double d = r[j] - x->patch[g][j];
+          e2 += d * d;
+          if (x->ref[g]) f2 += (r[j] - x->ref[g][j]) * (r[j] - x->ref[g][j]);
+        }
+        t->rpix[g]++;
+        t->rse_patch[g] += e2 / (double)n;
+        t->rse_ref[g] += f2 / (double)n;
+      }
+  }
+  return VR_OK;
 }
 
-vr_status rg_per_pixel(const rg_run *run, const vr_image *img, const char *path, int threads,
-                       rg_pixels *res, vr_error *err) {
-  size_t n = run->n, m = 3 * run->nphotos;
+static int cmp_double(const void *a, const void *b) {
+  double p = *(const double *)a, q = *(const double *)b;
+  return (p > q) - (p < q);
+}
+
+static double median(double *v, size_t k) {
+  qsort(v, k, sizeof *v, cmp_double);
+  return k % 2 ? v[k / 2] : 0.5 * (v[k / 2 - 1] + v[k / 2]);
+}
+
+/* Per-pixel noise and lambda from the regions (see the file comment). */
+static vr_status choose_noise(const rg_run *run, rg_pixels *res, vr_error *err) {
+  size_t m = 3 * run->nphotos, R = run->nregions, k = 0;
+  double *v = malloc(R * sizeof *v);
+  if (!v) return vr_error_set(err, VR_E_NOMEM, "--per-pixel: out of memory");
+  for (size_t i = 0; i < m; i++) {
+    k = 0;
+    for (size_t g = 0; g < R; g++)
+      if (run->regions[g].clipped[i] == VR_CLIP_NONE) v[k++] = run->regions[g].sigma_pixel[i];
+    res->sigma[i] = k ? median(v, k) : 1e-3;
+  }
+  k = 0;
+  for (size_t g = 0; g < R; g++) {
+    double lam;
+    vr_error e = {0};
+    if (vr_recover_pixel_lambda(run->sys, run->regions[g].c, res->sigma, run->regions[g].clipped,
+                                &lam, &e) == VR_OK)
+      v[k++] = lam;
+  }
+  if (!k) {
+    free(v);
+    return vr_error_set(err, VR_E_ARG, "--per-pixel: no region has two unclipped channels to "
+                                       "choose the smoothing from");
+  }
+  res->lambda = median(v, k);
+  free(v);
+  return VR_OK;
+}
+
+static double now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+vr_status rg_per_pixel(const rg_run *run, const vr_image *img, const char *path,
+                       const rg_pixel_options *opt, rg_pixels *res, vr_error *err) {
+  size_t n = run->n, m = 3 * run->nphotos, R = run->nregions;
+  int threads = opt->threads < 1 ? 1 : opt->threads;
   memset(res, 0, sizeof *res);
-  if (n > 1024) return vr_error_set(err, VR_E_ARG, "--per-pixel: at most 1024 grid samples");
-  if (threads < 1) threads = 1;
-  int H = img[0].height, W = img[0].width;
-  double *P = malloc(n * m * sizeof *P), *preview = malloc(3 * n * sizeof *preview);
-  job *jobs = calloc((size_t)threads, sizeof *jobs);
-  pthread_t *tid = calloc((size_t)threads, sizeof *tid);
-  vr_spectral_image out = {0};
-  vr_image rgb = {0};
+  double t0 = now();
+  ctx x = {.run = run, .img = img, .L = run->nphotos, .m = m, .n = n, .width = img[0].width};
+  vr_pixel_recovery *pr = NULL;
   vr_camera *srgb = NULL;
   vr_spectrum *d65 = NULL;
-  float *luts[RGB2SPEC_MAX_LIGHTS][3] = {{0}};
+  double *preview = malloc(3 * n * sizeof *preview);
+  x.ts = calloc((size_t)threads, sizeof *x.ts);
+  x.ref = calloc(R, sizeof *x.ref);
+  x.patch = calloc(R, sizeof *x.patch);
   vr_status st = VR_OK;
-  if (!P || !preview || !jobs || !tid) {
+  if (!preview || !x.ts || !x.ref || !x.patch) {
     st = vr_error_set(err, VR_E_NOMEM, "--per-pixel: out of memory");
     goto done;
   }
-  if ((st = vr_recovery_matrix(run->sys, P))) goto done;
+  if ((st = choose_noise(run, res, err))) goto done;
   if (!(srgb = vr_camera_create_srgb(n, run->grid, err)) || !(d65 = vr_illuminant("D65", err))) {
     st = err ? err->status : VR_E_ARG;
     goto done;
   }
   if ((st = vr_camera_response(srgb, d65, preview, err))) goto done;
-  if ((st = vr_spectral_image_alloc(&out, W, H, n, run->grid, VR_SPECTRAL_REFLECTIVE, err))) goto done;
-  if ((st = vr_image_alloc(&rgb, W, H, err))) goto done;
-  /* Decoding tables for integer photos (8 or 16 bit). */
-  int levels[RGB2SPEC_MAX_LIGHTS] = {0};
-  for (size_t l = 0; l < run->nphotos; l++) {
-    if (img[l].bit_depth != 8 && img[l].bit_depth != 16) continue;
-    levels[l] = img[l].bit_depth == 8 ? 256 : 65536;
-    bool srgb_enc = run->photo[l]->encoding ? run->photo[l]->encoding == 1 : true;
-    for (int ch = 0; ch < 3; ch++) {
-      if (!(luts[l][ch] = malloc((size_t)levels[l] * sizeof(float)))) {
-        st = vr_error_set(err, VR_E_NOMEM, "--per-pixel: out of memory");
-        goto done;
-      }
-      for (int k = 0; k < levels[l]; k++)
-        luts[l][ch][k] = (float)vr_capture_decode(run->cap, run->photo[l], ch,
-                                                  (double)k / (levels[l] - 1), srgb_enc);
-    }
-  }
-  for (int t = 0; t < threads; t++) {
-    job *j = &jobs[t];
-    j->run = run;
-    j->img = img;
-    memcpy(j->lut, luts, sizeof luts);
-    memcpy(j->levels, levels, sizeof levels);
-    j->P = P;
-    j->A = vr_recovery_system_matrix(run->sys);
-    j->preview = preview;
-    j->out = &out;
-    j->rgb = &rgb;
-    j->y0 = (int)((long)H * t / threads);
-    j->y1 = (int)((long)H * (t + 1) / threads);
-    if (!(j->sum = calloc(n, sizeof *j->sum))) {
-      st = vr_error_set(err, VR_E_NOMEM, "--per-pixel: out of memory");
-      goto done;
-    }
-  }
-  int started = 0;
-  for (int t = 1; t < threads; t++) {
-    if (pthread_create(&tid[t], NULL, work, &jobs[t])) break;
-    started = t;
-  }
-  work(&jobs[0]);
-  for (int t = 1; t <= started; t++) pthread_join(tid[t], NULL);
-  for (int t = started + 1; t < threads; t++) work(&jobs[t]);
-  res->mean = calloc(n, sizeof *res->mean);
-  if (!res->mean) {
-    st = vr_error_set(err, VR_E_NOMEM, "--per-pixel: out of memory");
+  if (!(pr = vr_pixel_recovery_create(run->sys, res->sigma, res->lambda, preview, err))) {
+    st = err ? err->status : VR_E_NOMEM;
     goto done;
   }
-  double clamped = 0, samples = 0, se = 0, cnt = 0;
-  for (int t = 0; t < threads; t++) {
-    clamped += jobs[t].clamped;
-    samples += jobs[t].samples;
-    se += jobs[t].rt_se;
-    cnt += jobs[t].rt_n;
-    for (size_t i = 0; i < n; i++) res->mean[i] += jobs[t].sum[i];
+  for (size_t l = 0; l < run->nphotos; l++) {
+    if (img[l].bit_depth != 8 && img[l].bit_depth != 16) continue;
+    const vr_capture_photo *p = run->photo[l];
+    int levels = x.levels[l] = img[l].bit_depth == 8 ? 256 : 65536;
+    bool srgb_enc = p->encoding ? p->encoding == 1 : true;
+    if (!(x.clip[l] = malloc((size_t)levels))) goto nomem;
+    for (int k = 0; k < levels; k++) {
+      double v = (double)k / (levels - 1);
+      x.clip[l][k] = v >= p->clip ? VR_CLIP_HIGH : k == 0 ? VR_CLIP_LOW : VR_CLIP_NONE;
+    }
+    for (int ch = 0; ch < 3; ch++) {
+      if (!(x.lut[l][ch] = malloc((size_t)levels * sizeof(float)))) goto nomem;
+      for (int k = 0; k < levels; k++)
+        x.lut[l][ch][k] = (float)vr_capture_decode(run->cap, p, ch, (double)k / (levels - 1), srgb_enc);
+    }
   }
-  for (size_t i = 0; i < n; i++) res->mean[i] /= (double)W * H;
-  res->pixels = (long)W * H;
-  res->clamped_fraction = samples > 0 ? clamped / samples : 0;
-  res->rgb_rms = cnt > 0 ? sqrt(se / cnt) : 0;
-  st = vr_spectral_exr_write(path, &out, &rgb, NULL, err);
+  for (size_t g = 0; g < R; g++) {
+    if (!(x.patch[g] = malloc(n * sizeof(double)))) goto nomem;
+    for (size_t j = 0; j < n; j++) x.patch[g][j] = fmin(fmax(run->regions[g].r[j], 0.0), 1.0);
+    const vr_spectrum *ref = run->regions[g].def->reference;
+    if (!ref) continue;
+    if (!(x.ref[g] = malloc(n * sizeof(double)))) goto nomem;
+    for (size_t j = 0; j < n; j++) x.ref[g][j] = vr_spectrum_eval(ref, run->grid[j], VR_INTERP_LINEAR);
+  }
+  for (int t = 0; t < threads; t++) {
+    tstats *ts = &x.ts[t];
+    if (!(ts->ws = vr_pixel_workspace_create(pr, err))) {
+      st = err ? err->status : VR_E_NOMEM;
+      goto done;
+    }
+    ts->sum = calloc(n, sizeof *ts->sum);
+    ts->rpix = calloc(R, sizeof *ts->rpix);
+    ts->rse_patch = calloc(R, sizeof *ts->rse_patch);
+    ts->rse_ref = calloc(R, sizeof *ts->rse_ref);
+    if (!ts->sum || !ts->rpix || !ts->rse_patch || !ts->rse_ref) goto nomem;
+  }
+  static const char *const attr_names[] = {"flagsMeaning", "recoveryMethod"};
+  char method[256];
+  snprintf(method, sizeof method, "vr-rgb2spec per pixel: regularised (second differences, "
+           "lambda %.4g on 1/sigma-weighted responses), bounded to [0,1], %zu lights", res->lambda,
+           run->nphotos);
+  const char *attr_values[] = {"bit 0: a channel clipped high; 1: a channel at code 0; 2: the "
+                               "linear estimate left [0,1] (bounded correction); 3: misfit beyond "
+                               "the noise (chi2 > 99.9 % point); 4: no data; 5: general solver",
+                               method};
+  vr_spectral_exr_layout lay = {.width = img[0].width, .height = img[0].height, .nbands = n,
+                                .wavelengths_nm = run->grid, .kind = VR_SPECTRAL_REFLECTIVE,
+                                .half = opt->half, .rgb = 1, .flags_channel = "flags",
+                                .nattrs = 2, .attr_names = attr_names, .attr_values = attr_values,
+                                .compression = opt->compression, .threads = threads};
+  if ((st = vr_spectral_exr_write_rows(path, &lay, fill_rows, &x, err))) goto done;
+  if (!(res->mean = calloc(n, sizeof *res->mean)) || !(res->region_pixels = calloc(R, sizeof(long))) ||
+      !(res->region_rmse_patch = calloc(R, sizeof(double))) ||
+      !(res->region_rmse_ref = calloc(R, sizeof(double))))
+    goto nomem;
+  double sp = 0.0, sr = 0.0;
+  long cp = 0, cr = 0;
+  for (int t = 0; t < threads; t++) {
+    tstats *ts = &x.ts[t];
+    res->pixels += ts->pixels;
+    res->bounded += ts->bounded;
+    res->clipped += ts->clipped;
+    res->misfit += ts->misfit;
+    res->no_data += ts->no_data;
+    res->fallback += ts->fallback;
+    res->chi2_per_channel += ts->chi2_per_channel;
+    for (size_t j = 0; j < n; j++) res->mean[j] += ts->sum[j];
+    for (size_t g = 0; g < R; g++) {
+      res->region_pixels[g] += ts->rpix[g];
+      res->region_rmse_patch[g] += ts->rse_patch[g];
+      res->region_rmse_ref[g] += ts->rse_ref[g];
+    }
+  }
+  for (size_t j = 0; j < n; j++) res->mean[j] /= (double)res->pixels;
+  res->chi2_per_channel /= (double)res->pixels;
+  for (size_t g = 0; g < R; g++) {
+    long k = res->region_pixels[g];
+    sp += res->region_rmse_patch[g];
+    cp += k;
+    if (x.ref[g]) sr += res->region_rmse_ref[g], cr += k;
+    res->region_rmse_patch[g] = k ? sqrt(res->region_rmse_patch[g] / (double)k) : NAN;
+    res->region_rmse_ref[g] = k && x.ref[g] ? sqrt(res->region_rmse_ref[g] / (double)k) : NAN;
+  }
+  res->rmse_patch = cp ? sqrt(sp / (double)cp) : NAN;
+  res->rmse_ref = cr ? sqrt(sr / (double)cr) : NAN;
+  res->seconds = now() - t0;
+  goto done;
+nomem:
+  st = vr_error_set(err, VR_E_NOMEM, "--per-pixel: out of memory");
 done:
-  for (int t = 0; jobs && t < threads; t++) free(jobs[t].sum);
-  for (size_t l = 0; l < RGB2SPEC_MAX_LIGHTS; l++)
-    for (int ch = 0; ch < 3; ch++) free(luts[l][ch]);
-  free(jobs);
-  free(tid);
-  free(P);
-  free(preview);
-  vr_spectral_image_free(&out);
-  vr_image_free(&rgb);
+  for (int t = 0; x.ts && t < threads; t++) {
+    vr_pixel_workspace_destroy(x.ts[t].ws);
+    free(x.ts[t].sum);
+    free(x.ts[t].rpix);
+    free(x.ts[t].rse_patch);
+    free(x.ts[t].rse_ref);
+  }
+  free(x.ts);
+  for (size_t g = 0; x.ref && g < R; g++) free(x.ref[g]);
+  for (size_t g = 0; x.patch && g < R; g++) free(x.patch[g]);
+  free(x.ref);
+  free(x.patch);
+  for (size_t l = 0; l < RGB2SPEC_MAX_LIGHTS; l++) {
+    free(x.clip[l]);
+    for (int ch = 0; ch < 3; ch++) free(x.lut[l][ch]);
+  }
+  vr_pixel_recovery_destroy(pr);
   vr_camera_destroy(srgb);
   vr_spectrum_destroy(d65);
-  if (st) free(res->mean), res->mean = NULL;
+  free(preview);
+  if (st) rg_pixels_free(res);
   return st;
+}
+
+void rg_pixels_free(rg_pixels *px) {
+  free(px->mean);
+  free(px->region_pixels);
+  free(px->region_rmse_patch);
+  free(px->region_rmse_ref);
+  px->mean = NULL;
+  px->region_pixels = NULL;
+  px->region_rmse_patch = px->region_rmse_ref = NULL;
+}
+
+void rg_print_pixels(FILE *out, const rg_run *run, const rg_pixels *px, const char *path) {
+  double P = (double)px->pixels;
+  fprintf(out, "per-pixel: %ld pixels into %s (%zu bands, regularised, lambda %.3g) in %.2f s "
+               "(%.2f Mpixel/s)\n", px->pixels, path, run->n, px->lambda, px->seconds,
+          1e-6 * P / px->seconds);
+  fprintf(out, "per-pixel: %.2f %% bounded to [0, 1], %.2f %% with clipped channels, %.2f %% misfit "
+               "beyond the noise, %.2f %% no data, %ld through the general solver; mean chi2 per "
+               "channel %.3g\n", 100 * px->bounded / P, 100 * px->clipped / P, 100 * px->misfit / P,
+          100 * px->no_data / P, px->fallback, px->chi2_per_channel);
+  if (!isnan(px->rmse_patch))
+    fprintf(out, "per-pixel: region pixels against the patch recovery RMSE %.4f%s", px->rmse_patch,
+            isnan(px->rmse_ref) ? "\n" : "");
+  if (!isnan(px->rmse_patch) && !isnan(px->rmse_ref))
+    fprintf(out, ", against the references RMSE %.4f\n", px->rmse_ref);
 }
 
 vr_status rg_save_texture(vr_matdb *db, const char *name, const char *path, const rg_run *run,
@@ -220,8 +365,9 @@ vr_status rg_save_texture(vr_matdb *db, const char *name, const char *path, cons
   }
   vr_spectrum *mean = vr_spectrum_create(run->n, run->grid, px->mean, err);
   char model[160];
-  snprintf(model, sizeof model, "Matrix R per pixel, clamped to [0,1] (%.3g %% of samples), %zu lights",
-           100 * px->clamped_fraction, run->nphotos);
+  snprintf(model, sizeof model, "regularised per pixel (lambda %.3g), bounded to [0,1] "
+           "(%.3g %% of pixels), %zu lights", px->lambda, 100.0 * (double)px->bounded /
+           (double)px->pixels, run->nphotos);
   if (!mean) st = err->status;
   if (!st) st = vr_material_add_spectrum(m, "value", mean, err);
   if (!st) st = vr_material_add_property(m, "texture", abs, NAN, NULL, err);
@@ -234,8 +380,10 @@ vr_status rg_save_texture(vr_matdb *db, const char *name, const char *path, cons
   if (!st) st = vr_material_set_text(&m->prov.tool, "vr-rgb2spec --per-pixel", err);
   if (!st) st = vr_material_set_text(&m->prov.tool_version, vr_version(), err);
   if (!st) st = vr_material_set_text(&m->prov.model, model, err);
+  if (!st && isfinite(px->rmse_patch))
+    st = vr_material_add_property(m, "texture_rmse_vs_patches", NULL, px->rmse_patch, NULL, err);
   if (!st) {
-    m->prov.residual = px->rgb_rms;
+    m->prov.residual = px->chi2_per_channel;
     st = vr_matdb_save(db, m, err);
   }
   free(abs);

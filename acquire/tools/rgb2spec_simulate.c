@@ -63,9 +63,8 @@ int rg_cmd_simulate(vr_args *a) {
   if (!rng) goto out;
   gsl_rng_set(rng, (unsigned long)seed);
   /* The database only when the manifest names db: materials. */
-  if (vr_matdb_named_in(manifest) && vr_matdb_open(vr_args_get(a, "db"), VR_MATDB_READONLY, &db, &err))
+  if (vr_capture_read_db(manifest, vr_args_get(a, "db"), VR_MATDB_READONLY, false, &db, &cap, &err))
     goto out;
-  if (vr_capture_read(manifest, db, &cap, &err)) goto out;
   if (cap->nphotos > RGB2SPEC_MAX_LIGHTS) {
     vr_error_set(&err, VR_E_ARG, "at most %d photos", RGB2SPEC_MAX_LIGHTS);
     goto out;
@@ -126,7 +125,8 @@ int rg_cmd_simulate(vr_args *a) {
       v = fmin(fmax(v, 0), 1);
       img.data[k] = (float)vr_capture_encode(cap, p, (int)(k % 3), v, srgb);
     }
-    if (vr_image_write(p->path, &img, 8, &err)) goto out;
+    /* Linear photos as 16-bit files, as a raw converter writes them. */
+    if (vr_image_write(p->path, &img, srgb ? 8 : 16, &err)) goto out;
     fprintf(stderr, "vr-rgb2spec: wrote %s (%s)\n", p->path, p->light_name);
   }
   rc = 0;

@@ -4,8 +4,10 @@
  * their spectra; rgb2spec_output.c prints and saves, rgb2spec_simulate.c
  * makes synthetic captures. */
 #include "rgb2spec.h"
+#include "rgb2spec_inputs.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,14 +18,18 @@
 
 static const vr_option OPTIONS[] = {
     {"manifest", 'm', "FILE", "capture manifest (default: manifest.txt beside the first photo)"},
-    {"method", 0, "NAME", "matrix-r, bounded, regularised or auto (default: regularised for 8-bit photos, else bounded)"},
+    {"method", 0, "NAME", "matrix-r, bounded, regularised or auto (default: regularised, weighted by the measured noise)"},
+    {"lambda-rule", 0, "NAME", "regularised smoothing from the noise: upre (default), discrepancy or gcv"},
+    {"force", 0, NULL, "save even when a region misses its photos or a light disagrees with its photo"},
     {"save-prefix", 's', "P", "save each region's spectrum as material P<region>"},
     {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
     {"report", 'r', "FILE.html", "HTML report with plots and a swatch image"},
     {"json", 'j', NULL, "JSON output"},
-    {"per-pixel", 0, "FILE.exr", "also recover every pixel (Matrix R, clamped to [0, 1]) into a spectral EXR"},
+    {"per-pixel", 0, "FILE.exr", "also recover every pixel (regularised, bounded to [0, 1]) into a spectral EXR"},
+    {"exr-compression", 0, "NAME", "with --per-pixel: none (default, fastest), rle, zips, zip or piz (smallest)"},
+    {"exr-float", 0, NULL, "with --per-pixel: 32-bit float bands instead of 16-bit half"},
     {"texture", 0, "NAME", "with --per-pixel: save material NAME referencing the EXR (mean spectrum as 'value')"},
-    {"threads", 0, "N", "threads for --per-pixel (default 2)"},
+    {"threads", 0, "N", "threads for reading photos and --per-pixel (default 2)"},
     {"noise", 0, "SIGMA", "simulate: Gaussian noise on linear values (default 0.002)"},
     {"seed", 0, "N", "simulate: random seed (default 1)"},
     {"size", 0, "WxH", "simulate: photo size (default 640x480)"},
@@ -96,11 +102,13 @@ static vr_status measure(rg_run *run, size_t l, const vr_image *img, double corn
     rg_region *g = &run->regions[i];
     const vr_capture_region *d = g->def;
     double rgb[3], sd[3] = {0, 0, 0};
-    long clipped = 0;
+    long clipped = 0, pixels = 1;
     if (d->kind == VR_REGION_RECT) {
       int cl = 0;
       st = vr_image_rect_mean(img, d->x, d->y, d->w, d->h, rgb, sd, &cl, p->clip, err);
       clipped = cl;
+      pixels = (long)d->w * d->h;
+      g->box[0] = d->x, g->box[1] = d->y, g->box[2] = d->x + d->w, g->box[3] = d->y + d->h;
     } else if (d->kind == VR_REGION_CHART) {
       if (!chart_read) {
         if (!*have_corners && d->chart_auto) {
@@ -119,6 +127,15 @@ static vr_status measure(rg_run *run, size_t l, const vr_image *img, double corn
       memcpy(rgb, chart.rgb[k], sizeof rgb);
       memcpy(sd, chart.sd[k], sizeof sd);
       clipped = chart.max[k] >= p->clip;
+      pixels = chart.pixels[k];
+      /* A square well inside the sampled one: a fifth of the patch side
+       * about its centre (the side from the patch area's top edge). */
+      double side = hypot(corners[1][0] - corners[0][0], corners[1][1] - corners[0][1]) / 6.5;
+      int half = (int)(0.2 * side);
+      g->box[0] = (int)lround(chart.center[k][0]) - half;
+      g->box[1] = (int)lround(chart.center[k][1]) - half;
+      g->box[2] = (int)lround(chart.center[k][0]) + half + 1;
+      g->box[3] = (int)lround(chart.center[k][1]) + half + 1;
     } else {
       if (!labels.regions) st = vr_image_label_means_file(img, run->cap->labels_path, p->clip, &labels, err);
       const vr_label_region *lr = NULL;
@@ -134,6 +151,7 @@ static vr_status measure(rg_run *run, size_t l, const vr_image *img, double corn
       memcpy(rgb, lr->rgb, sizeof rgb);
       memcpy(sd, lr->sd, sizeof sd);
       clipped = lr->clipped;
+      pixels = lr->pixels;
     }
     if (st) {
       vr_error_prefix(err, "%s: region %s: ", p->path, d->name);
@@ -141,8 +159,19 @@ static vr_status measure(rg_run *run, size_t l, const vr_image *img, double corn
     }
     memcpy(g->encoded[l], rgb, sizeof rgb);
     clip_marks(rgb, sd, clipped, p->clip, &g->clipped[3 * l]);
-    for (int ch = 0; ch < 3; ch++)
-      g->c[3 * l + ch] = vr_capture_decode(run->cap, p, ch, rgb[ch], srgb_encoded(p, img));
+    g->pixels[l] = pixels;
+    bool enc = srgb_encoded(p, img);
+    double code = img->bit_depth == 8 ? 1.0 / 255 : img->bit_depth == 16 ? 1.0 / 65535 : 0.0;
+    for (int ch = 0; ch < 3; ch++) {
+      g->c[3 * l + ch] = vr_capture_decode(run->cap, p, ch, rgb[ch], enc);
+      /* Noise in linear units: the pixels' scatter and one code step of the
+       * file, through the slope of the decoding at the region's level. */
+      double h = 1e-4, v = fmin(fmax(rgb[ch], h), 1.0 - h);
+      double slope = fabs(vr_capture_decode(run->cap, p, ch, v + h, enc) -
+                          vr_capture_decode(run->cap, p, ch, v - h, enc)) / (2 * h);
+      g->sigma[3 * l + ch] = vr_recover_mean_sigma(sd[ch] * slope, pixels, code * slope);
+      g->sigma_pixel[3 * l + ch] = vr_recover_pixel_sigma(sd[ch] * slope, code * slope);
+    }
   }
   vr_label_means_free(&labels);
   return st;
@@ -186,6 +215,58 @@ static vr_status parse_method(const char *s, vr_recover_method *m, vr_error *err
   return VR_OK;
 }
 
+static vr_status parse_rule(const char *s, vr_lambda_rule *rule, vr_error *err) {
+  if (!s || !strcasecmp(s, "auto") || !strcasecmp(s, "upre")) *rule = s && !strcasecmp(s, "upre") ? VR_LAMBDA_UPRE : VR_LAMBDA_AUTO;
+  else if (!strcasecmp(s, "discrepancy")) *rule = VR_LAMBDA_DISCREPANCY;
+  else if (!strcasecmp(s, "gcv")) *rule = VR_LAMBDA_GCV;
+  else return vr_error_set(err, VR_E_ARG, "--lambda-rule '%s': expected upre, discrepancy or gcv", s);
+  return VR_OK;
+}
+
+typedef struct reader {
+  rg_run *run;
+  vr_image *img;
+  size_t next, count;
+  pthread_mutex_t lock;
+  vr_status st;
+  vr_error err;
+} reader;
+
+static void *read_worker(void *arg) {
+  reader *rd = arg;
+  for (;;) {
+    pthread_mutex_lock(&rd->lock);
+    size_t l = rd->st ? rd->count : rd->next++;
+    pthread_mutex_unlock(&rd->lock);
+    if (l >= rd->count) return NULL;
+    vr_error e = {0};
+    vr_status st = vr_image_read(rd->run->photo[l]->path, &rd->img[l], &e);
+    if (st) {
+      pthread_mutex_lock(&rd->lock);
+      if (!rd->st) rd->st = st, rd->err = e;
+      pthread_mutex_unlock(&rd->lock);
+    }
+  }
+}
+
+/* Decoding a 12-megapixel PNG takes a third of a second: the photos are
+ * read on several threads. */
+static vr_status read_photos(rg_run *run, vr_image *img, int threads, vr_error *err) {
+  reader rd = {.run = run, .img = img, .count = run->nphotos};
+  pthread_mutex_init(&rd.lock, NULL);
+  pthread_t tid[RGB2SPEC_MAX_LIGHTS];
+  int started = 0;
+  for (int t = 1; t < threads && (size_t)t < run->nphotos; t++) {
+    if (pthread_create(&tid[started], NULL, read_worker, &rd)) break;
+    started++;
+  }
+  read_worker(&rd);
+  for (int t = 0; t < started; t++) pthread_join(tid[t], NULL);
+  pthread_mutex_destroy(&rd.lock);
+  if (rd.st && err) *err = rd.err;
+  return rd.st;
+}
+
 static char *default_manifest(const char *photo) {
   const char *slash = strrchr(photo, '/');
   size_t n = slash ? (size_t)(slash - photo) + 1 : 0;
@@ -209,6 +290,7 @@ static int cmd_recover(vr_args *a) {
   const char *manifest = vr_args_get(a, "manifest"), *prefix = vr_args_get(a, "save-prefix");
   const char *pixels = vr_args_get(a, "per-pixel"), *texture = vr_args_get(a, "texture");
   rg_pixels px = {0};
+  rg_pixel_options popt = {.threads = 2, .compression = VR_EXR_COMPRESSION_NONE, .half = true};
   int threads = 2;
   if (vr_args_get(a, "threads")) {
     char *end;
@@ -219,6 +301,11 @@ static int cmd_recover(vr_args *a) {
     }
     threads = (int)t;
   }
+  popt.threads = threads;
+  popt.half = !vr_args_flag(a, "exr-float");
+  if (vr_args_get(a, "exr-compression") &&
+      vr_exr_compression_parse(vr_args_get(a, "exr-compression"), &popt.compression, &err))
+    goto out;
   if (texture && !pixels) {
     vr_error_set(&err, VR_E_ARG, "--texture needs --per-pixel FILE.exr");
     goto out;
@@ -229,8 +316,11 @@ static int cmd_recover(vr_args *a) {
     goto out;
   }
   mpath = manifest ? strdup(manifest) : default_manifest(a->operands[0]);
-  if ((prefix || texture || vr_matdb_named_in(mpath)) && vr_matdb_open(vr_args_get(a, "db"), 0, &db, &err)) goto out;
-  if (vr_capture_read(mpath, db, &cap, &err)) goto out;
+  /* Lookups alone (db: lights or references) open the database read-only:
+   * a missing one is an error, never created and seeded here. */
+  if (vr_capture_read_db(mpath, vr_args_get(a, "db"), prefix || texture ? 0 : VR_MATDB_READONLY,
+                         prefix || texture, &db, &cap, &err))
+    goto out;
   run.cap = cap;
   /* The photos: those given, each of which the manifest must list; or all. */
   if (a->noperands == 0) {
@@ -250,22 +340,22 @@ static int cmd_recover(vr_args *a) {
       run.photo[run.nphotos++] = p;
     }
   }
-  /* The photos themselves, all of one size. */
-  bool all8 = true;
+  /* The photos themselves, decoded on `threads` threads, all of one size. */
+  if (read_photos(&run, img, threads, &err)) goto out;
   for (size_t l = 0; l < run.nphotos; l++) {
-    if (vr_image_read(run.photo[l]->path, &img[l], &err)) goto out;
+    if (rg_check_photo(cap, run.photo[l], &img[l], stderr, &err)) goto out;
     if (l && (img[l].width != img[0].width || img[l].height != img[0].height)) {
       vr_error_set(&err, VR_E_ARG, "%s is %dx%d but %s is %dx%d: the regions are pixel positions, "
                                    "so every photo must have the same size", run.photo[l]->path,
                    img[l].width, img[l].height, run.photo[0]->path, img[0].width, img[0].height);
       goto out;
     }
-    all8 = all8 && img[l].bit_depth == 8 && srgb_encoded(run.photo[l], &img[l]);
   }
-  /* 8-bit sRGB data: quantisation noise of up to half a step, which the
-   * bounded method's exact equalities would chase; the regularised method
-   * weighs it (bench_rgb2spec, docs/vr-rgb2spec.md). */
-  if ((int)run.method == -1) run.method = all8 ? VR_RECOVER_REGULARISED : VR_RECOVER_BOUNDED;
+  /* The regularised method weighs every response by its measured noise and
+   * chooses its smoothing from it, so it suits any file: at vanishing
+   * noise it tends to the bounded method's smoothest exact fit
+   * (bench_rgb2spec_noise, docs/vr-rgb2spec.md). */
+  if ((int)run.method == -1) run.method = VR_RECOVER_REGULARISED;
   run.method_name = run.method == VR_RECOVER_MATRIX_R ? "matrix-r"
                     : run.method == VR_RECOVER_BOUNDED ? "bounded" : "regularised";
   /* Camera and recovery system. */
@@ -276,21 +366,26 @@ static int cmd_recover(vr_args *a) {
             ? vr_camera_create_srgb(n, grid, &err)
             : vr_camera_create_measured((const vr_spectrum *const *)cap->sens, n, grid, &err);
   if (!cam) goto out;
+  run.cam = cam;
   const vr_spectrum *lights[RGB2SPEC_MAX_LIGHTS];
   double scale[RGB2SPEC_MAX_LIGHTS];
   for (size_t l = 0; l < run.nphotos; l++) lights[l] = run.photo[l]->light, scale[l] = run.photo[l]->scale;
   vr_recovery_options opt;
   vr_recovery_options_default(&opt);
-  if (all8) opt.noise = VR_NOISE_SRGB8;
+  if (parse_rule(vr_args_get(a, "lambda-rule"), &opt.lambda_rule, &err)) goto out;
   if (!(run.sys = vr_recovery_system_create(cam, run.nphotos, lights, scale, &opt, &err))) goto out;
   run.n = vr_recovery_system_samples(run.sys);
   run.grid = vr_recovery_system_grid(run.sys);
   run.condition = vr_recovery_system_condition(run.sys);
   static const char *const HELD[] = {"A", "D50", "D65", "F2", "F11", "LED-B3"};
+  /* A light counts as used whatever it was called (file:d65.csv is D65). */
   for (size_t h = 0; h < 6; h++) {
-    bool used = false;
-    for (size_t l = 0; l < run.nphotos; l++) used |= !strcasecmp(run.photo[l]->light_name, HELD[h]);
+    vr_spectrum *cand = vr_illuminant(HELD[h], NULL);
+    bool used = !cand;
+    for (size_t l = 0; l < run.nphotos && !used; l++)
+      used = !strcasecmp(run.photo[l]->light_name, HELD[h]) || rg_same_light(cand, run.photo[l]->light);
     if (!used) run.heldout_name[run.nheldout++] = HELD[h];
+    vr_spectrum_destroy(cand);
   }
   /* Regions, measured in every photo. */
   run.nregions = cap->nregions;
@@ -305,43 +400,91 @@ static int cmd_recover(vr_args *a) {
   bool have_corners = false;
   for (size_t l = 0; l < run.nphotos; l++)
     if (measure(&run, l, &img[l], corners, &have_corners, &err)) goto out;
-  /* Recovery and the round trip. */
+  /* Recovery and the round trip.  CIEDE2000 against the photo is a colour
+   * difference only where the photo holds a colour: a light with a clipped
+   * channel is left out of the mean and max and counted apart. */
   for (size_t i = 0; i < run.nregions; i++) {
     rg_region *g = &run.regions[i];
     if (!(g->r = malloc(run.n * sizeof *g->r))) goto out;
-    if (vr_recover(run.sys, run.method, g->c, g->clipped, g->r, &g->info, &err)) {
+    if (vr_recover_noisy(run.sys, run.method, g->c, g->sigma, g->clipped, g->r, &g->info, &err)) {
       vr_error_prefix(&err, "region %s: ", g->def->name);
       goto out;
     }
     vr_render_rgb(run.sys, g->r, g->rendered);
     g->de_mean = 0;
     g->de_max = 0;
+    size_t counted = 0;
     for (size_t l = 0; l < run.nphotos; l++) {
+      if (g->clipped[3 * l] || g->clipped[3 * l + 1] || g->clipped[3 * l + 2]) {
+        g->de[l] = NAN;
+        g->nclipped_lights++;
+        continue;
+      }
       g->de[l] = rg_delta_e(&run, l, &g->c[3 * l], &g->rendered[3 * l]);
-      g->de_mean += g->de[l] / (double)run.nphotos;
+      g->de_mean += g->de[l];
       g->de_max = fmax(g->de_max, g->de[l]);
+      counted++;
     }
+    if (counted) g->de_mean /= (double)counted;
+    else g->de_mean = g->de_max = NAN;
+    g->misfit = (g->info.flags & VR_RECOVER_FLAG_MISFIT) != 0;
+    run.nmisfit += g->misfit;
     compare_reference(&run, g);
   }
+  if (rg_check_lights(&run, &err)) goto out;
   if (vr_args_flag(a, "json")) rg_print_json(&run);
   else rg_print_text(&run);
+  /* What the recovery cannot stand behind: said on stderr, and the exit
+   * status is 1 unless --force (which also lets --save-prefix save). */
+  bool doubtful = run.nmisfit > 0;
+  size_t told = 0;
+  for (size_t i = 0; i < run.nregions; i++)
+    if (run.regions[i].misfit && ++told <= 5)
+      fprintf(stderr, "vr-rgb2spec: region %s: the recovered spectrum misses its photos by more "
+                      "than their noise explains (chi2 %.3g > %.3g for %zu channels)%s\n",
+              run.regions[i].def->name, run.regions[i].info.chi2, run.regions[i].info.chi2_limit,
+              run.regions[i].info.used,
+              run.regions[i].info.flags & VR_RECOVER_FLAG_OUT_OF_GAMUT ? "; out of gamut" : "");
+  if (told > 5) fprintf(stderr, "vr-rgb2spec: ... and %zu more regions miss their photos\n", told - 5);
+  for (size_t l = 0; told && l < run.nphotos; l++) {
+    const char *hint = rg_encoding_hint(cap, run.photo[l], &img[l]);
+    if (hint) fprintf(stderr, "vr-rgb2spec: %s: %s\n", run.photo[l]->path, hint);
+  }
+  for (size_t l = 0; l < run.nphotos; l++)
+    if (run.light_suspect[l]) {
+      doubtful = true;
+      fprintf(stderr, "vr-rgb2spec: %s:%ld: photo %s does not look lit by %s: the regions "
+                      "recovered from the other photos, rendered under %s, miss it by a median "
+                      "CIEDE2000 of %.1f (limit %.0f); check the light of this photo (two photos' "
+                      "lights swapped?)\n", cap->path, run.photo[l]->line, run.photo[l]->path,
+              run.photo[l]->light_name, run.photo[l]->light_name, run.loo_de[l], RG_LOO_LIMIT);
+    }
+  bool force = vr_args_flag(a, "force");
   const char *report = vr_args_get(a, "report");
   if (report && rg_write_report(report, &run, &err)) goto out;
+  if (prefix && doubtful && !force) {
+    vr_error_set(&err, VR_E_ARG, "nothing saved: %zu region(s) miss their photos or a light "
+                                 "disagrees with its photo (see above); --force saves anyway",
+                 run.nmisfit);
+    goto out;
+  }
   if (prefix && rg_save(db, prefix, &run, &err)) goto out;
   if (pixels) {
-    if (rg_per_pixel(&run, img, pixels, threads, &px, &err)) goto out;
-    fprintf(vr_args_flag(a, "json") ? stderr : stdout,
-            "per-pixel: %ld pixels into %s (%zu bands, Matrix R), %.3g %% of samples clamped "
-            "into [0, 1], RGB round-trip RMS %.3g\n",
-            px.pixels, pixels, run.n, 100 * px.clamped_fraction, px.rgb_rms);
+    if (rg_per_pixel(&run, img, pixels, &popt, &px, &err)) goto out;
+    rg_print_pixels(vr_args_flag(a, "json") ? stderr : stdout, &run, &px, pixels);
     if (texture && rg_save_texture(db, texture, pixels, &run, &px, &err)) {
       remove(pixels); /* nothing half done: no texture without its database row */
       goto out;
     }
   }
+  if (doubtful && !force) {
+    rc = 1;
+    goto out_quiet;
+  }
   rc = 0;
 out:
   if (rc) fail(&err);
+out_quiet:
   for (size_t i = 0; i < run.nregions && run.regions; i++) free(run.regions[i].r);
   free(run.regions);
   for (size_t l = 0; l < RGB2SPEC_MAX_LIGHTS; l++) vr_image_free(&img[l]);
@@ -350,7 +493,7 @@ out:
   vr_capture_destroy(cap);
   vr_matdb_close(db);
   free(mpath);
-  free(px.mean);
+  rg_pixels_free(&px);
   return rc;
 }
 

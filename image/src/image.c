@@ -106,6 +106,92 @@ static int jpeg_is_complete(const unsigned char *b, size_t len) {
   return 0;
 }
 
+static uint32_t be32(const unsigned char *b) {
+  return (uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3];
+}
+
+/* The transparent grey level of a greyscale PNG (colour type 0) with a tRNS
+ * chunk, as the 8- or 16-bit code OpenCV decodes it to; -1 when there is
+ * none.  OpenCV drops such a chunk (it only turns tRNS into alpha for RGB
+ * and palette images), so it is looked up here.  PNG 1.2 spec, section
+ * 4.2.1.1: for a grey image tRNS holds one 2-byte level in the image's bit
+ * depth; levels of 1, 2 and 4 bits come out of libpng scaled to 8 bits
+ * (level * 255 / (2^depth - 1)). */
+static long png_grey_transparent_level(const unsigned char *b, size_t len) {
+  if (len < 33 || memcmp(b + 12, "IHDR", 4) != 0) return -1;
+  const int depth = b[24], colour = b[25];
+  if (colour != 0 || depth < 1 || depth > 16) return -1;
+  for (size_t at = 8; at + 12 <= len;) {
+    const uint32_t n = be32(b + at);
+    const unsigned char *type = b + at + 4;
+    if (n > len - at - 12) return -1;
+    if (memcmp(type, "IDAT", 4) == 0 || memcmp(type, "IEND", 4) == 0) return -1;
+    if (memcmp(type, "tRNS", 4) == 0) {
+      if (n < 2) return -1;
+      const long top = (1L << depth) - 1;
+      const long level = ((long)b[at + 8] << 8 | b[at + 9]) & top;
+      return depth >= 8 ? level : level * 255 / top;
+    }
+    at += 12 + (size_t)n;
+  }
+  return -1;
+}
+
+/* Pixels of a grey image (R = G = B) whose code equals level. */
+static long count_grey_level(const vr_image *img, long level) {
+  const double top = img->bit_depth == 16 ? 65535.0 : 255.0;
+  const size_t n = (size_t)img->width * (size_t)img->height;
+  long hits = 0;
+  for (size_t i = 0; i < n; i++)
+    if (lround((double)img->data[3 * i] * top) == level) hits++;
+  return hits;
+}
+
+/* Unsigned integer of n bytes (2, 4 or 8) at b + at, in the TIFF's byte
+ * order (little-endian when le). */
+static uint64_t tiff_uint(const unsigned char *b, size_t at, int n, int le) {
+  uint64_t v = 0;
+  for (int i = 0; i < n; i++) v = v << 8 | b[at + (size_t)(le ? n - 1 - i : i)];
+  return v;
+}
+
+/* Reads the first image directory of a TIFF (classic or BigTIFF, either
+ * byte order) for the tags that tell an alpha sample: SamplesPerPixel (277)
+ * and ExtraSamples (338), whose first value 1 or 2 means associated or
+ * unassociated alpha (TIFF 6.0 spec, section 8, ExtraSamples, and section
+ * 18; 0 is unspecified data, not alpha).
+ * *samples gets SamplesPerPixel (1 when absent), *extra_alpha 1 when the
+ * file declares an alpha sample.  A directory that cannot be walked leaves
+ * the defaults: the decoder then reports on that file. */
+static void tiff_alpha_tags(const unsigned char *b, size_t len, int *samples, int *extra_alpha) {
+  *samples = 1;
+  *extra_alpha = 0;
+  const int le = b[0] == 'I';
+  const int big = (le ? b[2] : b[3]) == 43;
+  if (len < (big ? 16u : 8u)) return;
+  const uint64_t ifd = big ? tiff_uint(b, 8, 8, le) : tiff_uint(b, 4, 4, le);
+  const size_t count_size = big ? 8 : 2, entry_size = big ? 20 : 12, field = big ? 8 : 4;
+  if (ifd > len || len - ifd < count_size) return;
+  const uint64_t count = tiff_uint(b, (size_t)ifd, (int)count_size, le);
+  size_t at = (size_t)ifd + count_size;
+  for (uint64_t i = 0; i < count && entry_size <= len - at; i++, at += entry_size) {
+    const unsigned tag = (unsigned)tiff_uint(b, at, 2, le);
+    const unsigned type = (unsigned)tiff_uint(b, at + 2, 2, le);
+    const uint64_t n = tiff_uint(b, at + 4, (int)field, le);
+    if ((tag != 277 && tag != 338) || n < 1 || (type != 3 && type != 4)) continue;
+    const int size = type == 3 ? 2 : 4; /* SHORT or LONG */
+    size_t where = at + 4 + field;      /* the value itself, when it fits */
+    if (n * (uint64_t)size > field) {   /* else an offset to the values */
+      const uint64_t off = tiff_uint(b, where, (int)field, le);
+      if (off > len || len - off < (uint64_t)size) continue;
+      where = (size_t)off;
+    }
+    const uint64_t first = tiff_uint(b, where, size, le);
+    if (tag == 277) *samples = first > 64 ? 64 : (int)first;
+    else *extra_alpha = first == 1 || first == 2;
+  }
+}
+
 vr_status vr_image_read(const char *path, vr_image *out, vr_error *err) {
   if (!out) return vr_error_set(err, VR_E_ARG, "vr_image_read: output image is NULL");
   memset(out, 0, sizeof *out);
@@ -118,12 +204,20 @@ vr_status vr_image_read(const char *path, vr_image *out, vr_error *err) {
   /* The IEND chunk that closes every PNG: its type and its fixed CRC. */
   static const unsigned char png_end[8] = {'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
   static const unsigned char exr[4] = {0x76, 0x2F, 0x31, 0x01};
+  int format = VR_IMAGE_FORMAT_NONE;
   if (len >= 8 && memcmp(buf, png, 8) == 0) {
+    format = VR_IMAGE_FORMAT_PNG;
     if (!contains(buf, len, png_end, sizeof png_end))
       st = vr_error_at(err, VR_E_PARSE, path, 0, 0, "truncated PNG: no IEND chunk at its end");
     else
       st = vr_image_decode_cv(buf, len, path, "PNG", out, err);
+    long level = st == VR_OK && !out->alpha ? png_grey_transparent_level(buf, len) : -1;
+    if (level >= 0) {
+      out->alpha = 1;
+      out->transparent = count_grey_level(out, level);
+    }
   } else if (len >= 3 && buf[0] == 0xFF && buf[1] == 0xD8 && buf[2] == 0xFF) {
+    format = VR_IMAGE_FORMAT_JPEG;
     if (!jpeg_is_complete(buf, len))
       st = vr_error_at(err, VR_E_PARSE, path, 0, 0,
                        "truncated JPEG: no end-of-image marker after its last scan");
@@ -133,8 +227,22 @@ vr_status vr_image_read(const char *path, vr_image *out, vr_error *err) {
                            buf[3] == 0) ||
                           (buf[0] == 'M' && buf[1] == 'M' && buf[2] == 0 &&
                            (buf[3] == 42 || buf[3] == 43)))) {
+    format = VR_IMAGE_FORMAT_TIFF;
     st = vr_image_decode_cv(buf, len, path, "TIFF", out, err);
+    int samples, extra_alpha;
+    tiff_alpha_tags(buf, len, &samples, &extra_alpha);
+    /* A fourth channel from OpenCV is alpha only when the file says so (it
+     * may be CMYK turned into RGBA, or unspecified extra data)... */
+    if (st == VR_OK && out->alpha && !extra_alpha) out->alpha = 0, out->transparent = 0;
+    /* ... and OpenCV reads a grey TIFF as one channel whatever else it holds. */
+    if (st == VR_OK && extra_alpha && !out->alpha)
+      st = vr_error_at(err, VR_E_PARSE, path, 0, 0,
+                       "TIFF with an alpha sample (%d samples per pixel) that OpenCV's "
+                       "decoder drops, as it does for grey + alpha images (cutting 16-bit "
+                       "samples to 8 bits too): save it as grey without alpha, or as RGB or "
+                       "RGBA", samples);
   } else if (len >= 4 && memcmp(buf, exr, 4) == 0) {
+    format = VR_IMAGE_FORMAT_EXR;
     st = vr_image_decode_exr(buf, len, path, out, err);
   } else {
     char shown[48] = "";
@@ -146,6 +254,7 @@ vr_status vr_image_read(const char *path, vr_image *out, vr_error *err) {
   }
   free(buf);
   if (st != VR_OK) vr_image_free(out);
+  else out->format = format;
   return st;
 }
 

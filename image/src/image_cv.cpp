@@ -44,11 +44,14 @@ const char *depth_name(int depth) {
   }
 }
 
-/* Copies one decoded row (any of 1-4 channels, BGR order) into RGB floats.
+/* Copies one decoded row (any of 1-4 channels, BGR order) into RGB floats
+ * and returns how many of its pixels have an alpha below top (opaque is the
+ * largest code, or 1.0 for float samples; a NaN alpha is not opaque either).
  * A true division, not a product with 1/top: code k becomes exactly the
  * float nearest k/top, the value a caller computes for the same code. */
 template <typename T>
-void convert_row(const T *src, int width, int nc, float top, float *dst) {
+long convert_row(const T *src, int width, int nc, float top, float *dst) {
+  long below = 0;
   for (int x = 0; x < width; ++x, src += nc, dst += 3) {
     if (nc <= 2) { /* grey, or grey + alpha */
       dst[0] = dst[1] = dst[2] = (float)src[0] / top;
@@ -57,7 +60,9 @@ void convert_row(const T *src, int width, int nc, float top, float *dst) {
       dst[1] = (float)src[1] / top;
       dst[2] = (float)src[0] / top;
     }
+    if ((nc == 2 || nc == 4) && !((float)src[nc - 1] >= top)) ++below;
   }
+  return below;
 }
 
 /* Clamp to [0,1] and round to nearest: the one quantisation of every
@@ -112,16 +117,22 @@ extern "C" vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, co
       vr_error_prefix(err, "%s: ", path);
       return st;
     }
+    /* OpenCV hands a PNG's alpha (grey + alpha included, and a tRNS chunk
+     * of an RGB or palette PNG) and a TIFF's extra sample as the last of 2
+     * or 4 channels; JPEG never has one. */
+    long below = 0;
     for (int y = 0; y < m.rows; ++y) {
       float *dst = out->data + (size_t)y * (size_t)m.cols * 3;
       if (depth == CV_8U)
-        convert_row(m.ptr<unsigned char>(y), m.cols, nc, 255.0f, dst);
+        below += convert_row(m.ptr<unsigned char>(y), m.cols, nc, 255.0f, dst);
       else if (depth == CV_16U)
-        convert_row(m.ptr<unsigned short>(y), m.cols, nc, 65535.0f, dst);
+        below += convert_row(m.ptr<unsigned short>(y), m.cols, nc, 65535.0f, dst);
       else
-        convert_row(m.ptr<float>(y), m.cols, nc, 1.0f, dst);
+        below += convert_row(m.ptr<float>(y), m.cols, nc, 1.0f, dst);
     }
     out->bit_depth = depth == CV_8U ? 8 : depth == CV_16U ? 16 : 32;
+    out->alpha = nc == 2 || nc == 4;
+    out->transparent = below;
     return VR_OK;
   } catch (...) {
     vr_image_free(out);

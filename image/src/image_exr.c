@@ -7,6 +7,7 @@
  * whole or not at all like every other output. */
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <openexr.h>
@@ -18,8 +19,11 @@
 
 
 
+/* Decodes the colour channels into out and, when alpha is not NULL, the
+ * channel A into alpha (width x height floats). */
 static vr_status decode_pixels(exr_context_t ctxt, const char *path, const exr_stream *s,
-                               exr_attr_box2i_t dw, int grey, vr_image *out, vr_error *err) {
+                               exr_attr_box2i_t dw, int grey, vr_image *out, float *alpha,
+                               vr_error *err) {
   int32_t lines = 0;
   exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines);
   if (rv != EXR_ERR_SUCCESS || lines < 1) return vr_exr_read_failed(err, path, s, rv, "chunk layout");
@@ -37,15 +41,22 @@ static vr_status decode_pixels(exr_context_t ctxt, const char *path, const exr_s
       st = vr_exr_read_failed(err, path, s, rv, "reading the scanlines");
       break;
     }
-    float *row = out->data + (size_t)(cinfo.start_y - dw.min.y) * (size_t)w * 3;
+    const size_t first = (size_t)(cinfo.start_y - dw.min.y) * (size_t)w;
+    float *row = out->data + first * 3;
     for (int c = 0; c < dec.channel_count; c++) {
       exr_coding_channel_info_t *ci = &dec.channels[c];
       const char *n = ci->channel_name;
       int k = grey ? (strcmp(n, "Y") == 0 ? 0 : -1)
                    : strcmp(n, "R") == 0 ? 0 : strcmp(n, "G") == 0 ? 1 : strcmp(n, "B") == 0 ? 2 : -1;
-      ci->decode_to_ptr = k < 0 ? NULL : (uint8_t *)(row + k);
-      ci->user_pixel_stride = 3 * (int32_t)sizeof(float);
-      ci->user_line_stride = 3 * (int32_t)sizeof(float) * w;
+      if (alpha && strcmp(n, "A") == 0) {
+        ci->decode_to_ptr = (uint8_t *)(alpha + first);
+        ci->user_pixel_stride = (int32_t)sizeof(float);
+        ci->user_line_stride = (int32_t)sizeof(float) * w;
+      } else {
+        ci->decode_to_ptr = k < 0 ? NULL : (uint8_t *)(row + k);
+        ci->user_pixel_stride = 3 * (int32_t)sizeof(float);
+        ci->user_line_stride = 3 * (int32_t)sizeof(float) * w;
+      }
       ci->user_bytes_per_element = (int16_t)sizeof(float);
       ci->user_data_type = EXR_PIXEL_FLOAT;
     }
@@ -90,8 +101,13 @@ static vr_status read_context(exr_context_t ctxt, const char *path, const exr_st
     grey = 1;
     idx[0] = idx[1] = idx[2] = y;
   }
-  for (int k = 0; k < 3; k++) {
-    const exr_attr_chlist_entry_t *e = &ch->entries[idx[k]];
+  /* A is the alpha channel of an EXR (Technical Introduction to OpenEXR:
+   * "A", with the colour premultiplied by it); checked like the colour so
+   * that it can be decoded beside them. */
+  const int a_index = vr_exr_find_channel(ch, "A");
+  for (int k = 0; k < 4; k++) {
+    if (k == 3 && a_index < 0) break;
+    const exr_attr_chlist_entry_t *e = &ch->entries[k == 3 ? a_index : idx[k]];
     if (e->pixel_type != EXR_PIXEL_HALF && e->pixel_type != EXR_PIXEL_FLOAT)
       return vr_error_at(err, VR_E_PARSE, path, 0, 0,
                          "OpenEXR: channel %s holds unsigned integers; half or float needed",
@@ -114,7 +130,19 @@ static vr_status read_context(exr_context_t ctxt, const char *path, const exr_st
     vr_error_prefix(err, "%s: ", path);
     return st;
   }
-  return decode_pixels(ctxt, path, s, dw, grey, out, err);
+  float *alpha = NULL;
+  if (a_index >= 0 && !(alpha = malloc((size_t)w * (size_t)h * sizeof *alpha)))
+    return vr_error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory for the alpha channel");
+  st = decode_pixels(ctxt, path, s, dw, grey, out, alpha, err);
+  if (st == VR_OK && alpha) {
+    long below = 0;
+    for (size_t i = 0; i < (size_t)w * (size_t)h; i++)
+      if (!(alpha[i] >= 1.0f)) below++;
+    out->alpha = 1;
+    out->transparent = below;
+  }
+  free(alpha);
+  return st;
 }
 
 vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *path,

@@ -120,7 +120,68 @@ static void rgba_exr_with_offset_window(void **state) {
     assert_near(img.data[3 * i + 1], g[i], 0);
     assert_near(img.data[3 * i + 2], b[i], 0);
   }
+  /* ... but recorded: every pixel has A = 0.25, below opaque. */
+  assert_int_equal(img.format, VR_IMAGE_FORMAT_EXR);
+  assert_int_equal(img.alpha, 1);
+  assert_int_equal(img.transparent, w * h);
   vr_image_free(&img);
+}
+
+/* The A channel of an EXR: 1.0 is opaque, less is not (Technical
+ * Introduction to OpenEXR, "Premultiplied vs. Un-Premultiplied Color
+ * Channels"); half values 1, 0.5, 0 and 2 are exact.  A NaN alpha is not
+ * opaque either, and A beside Y works like A beside R, G, B. */
+static void exr_alpha_counts(void **state) {
+  (void)state;
+  enum { w = 5, h = 3 };
+  float y[w * h], a[w * h];
+  for (int i = 0; i < w * h; i++) {
+    y[i] = (float)i / 16.0f;
+    a[i] = 1.0f;
+  }
+  raw_channel ya[2] = {{"A", EXR_PIXEL_HALF, a}, {"Y", EXR_PIXEL_HALF, y}};
+  const char *path = in_dir("ya_opaque.exr");
+  write_raw_exr(path, ya, 2, 0, 0, w, h, EXR_COMPRESSION_ZIP, 0);
+  vr_image img;
+  vr_error err = {0};
+  assert_int_equal(vr_image_read(path, &img, &err), VR_OK);
+  assert_int_equal(img.alpha, 1);
+  assert_int_equal(img.transparent, 0);
+  assert_near(img.data[3 * 7 + 2], 7.0 / 16.0, 0);
+  vr_image_free(&img);
+
+  a[0] = 0.5f;
+  a[4] = 0.0f;
+  a[9] = 2.0f; /* above 1: opaque */
+  a[14] = NAN;
+  raw_channel rgba[4] = {{"A", EXR_PIXEL_FLOAT, a},
+                         {"B", EXR_PIXEL_HALF, y},
+                         {"G", EXR_PIXEL_HALF, y},
+                         {"R", EXR_PIXEL_HALF, y}};
+  path = in_dir("rgba_some.exr");
+  write_raw_exr(path, rgba, 4, 0, 0, w, h, EXR_COMPRESSION_NONE, 0);
+  assert_int_equal(vr_image_read(path, &img, &err), VR_OK);
+  assert_int_equal(img.alpha, 1);
+  assert_int_equal(img.transparent, 3);
+  vr_image_free(&img);
+
+  /* No A: no alpha. */
+  path = in_dir("rgb_only.exr");
+  write_raw_exr(path, rgba + 1, 3, 0, 0, w, h, EXR_COMPRESSION_NONE, 0);
+  assert_int_equal(vr_image_read(path, &img, &err), VR_OK);
+  assert_int_equal(img.alpha, 0);
+  assert_int_equal(img.transparent, 0);
+  vr_image_free(&img);
+
+  /* An A of unsigned integers is refused like such a colour channel. */
+  raw_channel uint_a[4] = {{"A", EXR_PIXEL_UINT, NULL},
+                           {"B", EXR_PIXEL_HALF, y},
+                           {"G", EXR_PIXEL_HALF, y},
+                           {"R", EXR_PIXEL_HALF, y}};
+  path = in_dir("uint_a.exr");
+  write_raw_exr(path, uint_a, 4, 0, 0, w, h, EXR_COMPRESSION_NONE, 0);
+  assert_int_equal(vr_image_read(path, &img, &err), VR_E_PARSE);
+  assert_contains(err.message, "channel A holds unsigned integers");
 }
 
 static void refused_exr_kinds(void **state) {
@@ -164,6 +225,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(luminance_only_exr_is_grey),
       cmocka_unit_test(rgba_exr_with_offset_window),
+      cmocka_unit_test(exr_alpha_counts),
       cmocka_unit_test(refused_exr_kinds),
   };
   return cmocka_run_group_tests(tests, make_test_dir, remove_test_dir);

@@ -215,4 +215,123 @@ check "per-pixel: an unwritable output is an error" test $rc -eq 1 -a -n "$(grep
 "$matdb" show bad-tex > /dev/null 2>&1; rc=$?
 check "per-pixel: no database row after a failed write" test $rc -ne 0
 
+# ---- Noise-aware recovery, honest reports, light checks, textures -----
+# (a fresh copy of the capture: the bad-capture tests above broke led.png)
+mkdir -p "$tmp/c2"
+cp "$tmp/cap/manifest.txt" "$tmp/c2/manifest.txt"
+"$bin" simulate --manifest "$tmp/c2/manifest.txt" --seed 3 2> /dev/null
+
+# Lights given by file are still used lights: the CIE D65 table as a CSV
+# (core/data/cie_d65.csv, CIE 015:2018) leaves D65 out of the held-out list.
+mkdir -p "$tmp/fl"
+cp "$tmp/c2/d65.png" "$tmp/c2/a.png" "$tmp/fl/"
+cat > "$tmp/fl/manifest.txt" <<MANIFEST
+photo d65.png light=file:$src/core/data/cie_d65.csv scale=0.9
+photo a.png light=A scale=0.5
+chart grid=20,20,410,278
+MANIFEST
+"$bin" --manifest "$tmp/fl/manifest.txt" --json > "$tmp/fl.json" 2> "$tmp/err"
+python3 - "$tmp/fl.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert "D65" not in d["heldout_lights"] and "A" not in d["heldout_lights"], d["heldout_lights"]
+assert "D50" in d["heldout_lights"], d["heldout_lights"]
+PY
+check "held-out lights leave out a light given as file: (same spectrum as D65)" test $? -eq 0
+
+# CIEDE2000 against the photo only where the photo holds a colour: a light
+# with a clipped channel is null per light and left out of mean and max.
+python3 - "$tmp/auto.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+seen = 0
+for x in d["regions"]:
+    per = x["per_light"]
+    ok = [p["deltaE00"] for p in per if not any(p["clipped"])]
+    for p in per:
+        if any(p["clipped"]):
+            assert p["deltaE00"] is None, (x["name"], p)
+            seen += 1
+    if ok:
+        assert abs(max(ok) - x["deltaE00_max"]) < 1e-12, x["name"]
+        assert abs(sum(ok) / len(ok) - x["deltaE00_mean"]) < 1e-12, x["name"]
+    assert x["lights_left_out_for_clipping"] == len(per) - len(ok)
+    # the noise of each mean response is reported and positive
+    assert all(s > 0 for p in per for s in p["noise_rgb"])
+assert seen > 0, "the capture has clipped patches (blue, cyan, white)"
+PY
+check "dE00 on unclipped lights only; clipped light-region pairs reported apart" test $? -eq 0
+
+# Two photos' lights swapped (D65 <-> A, exposures kept): each is predicted
+# from the others and misses by far more than metamerism allows; warned,
+# exit 1, nothing saved without --force.
+mkdir -p "$tmp/sw"
+cp "$tmp/c2/"*.png "$tmp/sw/"
+sed -e 's/light=D65/light=XX/; s/light=A /light=D65 /; s/light=XX/light=A/' "$tmp/c2/manifest.txt" > "$tmp/sw/manifest.txt"
+"$bin" --manifest "$tmp/sw/manifest.txt" --json --save-prefix swapped- > "$tmp/sw.json" 2> "$tmp/err"; rc=$?
+check "swapped lights: exit 1" test $rc -eq 1
+check "swapped lights: the photo and its light are named" \
+  test -n "$(grep 'manifest.txt:2: photo .*d65.png does not look lit by A' "$tmp/err")"
+python3 - "$tmp/sw.json" "$tmp/auto.json" <<'PY'
+import json, sys
+sw, good = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+assert sw["light_suspect"][0] and sw["light_suspect"][1], sw["light_check_deltaE00"]
+# the right lights pass with a wide margin (median dE00 below 1, limit 6)
+assert not any(good["light_suspect"]) and max(good["light_check_deltaE00"]) < 2, good["light_check_deltaE00"]
+PY
+check "swapped lights: both photos suspect; the true lights are not" test $? -eq 0
+"$matdb" show swapped-brick > /dev/null 2>&1; rc=$?
+check "swapped lights: nothing saved without --force" test $rc -ne 0
+"$bin" --manifest "$tmp/sw/manifest.txt" --save-prefix swapped- --force > /dev/null 2>&1; rc=$?
+"$matdb" show swapped-brick > /dev/null 2>&1; rc2=$?
+check "swapped lights: --force saves and exits 0" test $rc -eq 0 -a $rc2 -eq 0
+
+# A surface no reflectance can explain (flat 1.3: fluorescent, or a
+# specular highlight): flagged misfit, exit 1; its neighbours are not.
+mkdir -p "$tmp/glow"
+printf 'nm,value\n380,1.3\n780,1.3\n' > "$tmp/glow/glow.csv"
+cat > "$tmp/glow/manifest.txt" <<MANIFEST
+photo d65.png light=D65 scale=0.6
+photo a.png light=A scale=0.33
+photo led.png light=LED-B3 scale=0.5
+photo f11.png light=F11 scale=0.5
+region glow rect=20,20,60,60 reference=file:glow.csv
+region brick rect=100,20,60,60 reference=file:$src/samples/photos/materials/brick_red.csv
+region pine rect=180,20,60,60 reference=file:$src/samples/photos/materials/wood_pine.csv
+MANIFEST
+"$bin" simulate --manifest "$tmp/glow/manifest.txt" --size 260x100 2> /dev/null
+"$bin" --manifest "$tmp/glow/manifest.txt" --json > "$tmp/glow.json" 2> "$tmp/err"; rc=$?
+check "misfit: exit 1 and the region named" test $rc -eq 1 -a -n "$(grep 'region glow: the recovered spectrum misses' "$tmp/err")"
+python3 - "$tmp/glow.json" <<'PY'
+import json, sys
+r = {x["name"]: x for x in json.load(open(sys.argv[1]))["regions"]}
+assert r["glow"]["misfit"] and "misfit" in r["glow"]["flags"]
+assert not r["brick"]["misfit"] and not r["pine"]["misfit"]
+assert r["glow"]["chi2"] > r["glow"]["chi2_limit"]
+PY
+check "misfit: only the impossible region is flagged" test $? -eq 0
+
+# Per-pixel texture of the simulated chart: the regularised operator with
+# the bounds; RMSE against the true reflectance <= 0.06 (the issue's target)
+# and a flags channel.
+"$bin" --manifest "$tmp/c2/manifest.txt" --per-pixel "$tmp/cap.exr" > "$tmp/pp2" 2> "$tmp/err"; rc=$?
+check "per-pixel: regularised texture written" test $rc -eq 0 -a -s "$tmp/cap.exr"
+rmse=$(sed -n 's/.*against the references RMSE \([0-9.]*\).*/\1/p' "$tmp/pp2")
+check "per-pixel: RMSE against the references <= 0.06 (got $rmse)" python3 -c "import sys; sys.exit(0 if float('$rmse') <= 0.06 else 1)"
+check "per-pixel: the EXR carries the flags channel and its meaning" \
+  test "$(grep -a -c 'flagsMeaning' "$tmp/cap.exr")" -ge 1
+check "per-pixel: clipped and bounded pixels counted" test -n "$(grep -E 'bounded to \[0, 1\], [0-9.]+ % with clipped channels' "$tmp/pp2")"
+"$bin" --manifest "$tmp/c2/manifest.txt" --per-pixel "$tmp/cap2.exr" --exr-compression lzma 2> "$tmp/err" > /dev/null; rc=$?
+check "per-pixel: an unknown compression is refused" test $rc -eq 1 -a -n "$(grep -i 'lzma' "$tmp/err")"
+"$bin" --manifest "$tmp/c2/manifest.txt" --lambda-rule magic 2> "$tmp/err" > /dev/null; rc=$?
+check "an unknown lambda rule is refused" test $rc -eq 1 -a -n "$(grep 'magic' "$tmp/err")"
+
+# A db: lookup without a database must not create one in the working
+# directory.
+mkdir -p "$tmp/nodb"
+cp "$tmp/c2/d65.png" "$tmp/nodb/"
+printf 'photo d65.png light=D65\nregion x rect=1,1,4,4 reference=db:nothing\n' > "$tmp/nodb/manifest.txt"
+( cd "$tmp/nodb" && env -u VR_MATDB "$bin" --manifest manifest.txt > /dev/null 2> "$tmp/err" ); rc=$?
+check "db: lookup without a database: error, no ./materials.db created" test $rc -eq 1 -a ! -e "$tmp/nodb/materials.db"
+
 finish

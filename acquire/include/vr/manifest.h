@@ -26,8 +26,13 @@
  * vr-rgb2spec calibrate also carries its tone curves (properties
  * linearisation_r/_g/_b, vr/calibrate.h): photos without encoding= whose
  * values would be taken as sRGB (integer files) are then decoded with those
- * curves instead (vr_capture_decode).  Paths are relative to the manifest.
- * Errors are "manifest:line:col: message". */
+ * curves instead (vr_capture_decode).  Paths are relative to the manifest's
+ * folder, except for a manifest read from standard input ("-", /dev/stdin)
+ * or from a pipe or other file that is not a regular one (a FIFO,
+ * /dev/fd/N of a shell's <(...)), whose relative paths are taken from the
+ * current working directory: such a stream has no folder of its own.
+ * Errors are "manifest:line:col: message", the manifest named as given, or
+ * "<stdin>" for "-". */
 #ifndef VR_MANIFEST_H
 #define VR_MANIFEST_H
 
@@ -44,7 +49,7 @@ extern "C" {
 typedef struct vr_matdb vr_matdb;
 
 typedef struct vr_capture_photo {
-  char *path;            /* resolved against the manifest's folder */
+  char *path;            /* resolved against the manifest's folder (vr_capture.dir) */
   char *light_name;      /* as written */
   vr_spectrum *light;    /* the SPD */
   double scale;
@@ -69,7 +74,10 @@ typedef struct vr_capture_region {
 typedef enum vr_capture_camera { VR_CAPTURE_CAMERA_SRGB = 0, VR_CAPTURE_CAMERA_MEASURED } vr_capture_camera;
 
 typedef struct vr_capture {
-  char *path, *dir;
+  char *path;           /* as given; "<stdin>" for "-" */
+  char *dir;            /* relative paths are resolved against it ("" = cwd) */
+  bool stream;          /* read from standard input or a pipe: path names no file to reread */
+  char sha256[65];      /* of the manifest's bytes as read (hex), for provenance */
   vr_capture_camera camera;
   char *camera_name;
   vr_spectrum *sens[3]; /* r, g, b sensitivities for VR_CAPTURE_CAMERA_MEASURED */
@@ -84,8 +92,20 @@ typedef struct vr_capture {
   char *labels_path;
 } vr_capture;
 
-/* db may be NULL (then db: names are an error naming the line). */
+/* db may be NULL (then db: names are an error naming the line).  path "-"
+ * reads standard input.  The manifest is read once, at most 1 MiB. */
 vr_status vr_capture_read(const char *path, vr_matdb *db, vr_capture **out, vr_error *err);
+/* vr_capture_read for a tool that opens the material database only when it
+ * needs one: reads the manifest once (a pipe cannot be read twice, so no
+ * separate look for db: names such as vr_matdb_named_in), opens the
+ * database at db_path (NULL: the default) with db_flags when need_db is true
+ * or the manifest names a db: material outside comments, then parses.  *db
+ * is NULL when none was opened; once opened it is the caller's to close,
+ * also when an error follows. */
+vr_status vr_capture_read_db(const char *path, const char *db_path, int db_flags, bool need_db,
+                             vr_matdb **db, vr_capture **out, vr_error *err);
+/* Parses manifest text; path names it in messages, its folder resolves
+ * relative paths. */
 vr_status vr_capture_parse(const char *text, size_t len, const char *path, vr_matdb *db,
                            vr_capture **out, vr_error *err);
 void vr_capture_destroy(vr_capture *c);

@@ -58,6 +58,20 @@ typedef enum vr_noise_model {
   VR_NOISE_SRGB8 = 1
 } vr_noise_model;
 
+/* How the regularised method chooses lambda. */
+typedef enum vr_lambda_rule {
+  /* Unbiased predictive risk when the caller gives the noise of each
+   * observation (vr_recover_noisy), generalised cross-validation when not
+   * (bench_rgb2spec_noise and docs/vr-rgb2spec.md compare the rules). */
+  VR_LAMBDA_AUTO = 0,
+  VR_LAMBDA_GCV = 1,
+  /* Morozov: the smoothest spectrum whose weighted misfit, with W =
+   * 1 / sigma, is within discrepancy_tau times the number of observations. */
+  VR_LAMBDA_DISCREPANCY = 2,
+  /* Unbiased predictive risk (Mallows' C_L) with W = 1 / sigma. */
+  VR_LAMBDA_UPRE = 3
+} vr_lambda_rule;
+
 typedef struct vr_recovery_options {
   /* Singular values below rank_tol times the largest are treated as zero
    * (pseudo-inverse, constraint reduction).  Default 1e-10. */
@@ -75,6 +89,8 @@ typedef struct vr_recovery_options {
    * of Kim and Gu (2004), which resists GCV's undersmoothing with few
    * observations (see recover_regularised.c).  Must be >= 1. */
   double gcv_rho;
+  vr_lambda_rule lambda_rule; /* default VR_LAMBDA_AUTO */
+  double discrepancy_tau;     /* default 1; must be > 0 */
   /* Cap on active-set iterations per solve; 0 means 10 n + 50, n the
    * unknowns (N samples plus one slack per clipped observation). */
   int max_iter;
@@ -135,7 +151,10 @@ enum {
    * operator's null space (one light, or clipping left two channels), so
    * GCV cannot choose; lambda is then 1e-6 times the squared scale of the
    * data, which gives the smoothest (near-)exact fit. */
-  VR_RECOVER_FLAG_GCV_FLAT = 1u << 7
+  VR_RECOVER_FLAG_GCV_FLAT = 1u << 7,
+  /* vr_recover_noisy: the result misses the unclipped responses by more
+   * than their noise explains (chi2 > chi2_limit). */
+  VR_RECOVER_FLAG_MISFIT = 1u << 8
 };
 
 typedef struct vr_recover_info {
@@ -149,6 +168,10 @@ typedef struct vr_recover_info {
   double lambda;         /* regularised: the lambda used */
   double gcv;            /* regularised: the GCV value at lambda */
   int iterations;        /* active-set iterations, all phases */
+  /* vr_recover_noisy: sum over unclipped observations of ((A r - c) /
+   * sigma)^2, and the 99.9 % point of chi-squared with that many degrees
+   * of freedom (Wilson-Hilferty); NAN from vr_recover. */
+  double chi2, chi2_limit;
   unsigned flags;        /* VR_RECOVER_FLAG_* */
 } vr_recover_info;
 
@@ -160,6 +183,40 @@ typedef struct vr_recover_info {
 vr_status vr_recover(const vr_recovery_system *s, vr_recover_method m, const double *c,
                      const unsigned char *clipped, double *r_out, vr_recover_info *info,
                      vr_error *err);
+
+/* vr_recover with the noise standard deviation sigma[i] > 0 of every
+ * response (units of c; for a region's mean, the pixels' standard deviation
+ * over the square root of their number, with a floor for quantisation).
+ * The regularised method then weighs each response by 1 / sigma and, with
+ * lambda_rule AUTO, chooses lambda by unbiased predictive risk; every
+ * method reports chi2 and flags VR_RECOVER_FLAG_MISFIT when the result
+ * misses the responses by more than the noise explains.  Errors as
+ * vr_recover, and VR_E_ARG for a sigma that is not finite and > 0. */
+vr_status vr_recover_noisy(const vr_recovery_system *s, vr_recover_method m, const double *c,
+                           const double *sigma, const unsigned char *clipped, double *r_out,
+                           vr_recover_info *info, vr_error *err);
+
+/* The lambda for recovering single pixels whose responses scatter with
+ * standard deviations sigma_pixel about c_mean (a region's mean, taken as
+ * noise-free): the one that minimises the expected predictive risk
+ * ||(I - H) W c||^2 + trace H^2 of the regularised smoother H with W =
+ * 1 / sigma_pixel, over the unclipped rows.  VR_E_ARG when fewer than two
+ * rows are unclipped. */
+vr_status vr_recover_pixel_lambda(const vr_recovery_system *s, const double *c_mean,
+                                  const double *sigma_pixel, const unsigned char *clipped,
+                                  double *lambda, vr_error *err);
+
+/* Noise of a single pixel's linear response: sd, the standard deviation of
+ * the pixels of a flat region, already holds the quantisation error when the
+ * noise dithers it (sd >= step / 2); below that the rounding error,
+ * uniform over one step of the file (step: one code in linear units at
+ * that level, 0 for float files), adds step^2 / 12. */
+double vr_recover_pixel_sigma(double sd, double step);
+/* Noise of the mean of `pixels` such pixels: their scatter averages down
+ * as 1 / sqrt(pixels); undithered rounding (sd < step / 2) does not, so
+ * step / sqrt 12 stays as a floor.  Never below 1e-6 (a float file of a
+ * flat synthetic region would otherwise claim no noise at all). */
+double vr_recover_mean_sigma(double sd, long pixels, double step);
 
 /* The fundamental-metamer matrix P (N x 3L, row-major) with r* = P c for
  * every pixel: P = A^+, the SVD pseudo-inverse at rank_tol, formed on the

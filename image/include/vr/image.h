@@ -6,8 +6,11 @@
  * Pixel values: integer files are scaled to [0,1] (v/255 or v/65535, nothing
  * else: no gamma is removed, no white balance applied); float files (EXR,
  * 32-bit float TIFF) are kept as stored.  Images are always RGB: grey files are
- * expanded, alpha is dropped, OpenCV's BGR order is turned into RGB.  EXIF
- * orientation is not applied: pixels are used as stored in the file.
+ * expanded, OpenCV's BGR order is turned into RGB.  Alpha is not applied to the
+ * colour, nor kept: the reader only records whether the file had it and how
+ * many pixels it makes less than opaque (vr_image.alpha, .transparent), so a
+ * caller can refuse what it cannot use.  EXIF orientation is not applied:
+ * pixels are used as stored in the file.
  *
  * Coordinates: x to the right, y down, (0,0) the top-left corner of the image.
  * Pixel (i, j) covers [i, i+1) x [j, j+1), so its centre is (i+0.5, j+0.5).
@@ -22,22 +25,49 @@
 extern "C" {
 #endif
 
+/* The kind of file an image was read from (vr_image.format). */
+typedef enum vr_image_format {
+  VR_IMAGE_FORMAT_NONE = 0, /* not read from a file (vr_image_alloc) */
+  VR_IMAGE_FORMAT_PNG,
+  VR_IMAGE_FORMAT_TIFF,
+  VR_IMAGE_FORMAT_JPEG,
+  VR_IMAGE_FORMAT_EXR
+} vr_image_format;
+
 typedef struct vr_image {
   int width, height;
   int channels;  /* always 3 */
   float *data;   /* row-major RGB: pixel (x,y) channel c at data[(y*width + x)*3 + c] */
   int bit_depth; /* of the file read: 8, 16, or 32 (float); vr_image_alloc sets 32 */
+  int format;    /* a vr_image_format */
+  /* 1 when the file carries transparency: an alpha channel (PNG grey+alpha
+   * or RGBA, TIFF RGBA, an OpenEXR channel "A") or a PNG tRNS chunk (which
+   * makes one colour, or palette entries, transparent); else 0. */
+  int alpha;
+  /* Pixels whose alpha is below fully opaque (255, 65535, or 1.0 for float
+   * samples; a NaN alpha counts too); 0 when alpha is 0.  Their colour is
+   * left as decoded: not premultiplied in PNG (PNG 1.2 spec, section 2.6),
+   * premultiplied in OpenEXR by convention (Technical Introduction to
+   * OpenEXR, "Premultiplied vs. Un-Premultiplied Color Channels"), and for
+   * an 8-bit RGBA TIFF premultiplied by OpenCV's decoder (libtiff's RGBA
+   * interface) whatever the file says. */
+  long transparent;
 } vr_image;
 
-/* Allocates a w x h RGB image set to zero (bit_depth 32).  w, h >= 1. */
+/* Allocates a w x h RGB image set to zero (bit_depth 32, format NONE,
+ * alpha 0, transparent 0).  w, h >= 1. */
 vr_status vr_image_alloc(vr_image *img, int w, int h, vr_error *err);
 /* Frees the pixels and zeroes the struct; safe on a zeroed or freed image. */
 void vr_image_free(vr_image *img);
 
 /* Reads PNG, TIFF or JPEG (8 or 16 bit, grey, RGB or with alpha; TIFF may
  * also be 32-bit float) and OpenEXR (scanline, R,G,B or else Y channels,
- * half or float; the first part of a multi-part file; the image is its data
- * window).  The format is told by the file's first bytes, not its name.
+ * half or float, and an alpha channel A; the first part of a multi-part
+ * file; the image is its data window).  The format is told by the file's
+ * first bytes, not its name; format, alpha and transparent are filled in.
+ * A grey + alpha TIFF is refused (VR_E_PARSE): OpenCV would drop its alpha
+ * and cut 16-bit samples to 8 bits.  An EXR alpha channel must be half or
+ * float at full resolution, like the colour channels.
  * Errors name the path: VR_E_IO when it cannot be opened or read, VR_E_PARSE
  * when it is not an image of a supported kind, or is truncated or corrupt.
  * Truncation is checked before decoding where the format allows: a PNG must

@@ -18,6 +18,7 @@
 #define VR_SPECTRAL_EXR_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "vr/error.h"
 #include "vr/image.h"
@@ -65,6 +66,70 @@ void vr_spectral_image_free(vr_spectral_image *img);
  * whole or not at all (temporary file beside it, then rename). */
 vr_status vr_spectral_exr_write(const char *path, const vr_spectral_image *img,
                                 const vr_image *rgb, const char *emissive_units, vr_error *err);
+
+/* Streaming, multi-threaded writing, for images too large to hold twice
+ * (a 12-megapixel, 31-band texture is 1.5 GB as floats).  The caller fills
+ * the pixels chunk by chunk through a callback; `threads` workers each fill
+ * a chunk, compress it, and the chunks are written in order, so the file is
+ * the same whatever the number of threads.
+ *
+ * Compression: every one lossless.  NONE writes fastest and largest; RLE
+ * (one line per chunk) is cheap and gains a third on half data; ZIPS (one
+ * line) and ZIP (16 lines, zlib at zip_level) are slow; PIZ (wavelet +
+ * Huffman, 32 lines) gave the smallest files of noisy reflectance textures
+ * at a fifth of ZIP's time (docs/benchmarks.md). */
+typedef enum {
+  VR_EXR_COMPRESSION_NONE = 0,
+  VR_EXR_COMPRESSION_RLE = 1,
+  VR_EXR_COMPRESSION_ZIPS = 2,
+  VR_EXR_COMPRESSION_ZIP = 3,
+  VR_EXR_COMPRESSION_PIZ = 4
+} vr_exr_compression;
+
+/* Parses "none", "rle", "zips", "zip", "piz" (case-insensitive); VR_E_ARG
+ * naming the accepted values otherwise. */
+vr_status vr_exr_compression_parse(const char *s, vr_exr_compression *out, vr_error *err);
+/* "none", "rle", "zips", "zip", "piz"; "invalid" for any other value. */
+const char *vr_exr_compression_name(vr_exr_compression c);
+
+typedef struct vr_spectral_exr_layout {
+  int width, height;              /* >= 1 */
+  size_t nbands;                  /* >= 1 */
+  const double *wavelengths_nm;   /* nbands, as for vr_spectral_image */
+  vr_spectral_kind kind;
+  int half;                       /* spectral and R, G, B channels as 16-bit half (else float) */
+  int rgb;                        /* add R, G, B channels */
+  const char *flags_channel;      /* NULL, or the name of a 32-bit unsigned integer
+                                     channel written beside the bands (e.g. "flags") */
+  size_t nattrs;                  /* extra string attributes (name, value) */
+  const char *const *attr_names;
+  const char *const *attr_values;
+  const char *emissive_units;     /* as for vr_spectral_exr_write */
+  vr_exr_compression compression;
+  int zip_level;                  /* ZIP/ZIPS: 1 (fast) .. 9 (small); 0: OpenEXR's default */
+  int threads;                    /* workers, 1 .. 256 */
+} vr_spectral_exr_layout;
+
+/* Fills rows y0 <= y < y1 of the image: spectra receives (y1 - y0) * width *
+ * nbands floats (pixel x of row y at ((y - y0) * width + x) * nbands), rgb
+ * 3 floats per pixel (NULL when the layout has no R, G, B), flags one
+ * uint32_t per pixel (NULL without a flags channel).  thread (0 ..
+ * threads - 1) tells which worker calls, so that the caller can keep
+ * per-thread sums without locks; calls for different rows run at the same
+ * time.  A status other than VR_OK stops the write: nothing is left at the
+ * path and that error is returned. */
+typedef vr_status (*vr_spectral_rows_fn)(void *user, int thread, int y0, int y1, float *spectra,
+                                         float *rgb, uint32_t *flags, vr_error *err);
+
+/* Writes the image the callback fills to path (scanline OpenEXR, data
+ * window (0,0)-(w-1,h-1), the channel names, spectralLayoutVersion and
+ * emissiveUnits of vr_spectral_exr_write).  A NaN or -infinity produced by
+ * the callback is VR_E_RANGE naming the pixel and band; so is, with half
+ * channels, a finite value that half would round to infinity (magnitude
+ * 65520 or more; +infinity itself is kept).  The file appears whole or not
+ * at all. */
+vr_status vr_spectral_exr_write_rows(const char *path, const vr_spectral_exr_layout *layout,
+                                     vr_spectral_rows_fn fill, void *user, vr_error *err);
 
 /* Reads a file in that layout: the first part, scanline storage, half or
  * float channels in any order; the image is the data window; bands come out
