@@ -34,6 +34,8 @@
 #include "vr/sha256.h"
 #include "vr/version.h"
 
+typedef float v4f __attribute__((vector_size(16)));
+
 typedef struct tstats {
   vr_pixel_workspace *ws;
   long pixels, bounded, clipped, misfit, no_data, fallback;
@@ -51,6 +53,7 @@ typedef struct ctx {
   float *lut[RGB2SPEC_MAX_LIGHTS][3];         /* integer photos: decoded value per code */
   unsigned char *clip[RGB2SPEC_MAX_LIGHTS];   /* integer photos: clip mark per code */
   int levels[RGB2SPEC_MAX_LIGHTS];
+  long clip_code[RGB2SPEC_MAX_LIGHTS];        /* integer photos: first code marked clipped high */
   double **ref;                               /* nregions: reference on the grid or NULL */
   double **patch;                             /* nregions: the region's spectrum, in [0, 1] */
   tstats *ts;
@@ -70,7 +73,15 @@ static vr_status fill_rows(void *user, int thread, int y0, int y1, float *spectr
   size_t n = x->n, m = x->m, W = (size_t)x->width;
   float c[3 * RGB2SPEC_MAX_LIGHTS];
   unsigned char marks[3 * RGB2SPEC_MAX_LIGHTS];
-  for (int y = y0; y < y1; y++)
+  float rowsum[1024];
+  struct {
+    long bounded, clipped, misfit, no_data, fallback;
+  } cnt = {0, 0, 0, 0, 0};
+  for (int y = y0; y < y1; y++) {
+    float chi2sum = 0.0f; /* one row: a few thousand values of order 1 */
+    /* A row's spectra summed in float (at most a few thousand values in
+     * [0, 1]: 1e-4 relative at worst), then into the double totals. */
+    memset(rowsum, 0, n * sizeof *rowsum);
     for (size_t px = 0; px < W; px++) {
       size_t at = (size_t)y * W + px, out = (size_t)(y - y0) * W + px;
       bool any_clip = false;
@@ -84,7 +95,8 @@ static vr_status fill_rows(void *user, int thread, int y0, int y1, float *spectr
             long code = f <= 0.0f ? 0 : (long)f;
             code = code >= x->levels[l] ? x->levels[l] - 1 : code;
             c[i] = x->lut[l][ch][code];
-            marks[i] = x->clip[l][code];
+            /* Clipped: code 0, or at or above the first clipped code. */
+            marks[i] = code == 0 || code >= x->clip_code[l] ? x->clip[l][code] : VR_CLIP_NONE;
           } else {
             c[i] = decode_float(x, l, ch, v[ch], &marks[i]);
           }
@@ -95,17 +107,34 @@ static vr_status fill_rows(void *user, int thread, int y0, int y1, float *spectr
       float *r = spectra + out * n;
       unsigned f = vr_pixel_recover(t->ws, c, any_clip ? marks : NULL, r, rgb + out * 3, &chi2);
       flags[out] = f;
-      t->pixels++;
-      t->bounded += (f & VR_PIXEL_BOUNDED) != 0;
-      t->clipped += (f & (VR_PIXEL_CLIPPED_HIGH | VR_PIXEL_CLIPPED_LOW)) != 0;
-      t->misfit += (f & VR_PIXEL_MISFIT) != 0;
-      t->no_data += (f & VR_PIXEL_NO_DATA) != 0;
-      t->fallback += (f & VR_PIXEL_FALLBACK) != 0;
+      if (f) {
+        cnt.bounded += (f & VR_PIXEL_BOUNDED) != 0;
+        cnt.clipped += (f & (VR_PIXEL_CLIPPED_HIGH | VR_PIXEL_CLIPPED_LOW)) != 0;
+        cnt.misfit += (f & VR_PIXEL_MISFIT) != 0;
+        cnt.no_data += (f & VR_PIXEL_NO_DATA) != 0;
+        cnt.fallback += (f & VR_PIXEL_FALLBACK) != 0;
+      }
       size_t used = m;
       for (size_t i = 0; any_clip && i < m; i++) used -= marks[i] != VR_CLIP_NONE;
-      if (used) t->chi2_per_channel += chi2 / (double)used;
-      for (size_t j = 0; j < n; j++) t->sum[j] += r[j];
+      if (used) chi2sum += chi2 / (float)used;
+      for (size_t j = 0; j + 4 <= n; j += 4) {
+        v4f a, b;
+        memcpy(&a, rowsum + j, sizeof a);
+        memcpy(&b, r + j, sizeof b);
+        a += b;
+        memcpy(rowsum + j, &a, sizeof a);
+      }
+      for (size_t j = n & ~(size_t)3; j < n; j++) rowsum[j] += r[j];
     }
+    for (size_t j = 0; j < n; j++) t->sum[j] += rowsum[j];
+    t->chi2_per_channel += chi2sum;
+  }
+  t->pixels += (long)(y1 - y0) * (long)W;
+  t->bounded += cnt.bounded;
+  t->clipped += cnt.clipped;
+  t->misfit += cnt.misfit;
+  t->no_data += cnt.no_data;
+  t->fallback += cnt.fallback;
   /* The pixels of rect and chart regions against the regions' spectra. */
   const rg_run *run = x->run;
   for (size_t g = 0; g < run->nregions; g++) {
@@ -210,9 +239,11 @@ vr_status rg_per_pixel(const rg_run *run, const vr_image *img, const char *path,
     int levels = x.levels[l] = img[l].bit_depth == 8 ? 256 : 65536;
     bool srgb_enc = p->encoding ? p->encoding == 1 : true;
     if (!(x.clip[l] = malloc((size_t)levels))) goto nomem;
-    for (int k = 0; k < levels; k++) {
+    x.clip_code[l] = levels;
+    for (int k = levels - 1; k >= 0; k--) {
       double v = (double)k / (levels - 1);
       x.clip[l][k] = v >= p->clip ? VR_CLIP_HIGH : k == 0 ? VR_CLIP_LOW : VR_CLIP_NONE;
+      if (x.clip[l][k] == VR_CLIP_HIGH) x.clip_code[l] = k;
     }
     for (int ch = 0; ch < 3; ch++) {
       if (!(x.lut[l][ch] = malloc((size_t)levels * sizeof(float)))) goto nomem;

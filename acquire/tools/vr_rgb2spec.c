@@ -37,20 +37,26 @@ static const vr_option OPTIONS[] = {
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
 
 static const char USAGE[] =
-    "PHOTOS... [--manifest FILE] [--method matrix-r|bounded|regularised] [--save-prefix P]\n"
-    "                  [--db FILE] [--report FILE.html] [--json] [--per-pixel FILE.exr [--texture NAME]]\n"
+    "PHOTOS... [--manifest FILE] [--method matrix-r|bounded|regularised] [--lambda-rule R]\n"
+    "                  [--save-prefix P] [--force] [--db FILE] [--report FILE.html] [--json]\n"
+    "                  [--per-pixel FILE.exr [--texture NAME] [--exr-compression C] [--exr-float]]\n"
     "       vr-rgb2spec simulate --manifest FILE [--noise SIGMA] [--seed N] [--size WxH]\n"
     "       vr-rgb2spec calibrate PHOTO --light NAME|FILE [options] (see calibrate --help)";
 static const char ABOUT[] =
     "Recovers reflectance spectra of the regions named in a capture manifest from photos\n"
     "taken under several known lights (docs/vr-rgb2spec.md).  matrix-r: the fundamental\n"
     "metamer of the stacked system (exact round trip, may leave [0, 1]); bounded: the\n"
-    "smoothest spectrum in [0, 1] with the recorded responses; regularised: smooth least\n"
-    "squares with its weight from generalised cross-validation, for noisy 8-bit photos.\n"
-    "Reports per region and light the photo's and the re-rendered RGB and CIEDE2000, the\n"
-    "spectral RMSE and held-out-light CIEDE2000 where a reference is known, and the\n"
-    "condition number of the system.  simulate renders the manifest's regions from their\n"
-    "reference spectra into 8-bit photos (noise, then sRGB quantisation).";
+    "smoothest spectrum in [0, 1] with the recorded responses; regularised (the default):\n"
+    "smooth least squares weighted by the noise measured in each region, its smoothing\n"
+    "chosen from that noise (unbiased predictive risk), then bounded to [0, 1].\n"
+    "Reports per region and light the photo's and the re-rendered RGB and CIEDE2000 (lights\n"
+    "with a clipped channel apart), the spectral RMSE and held-out-light CIEDE2000 where a\n"
+    "reference is known, and the condition number of the system.  Exit status 1 when a\n"
+    "region misses its photos by more than their noise explains or a photo disagrees with\n"
+    "its light; --save-prefix then saves nothing unless --force.  --per-pixel writes a\n"
+    "spectral EXR texture with the same prior and bounds and a flags channel.  simulate\n"
+    "renders the manifest's regions from their reference spectra into photos (noise, then\n"
+    "8-bit sRGB, or 16-bit for encoding=linear).";
 
 static int fail(const vr_error *e) {
   fprintf(stderr, "vr-rgb2spec: %s\n", e->message);

@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "half_convert.h"
 #include "spectral_exr_internal.h"
 
 /* Where a pipeline channel's values come from: band b >= 0, -1 - c for
@@ -54,6 +55,8 @@ typedef struct worker {
   int chunk;  /* the chunk being encoded */
   int aborted; /* its wait for a turn ended on a lower chunk's failure */
   float *spectra, *rgb;
+  uint16_t *hspectra, *hrgb; /* half copies when the worker converts (F16C) */
+  int halved;                /* this chunk's half copies are filled */
   uint32_t *flags;
   int32_t *from; /* per pipeline channel, see FROM_FLAGS */
   exr_encode_pipeline_t enc;
@@ -111,11 +114,37 @@ static int bad_value(float v, int half) {
 
 /* Index of the first bad value of v[0..n), or n.  Blocks without a branch
  * per value keep the common case (all good) fast. */
+typedef float v4f_ __attribute__((vector_size(16)));
+typedef int v4i_ __attribute__((vector_size(16)));
+
+/* Whether any of v[0..m) is bad, four values a step (GCC/Clang vector
+ * extensions, SSE2): the same tests as bad_value without a branch. */
+static int any_bad(const float *v, size_t m, int half) {
+  const v4f_ inf = {INFINITY, INFINITY, INFINITY, INFINITY};
+  const float l = half ? (float)HALF_OVERFLOW : -FLT_MAX;
+  const v4f_ lim = {l, l, l, l};
+  const v4i_ abs_mask = {0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff};
+  v4i_ bad = {0, 0, 0, 0};
+  size_t i = 0;
+  for (; i + 4 <= m; i += 4) {
+    v4f_ x;
+    memcpy(&x, v + i, sizeof x);
+    if (half) {
+      v4f_ ax = (v4f_)((v4i_)x & abs_mask);
+      bad |= ~((ax < lim) | (x == inf)); /* NaN compares false: bad */
+    } else {
+      bad |= ~(x >= lim);
+    }
+  }
+  int any = bad[0] | bad[1] | bad[2] | bad[3];
+  for (; i < m; i++) any |= bad_value(v[i], half);
+  return any != 0;
+}
+
 static size_t first_bad(const float *v, size_t n, int half) {
   for (size_t i0 = 0; i0 < n; i0 += 1024) {
     const size_t m = n - i0 < 1024 ? n - i0 : 1024;
-    int any = 0;
-    for (size_t i = 0; i < m; i++) any |= bad_value(v[i0 + i], half);
+    int any = any_bad(v + i0, m, half);
     if (any)
       for (size_t i = 0; i < m; i++)
         if (bad_value(v[i0 + i], half)) return i0 + i;
@@ -187,7 +216,13 @@ static void point_channels(worker *w) {
   for (int c = 0; c < w->enc.channel_count; c++) {
     exr_coding_channel_info_t *ci = &w->enc.channels[c];
     const int32_t f = w->from[c];
-    if (f >= 0) {
+    ci->user_bytes_per_element = 4;
+    if (f >= 0 && w->halved) {
+      ci->encode_from_ptr = (const uint8_t *)(w->hspectra + f);
+      ci->user_pixel_stride = (int32_t)(nb * sizeof(uint16_t));
+      ci->user_data_type = EXR_PIXEL_HALF;
+      ci->user_bytes_per_element = 2;
+    } else if (f >= 0) {
       ci->encode_from_ptr = (const uint8_t *)(w->spectra + f);
       ci->user_pixel_stride = (int32_t)(nb * sizeof(float));
       ci->user_data_type = EXR_PIXEL_FLOAT;
@@ -195,13 +230,17 @@ static void point_channels(worker *w) {
       ci->encode_from_ptr = (const uint8_t *)w->flags;
       ci->user_pixel_stride = (int32_t)sizeof(uint32_t);
       ci->user_data_type = EXR_PIXEL_UINT;
+    } else if (w->halved) {
+      ci->encode_from_ptr = (const uint8_t *)(w->hrgb + (-1 - f));
+      ci->user_pixel_stride = 3 * (int32_t)sizeof(uint16_t);
+      ci->user_data_type = EXR_PIXEL_HALF;
+      ci->user_bytes_per_element = 2;
     } else {
       ci->encode_from_ptr = (const uint8_t *)(w->rgb + (-1 - f));
       ci->user_pixel_stride = 3 * (int32_t)sizeof(float);
       ci->user_data_type = EXR_PIXEL_FLOAT;
     }
     ci->user_line_stride = ci->user_pixel_stride * (int32_t)wd;
-    ci->user_bytes_per_element = 4;
   }
 }
 
@@ -238,7 +277,12 @@ static vr_status alloc_buffers(worker *w, vr_error *err) {
   w->spectra = malloc(n * L->nbands * sizeof(float));
   w->rgb = L->rgb ? malloc(n * 3 * sizeof(float)) : NULL;
   w->flags = L->flags_channel ? malloc(n * sizeof(uint32_t)) : NULL;
-  if (!w->spectra || (L->rgb && !w->rgb) || (L->flags_channel && !w->flags))
+  if (L->half) {
+    w->hspectra = malloc(n * L->nbands * sizeof(uint16_t));
+    w->hrgb = L->rgb ? malloc(n * 3 * sizeof(uint16_t)) : NULL;
+  }
+  if (!w->spectra || (L->rgb && !w->rgb) || (L->flags_channel && !w->flags) ||
+      (L->half && (!w->hspectra || (L->rgb && !w->hrgb))))
     return vr_error_at(err, VR_E_NOMEM, w->sh->job->path, 0, 0,
                        "out of memory for %d lines of %d pixels x %zu bands", w->sh->lines,
                        L->width, L->nbands);
@@ -264,6 +308,12 @@ static vr_status write_chunk(worker *w, int k, vr_error *err) {
   }
   st = check_values(w, y0, y1 - y0, err);
   if (st != VR_OK) return st;
+  /* Half channels: converted here when the processor can (F16C), else by
+   * OpenEXR from the floats; the same bytes either way. */
+  const size_t npx = (size_t)(y1 - y0) * (size_t)job->layout->width;
+  w->halved = job->layout->half &&
+              vr_half_convert(w->spectra, w->hspectra, npx * job->layout->nbands) &&
+              (!w->rgb || vr_half_convert(w->rgb, w->hrgb, npx * 3));
   w->chunk = k;
   exr_result_t rv = encode_chunk(w, y0);
   if (rv == EXR_ERR_SUCCESS) {
@@ -291,6 +341,8 @@ static void *work(void *arg) {
   free(w->from);
   free(w->spectra);
   free(w->rgb);
+  free(w->hspectra);
+  free(w->hrgb);
   free(w->flags);
   return NULL;
 }

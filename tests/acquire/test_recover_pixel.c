@@ -108,8 +108,17 @@ static double pixel_lambda(const fixture *f, const double *sigma) {
 /* Every pixel equals the general solver's answer for the same problem, and
  * dark patches (which noise pushes below 0) go through the bounded
  * correction. */
+static void pixel_equals_general_solver(fixture *f);
+
+/* Both kernels: AVX2/FMA where the processor has it, and SSE2. */
 static void test_pixel_equals_general_solver(void **state) {
-  fixture *f = *state;
+  pixel_equals_general_solver(*state);
+  setenv("VR_NO_AVX2", "1", 1);
+  pixel_equals_general_solver(*state);
+  unsetenv("VR_NO_AVX2");
+}
+
+static void pixel_equals_general_solver(fixture *f) {
   vr_error err = {0};
   double sigma[M];
   for (int i = 0; i < M; i++) sigma[i] = SIGMA;

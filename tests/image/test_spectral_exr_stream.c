@@ -470,6 +470,56 @@ static void bad_layouts_are_refused(void **state) {
   unlink(in_dir("good.exr"));
 }
 
+/* The writer converts half channels itself with F16C where the processor
+ * has it.  OpenEXR's own float-to-half conversion is the reference: the
+ * file must be the same bytes with the conversion left to OpenEXR.  The
+ * values probe IEEE 754 binary16's edges: subnormals (2^-24 = 5.96e-8 the
+ * smallest), the smallest normal 2^-14, ties to even at 1 + 2^-11 and
+ * 2049, the largest finite 65504 and 65519 (rounds to it), and +infinity. */
+extern int vr_half_disable_f16c;
+
+static const float edge_values[] = {0.0f,       1.0f,          5.96e-8f,    2.98e-8f,
+                                    3.0e-5f,    6.1035156e-5f, 0.33333334f, 1.00048828f,
+                                    2049.0f,    65504.0f,      65519.0f,    INFINITY,
+                                    0.1f,       1e-7f,         0.999f,      12345.678f};
+
+static vr_status fill_edges(void *user, int thread, int y0, int y1, float *spectra, float *rgb,
+                            uint32_t *flags, vr_error *err) {
+  (void)thread;
+  (void)err;
+  const scene *s = user;
+  const size_t nv = sizeof edge_values / sizeof edge_values[0];
+  for (int y = y0; y < y1; y++)
+    for (int x = 0; x < s->w; x++) {
+      const size_t p = (size_t)(y - y0) * (size_t)s->w + (size_t)x;
+      for (int b = 0; b < NB; b++)
+        spectra[p * NB + (size_t)b] = edge_values[(size_t)(x + 3 * y + b) % nv];
+      for (int c = 0; c < 3; c++) rgb[p * 3 + (size_t)c] = edge_values[(size_t)(x + y + c) % nv];
+      flags[p] = (uint32_t)x;
+    }
+  return VR_OK;
+}
+
+static void half_conversion_matches_openexr(void **state) {
+  (void)state;
+  unsigned char *bytes[2];
+  size_t len[2];
+  for (int k = 0; k < 2; k++) {
+    vr_half_disable_f16c = k;
+    scene s = make_scene(17, 40, 2);
+    vr_spectral_exr_layout L = make_layout(&s, VR_EXR_COMPRESSION_NONE, 1);
+    const char *path = in_dir("edges.exr");
+    vr_error err = {0};
+    assert_int_equal(vr_spectral_exr_write_rows(path, &L, fill_edges, &s, &err), VR_OK);
+    bytes[k] = slurp(path, &len[k]);
+  }
+  vr_half_disable_f16c = 0;
+  assert_int_equal(len[0], len[1]);
+  assert_memory_equal(bytes[0], bytes[1], len[0]);
+  free(bytes[0]);
+  free(bytes[1]);
+}
+
 static void compression_names(void **state) {
   (void)state;
   static const char *const spellings[5] = {"none", "RLE", "Zips", "zip", "PIZ"};
@@ -499,6 +549,7 @@ int main(void) {
       cmocka_unit_test(zip_level_is_used),
       cmocka_unit_test(bad_layouts_are_refused),
       cmocka_unit_test(compression_names),
+      cmocka_unit_test(half_conversion_matches_openexr),
   };
   return cmocka_run_group_tests(tests, make_test_dir, remove_test_dir);
 }

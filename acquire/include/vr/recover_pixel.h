@@ -23,6 +23,11 @@
  * computed on first use and cached per workspace) and flagged.  Unlike the
  * region method, the clipped values are not used as inequalities.
  *
+ * The products run in 4-float SSE2 vectors, or in 8-float AVX2 fused
+ * multiply-adds when the processor has them (at creation; the environment
+ * variable VR_NO_AVX2 forces SSE2, for tests): the results differ by float
+ * rounding only.
+ *
  * A recovery is read-only after creation and shared by threads; each
  * thread needs its own workspace.  The recovery system must outlive both. */
 #ifndef VR_RECOVER_PIXEL_H
