@@ -281,9 +281,9 @@ void vr_render_rgb(const vr_recovery_system *s, const double *r, double *c) {
   }
 }
 
-void vr_recover_finish_info(const vr_recovery_system *s, const double *c,
+void vr_recover_finish_info(const vr_recovery_system *s, const double *c, const double *sigma,
                             const unsigned char *clipped, const double *r, vr_recover_info *info) {
-  double res = 0.0, resw = 0.0, viol = 0.0;
+  double res = 0.0, resw = 0.0, viol = 0.0, chi2 = 0.0;
   for (size_t i = 0; i < s->m; i++) {
     double v = 0.0;
     for (size_t j = 0; j < s->n; j++) v += s->a[i * s->n + j] * r[j];
@@ -292,6 +292,7 @@ void vr_recover_finish_info(const vr_recovery_system *s, const double *c,
     if (mark == VR_CLIP_NONE) {
       res += d * d;
       resw += (d / s->rowscale[i]) * (d / s->rowscale[i]);
+      if (sigma) chi2 += (d / sigma[i]) * (d / sigma[i]);
     } else {
       double breach = mark == VR_CLIP_HIGH ? -d : d;
       if (breach > viol) viol = breach;
@@ -300,6 +301,8 @@ void vr_recover_finish_info(const vr_recovery_system *s, const double *c,
   info->residual = sqrt(res);
   info->residual_white = sqrt(resw);
   info->clip_violation = viol;
+  info->chi2 = sigma ? chi2 : NAN;
+  info->chi2_limit = sigma ? vr_recover_chi2_limit(info->used) : NAN;
 }
 
 /* ---- Matrix R ----------------------------------------------------------- */
@@ -413,27 +416,14 @@ vr_status vr_recover_noisy(const vr_recovery_system *s, vr_recover_method method
     if (!isfinite(r_out[j]))
       return vr_error_set(err, VR_E_NUMERIC, "vr_recover (%s): sample %zu came out non-finite",
                           vr_recover_method_name(method), j);
-  vr_recover_finish_info(s, c, clipped, r_out, &info);
+  vr_recover_finish_info(s, c, sigma, clipped, r_out, &info);
   if (method == VR_RECOVER_MATRIX_R && info.clipped) {
     /* Matrix R is linear and ignores the inequalities: say when it breaks one. */
     double tol = 1e-9;
     for (size_t i = 0; i < s->m; i++) tol = fmax(tol, 1e-9 * fabs(c[i]));
     if (info.clip_violation > tol) info.flags |= VR_RECOVER_FLAG_CLIP_VIOLATED;
   }
-  info.chi2 = NAN;
-  info.chi2_limit = NAN;
-  if (sigma) {
-    double chi2 = 0.0;
-    for (size_t i = 0; i < s->m; i++) {
-      if (clipped && clipped[i] != VR_CLIP_NONE) continue;
-      double v = 0.0;
-      for (size_t j = 0; j < s->n; j++) v += s->a[i * s->n + j] * r_out[j];
-      chi2 += (v - c[i]) * (v - c[i]) / (sigma[i] * sigma[i]);
-    }
-    info.chi2 = chi2;
-    info.chi2_limit = vr_recover_chi2_limit(info.used);
-    if (info.used > 0 && chi2 > info.chi2_limit) info.flags |= VR_RECOVER_FLAG_MISFIT;
-  }
+  if (sigma && info.used > 0 && info.chi2 > info.chi2_limit) info.flags |= VR_RECOVER_FLAG_MISFIT;
   if (info_out) *info_out = info;
   return VR_OK;
 }

@@ -139,8 +139,10 @@ static inline double vr_recover_slack_sign(unsigned char mark) {
  * Hilferty's approximation); 0 for k = 0. */
 double vr_recover_chi2_limit(size_t k);
 
-/* Fills info's residuals and clip violation for the result r. */
-void vr_recover_finish_info(const vr_recovery_system *s, const double *c,
+/* Fills info's residuals and clip violation for the result r, and with
+ * sigma (NULL: NAN) its chi2 over the unclipped rows and chi2_limit for
+ * info->used of them. */
+void vr_recover_finish_info(const vr_recovery_system *s, const double *c, const double *sigma,
                             const unsigned char *clipped, const double *r, vr_recover_info *info);
 
 #endif

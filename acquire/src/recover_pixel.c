@@ -410,12 +410,13 @@ unsigned vr_pixel_recover(vr_pixel_workspace *w, const float *c, const unsigned 
   if (inside) {
     /* Spectrum, weighted residual and preview at once, 4 floats a step. */
     size_t stride = p->stride, nv = stride / 4;
-    v4f acc[(128 + RES_ROWS + 3 + 15) / 4], cv[RES_ROWS];
-    for (size_t k = 0; k < m; k++) cv[k] = (v4f){c[k], c[k], c[k], c[k]};
+    v4f acc[(128 + RES_ROWS + 3 + 15) / 4];
     int outside = 0;
     if (p->avx2 && products_avx2(o->big, stride, m, np, c, (float *)acc, &outside)) {
       inside = !outside;
     } else {
+      v4f cv[RES_ROWS];
+      for (size_t k = 0; k < m; k++) cv[k] = (v4f){c[k], c[k], c[k], c[k]};
       /* Four blocks at a time, the channels inside: four independent sums
        * stay in registers and hide the adds' latency. */
       for (size_t b = 0; b < nv; b += 4) {

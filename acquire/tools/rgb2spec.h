@@ -65,6 +65,8 @@ typedef struct rg_run {
  * reported as inconsistent with it (rgb2spec_checks.c). */
 #define RG_LOO_LIMIT 6.0
 vr_status rg_check_lights(rg_run *run, vr_error *err);
+/* The median of v[0..k), k >= 1 (sorts v; rgb2spec_checks.c). */
+double rg_median(double *v, size_t k);
 /* true when the spectra of the two lights agree in shape (rgb2spec_checks.c). */
 bool rg_same_light(const vr_spectrum *a, const vr_spectrum *b);
 

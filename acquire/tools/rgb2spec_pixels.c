@@ -159,16 +159,6 @@ static vr_status fill_rows(void *user, int thread, int y0, int y1, float *spectr
   return VR_OK;
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double p = *(const double *)a, q = *(const double *)b;
-  return (p > q) - (p < q);
-}
-
-static double median(double *v, size_t k) {
-  qsort(v, k, sizeof *v, cmp_double);
-  return k % 2 ? v[k / 2] : 0.5 * (v[k / 2 - 1] + v[k / 2]);
-}
-
 /* Per-pixel noise and lambda from the regions (see the file comment). */
 static vr_status choose_noise(const rg_run *run, rg_pixels *res, vr_error *err) {
   size_t m = 3 * run->nphotos, R = run->nregions, k = 0;
@@ -178,7 +168,7 @@ static vr_status choose_noise(const rg_run *run, rg_pixels *res, vr_error *err) 
     k = 0;
     for (size_t g = 0; g < R; g++)
       if (run->regions[g].clipped[i] == VR_CLIP_NONE) v[k++] = run->regions[g].sigma_pixel[i];
-    res->sigma[i] = k ? median(v, k) : 1e-3;
+    res->sigma[i] = k ? rg_median(v, k) : 1e-3;
   }
   k = 0;
   for (size_t g = 0; g < R; g++) {
@@ -193,7 +183,7 @@ static vr_status choose_noise(const rg_run *run, rg_pixels *res, vr_error *err) 
     return vr_error_set(err, VR_E_ARG, "--per-pixel: no region has two unclipped channels to "
                                        "choose the smoothing from");
   }
-  res->lambda = median(v, k);
+  res->lambda = rg_median(v, k);
   free(v);
   return VR_OK;
 }

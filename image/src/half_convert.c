@@ -45,17 +45,15 @@ __attribute__((target("f16c"))) static void convert_f16c(const float *in, uint16
   }
 }
 
-int vr_half_convert(const float *in, uint16_t *out, size_t n) {
-  /* Asked per call (a chunk of pixels): a few hundred cycles, no shared state. */
-  if (vr_half_disable_f16c || !cpu_has_f16c()) return 0;
-  convert_f16c(in, out, n);
-  return 1;
-}
+int vr_half_available(void) { return !vr_half_disable_f16c && cpu_has_f16c(); }
+
+void vr_half_convert(const float *in, uint16_t *out, size_t n) { convert_f16c(in, out, n); }
 #else
-int vr_half_convert(const float *in, uint16_t *out, size_t n) {
+int vr_half_available(void) { return 0; }
+
+void vr_half_convert(const float *in, uint16_t *out, size_t n) {
   (void)in;
   (void)out;
   (void)n;
-  return 0;
 }
 #endif

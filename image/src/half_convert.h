@@ -5,10 +5,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* 1 when vr_half_convert can run here (F16C and the OS's AVX state, and
+ * not disabled by a test); else the caller lets OpenEXR convert. */
+int vr_half_available(void);
+
 /* Converts n floats (finite, or +infinity, each within half's range) to
- * binary16, round to nearest even; returns 1, or 0 without doing anything
- * when the processor has no F16C (the caller then lets OpenEXR convert). */
-int vr_half_convert(const float *in, uint16_t *out, size_t n);
+ * binary16, round to nearest even.  Only when vr_half_available(). */
+void vr_half_convert(const float *in, uint16_t *out, size_t n);
 
 /* Set by tests to compare against OpenEXR's own conversion. */
 extern int vr_half_disable_f16c;

@@ -40,6 +40,7 @@
 typedef struct shared {
   const vr_spectral_rows_job *job;
   int lines, nchunks;
+  int f16c;             /* the workers convert half channels themselves */
   pthread_mutex_t lock; /* guards what follows */
   pthread_cond_t turn;  /* next_write or failed changed */
   int next_claim;       /* next chunk to hand out */
@@ -311,9 +312,11 @@ static vr_status write_chunk(worker *w, int k, vr_error *err) {
   /* Half channels: converted here when the processor can (F16C), else by
    * OpenEXR from the floats; the same bytes either way. */
   const size_t npx = (size_t)(y1 - y0) * (size_t)job->layout->width;
-  w->halved = job->layout->half &&
-              vr_half_convert(w->spectra, w->hspectra, npx * job->layout->nbands) &&
-              (!w->rgb || vr_half_convert(w->rgb, w->hrgb, npx * 3));
+  w->halved = job->layout->half && w->sh->f16c;
+  if (w->halved) {
+    vr_half_convert(w->spectra, w->hspectra, npx * job->layout->nbands);
+    if (w->rgb) vr_half_convert(w->rgb, w->hrgb, npx * 3);
+  }
   w->chunk = k;
   exr_result_t rv = encode_chunk(w, y0);
   if (rv == EXR_ERR_SUCCESS) {
@@ -348,7 +351,7 @@ static void *work(void *arg) {
 }
 
 vr_status vr_spectral_exr_write_chunks(const vr_spectral_rows_job *job, vr_error *err) {
-  shared sh = {.job = job};
+  shared sh = {.job = job, .f16c = vr_half_available()};
   exr_result_t rv = exr_get_scanlines_per_chunk(job->ctxt, job->part, &sh.lines);
   if (rv != EXR_ERR_SUCCESS || sh.lines < 1)
     return vr_error_at(err, VR_E_IO, job->path, 0, 0, "OpenEXR gives no chunk size: %s",
