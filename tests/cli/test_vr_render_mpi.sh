@@ -115,10 +115,20 @@ runN 2 --image-space -o imsp; check "2 ranks in image space" test $? -eq 0
 "$cmp" "$tmp/one.exr" "$tmp/imsp.exr" > /dev/null; check "image space on 2 ranks: the same image" test $? -eq 0
 runN 2 --memory-budget 300K -o budget --stats budget.json; check "2 ranks under a budget" test $? -eq 0
 "$cmp" "$tmp/one.exr" "$tmp/budget.exr" > /dev/null; check "2 ranks under a budget: the same image" test $? -eq 0
+# What the budget guarantees (flow_sched.c): each rank's cells and queues
+# stay within it, the queues spill what they cannot hold, every ray is
+# traced.  Whether a cell is also unloaded depends on which cells a rank
+# owns, and the ranks' shares follow measured times (LPT): 0 to 5 unloads
+# over runs here, so it is not asserted.
 python3 -c "
 import json, sys; s = json.load(open('$tmp/budget.json'))
-assert s['subdomains']['unloads'] > 0 and s['rays']['created'] == s['rays']['finished'], s['subdomains']" 
-check "2 ranks under a budget: cells unloaded, rays accounted for" test $? -eq 0
+b, m = s['memory']['budget_bytes'], s['memory']
+assert b == 300 * 1024, b
+for r in s['ranks']:
+    assert r['peak_cells_bytes'] + m['peak_queue_bytes'] <= b, (r, m)
+assert s['subdomains']['rays_spilled'] > 0, s['subdomains']
+assert s['rays']['created'] == s['rays']['finished'], s['rays']"
+check "2 ranks under a budget: cells and queues within it, queues spilled, rays accounted for" test $? -eq 0
 
 # Photon-mapped sensors read the same over ranks (each rank stores the
 # photons landing in its cells; every rank gets them all).
