@@ -57,7 +57,7 @@ struct vr_pixel_workspace {
   op slot[CACHE_SLOTS];
   double *r0, *r, *mbb, *mu, *rhs, *cd; /* scratch */
   int *bidx;
-  unsigned char *lo, *hi, *nlo, *nhi;
+  unsigned char *st, *nst; /* bound state per band: FREE, AT_LO, AT_HI */
 };
 
 static void op_free(op *o) {
@@ -278,11 +278,9 @@ vr_pixel_workspace *vr_pixel_workspace_create(const vr_pixel_recovery *p, vr_err
   w->rhs = malloc(n * sizeof *w->rhs);
   w->cd = malloc(p->m * sizeof *w->cd);
   w->bidx = malloc(n * sizeof *w->bidx);
-  w->lo = malloc(4 * n);
-  if (!w->r0 || !w->r || !w->mbb || !w->mu || !w->rhs || !w->cd || !w->bidx || !w->lo) goto fail;
-  w->hi = w->lo + n;
-  w->nlo = w->lo + 2 * n;
-  w->nhi = w->lo + 3 * n;
+  w->st = malloc(2 * n);
+  if (!w->r0 || !w->r || !w->mbb || !w->mu || !w->rhs || !w->cd || !w->bidx || !w->st) goto fail;
+  w->nst = w->st + n;
   return w;
 fail:
   vr_pixel_workspace_destroy(w);
@@ -301,7 +299,7 @@ void vr_pixel_workspace_destroy(vr_pixel_workspace *w) {
   free(w->rhs);
   free(w->cd);
   free(w->bidx);
-  free(w->lo);
+  free(w->st);
   free(w);
 }
 
@@ -347,42 +345,50 @@ static int spd_solve(size_t nb, double *a, double *b) {
 /* The bounded correction of r0 = K c into w->r by the primal-dual active
  * set; returns 0, or -1 when it does not settle (or M[B,B] is not positive
  * definite to rounding). */
+enum { FREE = 0, AT_LO = 1, AT_HI = 2 };
+
 static int bounded(vr_pixel_workspace *w, const op *o) {
-  size_t n = w->p->n;
-  for (size_t j = 0; j < n; j++) {
-    w->lo[j] = w->r0[j] < 0.0;
-    w->hi[j] = w->r0[j] > 1.0;
-  }
+  const size_t n = w->p->n;
+  const double *M = o->M, *r0 = w->r0;
+  double *r = w->r;
+  unsigned char *st = w->st, *nst = w->nst;
+  for (size_t j = 0; j < n; j++) st[j] = r0[j] < 0.0 ? AT_LO : r0[j] > 1.0 ? AT_HI : FREE;
   for (size_t it = 0; it < 3 * n + 10; it++) {
     size_t nb = 0;
     for (size_t j = 0; j < n; j++)
-      if (w->lo[j] || w->hi[j]) w->bidx[nb++] = (int)j;
+      if (st[j]) w->bidx[nb++] = (int)j;
     for (size_t a = 0; a < nb; a++) {
-      size_t ja = (size_t)w->bidx[a];
-      w->rhs[a] = (w->hi[ja] ? 1.0 : 0.0) - w->r0[ja];
-      for (size_t b = 0; b < nb; b++) w->mbb[a * nb + b] = o->M[ja * n + (size_t)w->bidx[b]];
+      const double *row = M + (size_t)w->bidx[a] * n;
+      w->rhs[a] = (st[w->bidx[a]] == AT_HI ? 1.0 : 0.0) - r0[w->bidx[a]];
+      for (size_t b = 0; b < nb; b++) w->mbb[a * nb + b] = row[w->bidx[b]];
     }
     if (nb && spd_solve(nb, w->mbb, w->rhs)) return -1;
-    for (size_t j = 0; j < n; j++) {
-      double v = w->r0[j];
-      for (size_t a = 0; a < nb; a++) v += o->M[j * n + (size_t)w->bidx[a]] * w->rhs[a];
-      w->r[j] = v;
+    /* r = r0 + M[:, B] mu_B, by rows of M (symmetric: op_build mirrors it),
+     * so the inner loop runs along memory. */
+    memcpy(r, r0, n * sizeof *r);
+    for (size_t a = 0; a < nb; a++) {
+      const double *row = M + (size_t)w->bidx[a] * n, mu = w->rhs[a];
+      for (size_t j = 0; j < n; j++) r[j] += mu * row[j];
+      w->mu[w->bidx[a]] = mu;
     }
-    for (size_t a = 0; a < nb; a++) w->mu[w->bidx[a]] = w->rhs[a];
     int same = 1;
     for (size_t j = 0; j < n; j++) {
-      int on = w->lo[j] || w->hi[j];
-      w->nlo[j] = on ? (w->lo[j] && w->mu[j] > 0.0) : w->r[j] < 0.0;
-      w->nhi[j] = on ? (w->hi[j] && w->mu[j] < 0.0) : w->r[j] > 1.0;
-      same &= w->nlo[j] == w->lo[j] && w->nhi[j] == w->hi[j];
+      unsigned char v = st[j] == AT_LO   ? (w->mu[j] > 0.0 ? AT_LO : FREE)
+                        : st[j] == AT_HI ? (w->mu[j] < 0.0 ? AT_HI : FREE)
+                        : r[j] < 0.0     ? AT_LO
+                        : r[j] > 1.0     ? AT_HI
+                                         : FREE;
+      nst[j] = v;
+      same &= v == st[j];
     }
     if (same) {
-      for (size_t j = 0; j < n; j++)
-        w->r[j] = w->lo[j] ? 0.0 : w->hi[j] ? 1.0 : fmin(fmax(w->r[j], 0.0), 1.0);
+      for (size_t j = 0; j < n; j++) {
+        double v = r[j] < 0.0 ? 0.0 : r[j] > 1.0 ? 1.0 : r[j];
+        r[j] = st[j] == AT_LO ? 0.0 : st[j] == AT_HI ? 1.0 : v;
+      }
       return 0;
     }
-    memcpy(w->lo, w->nlo, n);
-    memcpy(w->hi, w->nhi, n);
+    memcpy(st, nst, n);
   }
   return -1;
 }
@@ -485,18 +491,38 @@ unsigned vr_pixel_recover(vr_pixel_workspace *w, const float *c, const unsigned 
       return flags | VR_PIXEL_NO_DATA | VR_PIXEL_FALLBACK;
     }
     flags |= VR_PIXEL_FALLBACK;
-    for (size_t j = 0; j < n; j++) w->r[j] = fmin(fmax(w->r[j], 0.0), 1.0);
+    for (size_t j = 0; j < n; j++) w->r[j] = w->r[j] < 0.0 ? 0.0 : w->r[j] > 1.0 ? 1.0 : w->r[j];
   }
   /* Residual and preview of the corrected spectrum, 4 rows a step. */
   v4f gacc[(64 + 3 + 3) / 4];
   size_t gb = p->gstride / 4;
   for (size_t b = 0; b < gb; b++) gacc[b] = (v4f){0, 0, 0, 0};
-  for (size_t j = 0; j < n; j++) {
-    float rj = (float)w->r[j];
-    v4f rv = {rj, rj, rj, rj};
-    const v4f *col = (const v4f *)(p->g + j * p->gstride);
-    for (size_t b = 0; b < gb; b++) gacc[b] += rv * col[b];
-    r[j] = rj;
+  if (gb <= 4) {
+    /* Up to 13 channels (4 lights) plus the preview: four sums held in
+     * registers instead of going through memory each band. */
+    v4f a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0, a3 = a0;
+    for (size_t j = 0; j < n; j++) {
+      float rj = (float)w->r[j];
+      v4f rv = {rj, rj, rj, rj};
+      const v4f *col = (const v4f *)(p->g + j * p->gstride);
+      a0 += rv * col[0];
+      if (gb > 1) a1 += rv * col[1];
+      if (gb > 2) a2 += rv * col[2];
+      if (gb > 3) a3 += rv * col[3];
+      r[j] = rj;
+    }
+    gacc[0] = a0;
+    if (gb > 1) gacc[1] = a1;
+    if (gb > 2) gacc[2] = a2;
+    if (gb > 3) gacc[3] = a3;
+  } else {
+    for (size_t j = 0; j < n; j++) {
+      float rj = (float)w->r[j];
+      v4f rv = {rj, rj, rj, rj};
+      const v4f *col = (const v4f *)(p->g + j * p->gstride);
+      for (size_t b = 0; b < gb; b++) gacc[b] += rv * col[b];
+      r[j] = rj;
+    }
   }
   const float *gout = (const float *)gacc;
   double x2 = 0.0;

@@ -1,4 +1,5 @@
 /* Whole-or-nothing output files: see vr/atomic_file.h. */
+#define _GNU_SOURCE /* sync_file_range */
 #include "vr/atomic_file.h"
 
 #include <errno.h>
@@ -43,6 +44,16 @@ vr_status vr_atomic_file_commit(vr_atomic_file *f, vr_error *err) {
     return vr_error_at(err, VR_E_IO, f->path, 0, 0, "write failed: %s", strerror(saved));
   }
   return VR_OK;
+}
+
+void vr_atomic_file_writeback(vr_atomic_file *f, long long end) {
+  const long long step = 16LL << 20;
+  if (!f->fp || end - f->queued < step) return;
+  if (fflush(f->fp) != 0) return;
+#ifdef SYNC_FILE_RANGE_WRITE
+  sync_file_range(fileno(f->fp), (off_t)f->queued, (off_t)(end - f->queued), SYNC_FILE_RANGE_WRITE);
+#endif
+  f->queued = end;
 }
 
 void vr_atomic_file_abort(vr_atomic_file *f) {

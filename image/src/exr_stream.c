@@ -31,6 +31,7 @@ int64_t vr_exr_stream_write(exr_const_context_t ctxt, void *user, const void *bu
     if (!s->write_errno) s->write_errno = errno ? errno : EIO;
     return -1;
   }
+  if (s->af) vr_atomic_file_writeback(s->af, (long long)(offset + sz));
   return (int64_t)sz;
 }
 

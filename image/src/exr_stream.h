@@ -5,6 +5,7 @@
 #ifndef VR_EXR_STREAM_H
 #define VR_EXR_STREAM_H
 
+#include "vr/atomic_file.h"
 #include <stddef.h>
 #include <stdio.h>
 
@@ -16,6 +17,7 @@ typedef struct exr_stream {
   const unsigned char *buf; /* reading: the whole file */
   size_t len;
   FILE *fp;                 /* writing: the temporary file */
+  vr_atomic_file *af;       /* writing: if set, its writeback is started as chunks land */
   int write_errno;
   char message[256];        /* first error OpenEXR reported while reading */
 } exr_stream;

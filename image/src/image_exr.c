@@ -207,7 +207,7 @@ vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half,
   vr_atomic_file af;
   vr_status st = vr_atomic_file_open(&af, path, err);
   if (st != VR_OK) return st;
-  exr_stream s = {.fp = af.fp};
+  exr_stream s = {.fp = af.fp, .af = &af};
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.user_data = &s;
   init.write_fn = vr_exr_stream_write;

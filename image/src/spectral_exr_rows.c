@@ -62,6 +62,7 @@ typedef struct worker {
   int32_t *from; /* per pipeline channel, see FROM_FLAGS */
   exr_encode_pipeline_t enc;
   int initialised, routines;
+  exr_result_t (*default_pack)(exr_encode_pipeline_t *); /* OpenEXR's, chosen once */
 } worker;
 
 static int claim(shared *sh) {
@@ -219,10 +220,13 @@ static void point_channels(worker *w) {
     const int32_t f = w->from[c];
     ci->user_bytes_per_element = 4;
     if (f >= 0 && w->halved) {
-      ci->encode_from_ptr = (const uint8_t *)(w->hspectra + f);
-      ci->user_pixel_stride = (int32_t)(nb * sizeof(uint16_t));
+      /* Band-major per line (vr_half_convert_planar): band f's run. */
+      ci->encode_from_ptr = (const uint8_t *)(w->hspectra + (size_t)f * wd);
+      ci->user_pixel_stride = (int32_t)sizeof(uint16_t);
       ci->user_data_type = EXR_PIXEL_HALF;
       ci->user_bytes_per_element = 2;
+      ci->user_line_stride = (int32_t)(nb * wd * sizeof(uint16_t));
+      continue;
     } else if (f >= 0) {
       ci->encode_from_ptr = (const uint8_t *)(w->spectra + f);
       ci->user_pixel_stride = (int32_t)(nb * sizeof(float));
@@ -245,6 +249,52 @@ static void point_channels(worker *w) {
   }
 }
 
+/* Our own packing, in place of OpenEXR's generic one (which converts and
+ * byte-swaps element by element through a switch on the types): every
+ * channel's buffer already holds the file's type (half, float or uint, see
+ * point_channels), so on a little-endian host, whose byte order is the
+ * file's, packing is a copy of each line's channel runs: one memcpy for a
+ * contiguous run (the half spectra, written band-major by
+ * vr_half_convert_planar; the flags), a gather of 2- or 4-byte elements
+ * for an interleaved one (float spectra, the RGB preview).  Same bytes as
+ * OpenEXR's pack (tests/image/test_spectral_exr_stream.c). */
+static exr_result_t pack_native(exr_encode_pipeline_t *e) {
+  uint8_t *dst = e->packed_buffer;
+  const size_t wd = (size_t)e->chunk.width;
+  for (int y = 0; y < e->chunk.height; y++)
+    for (int c = 0; c < e->channel_count; c++) {
+      const exr_coding_channel_info_t *ch = &e->channels[c];
+      const size_t ps = (size_t)ch->user_pixel_stride, bpe = (size_t)ch->bytes_per_element;
+      const uint8_t *src = ch->encode_from_ptr + (size_t)y * (size_t)ch->user_line_stride;
+      if (ps == bpe)
+        memcpy(dst, src, wd * bpe);
+      else if (bpe == 2)
+        for (size_t x = 0; x < wd; x++) memcpy(dst + 2 * x, src + x * ps, 2);
+      else
+        for (size_t x = 0; x < wd; x++) memcpy(dst + 4 * x, src + x * ps, 4);
+      dst += wd * bpe;
+    }
+  e->packed_bytes = (uint64_t)(dst - (uint8_t *)e->packed_buffer);
+  return EXR_ERR_SUCCESS;
+}
+
+/* Every channel handed over in its file type, on a little-endian host:
+ * pack_native applies.  Else (floats for half channels when the processor
+ * lacks F16C) OpenEXR's packer converts. */
+static int native_types(const exr_encode_pipeline_t *e) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  for (int c = 0; c < e->channel_count; c++)
+    if (e->channels[c].user_data_type != e->channels[c].data_type ||
+        e->channels[c].user_bytes_per_element != e->channels[c].bytes_per_element ||
+        e->channels[c].x_samples != 1 || e->channels[c].y_samples != 1)
+      return 0;
+  return 1;
+#else
+  (void)e;
+  return 0;
+#endif
+}
+
 static exr_result_t encode_chunk(worker *w, int y0) {
   const vr_spectral_rows_job *job = w->sh->job;
   exr_chunk_info_t cinfo;
@@ -265,7 +315,9 @@ static exr_result_t encode_chunk(worker *w, int y0) {
     if (rv != EXR_ERR_SUCCESS) return rv;
     w->routines = 1;
     w->enc.yield_until_ready_fn = wait_turn; /* the default write_fn stays */
+    w->default_pack = w->enc.convert_and_pack_fn;
   }
+  w->enc.convert_and_pack_fn = native_types(&w->enc) ? pack_native : w->default_pack;
   w->enc.encoding_user_data = w;
   return exr_encoding_run(job->ctxt, job->part, &w->enc);
 }
@@ -314,7 +366,8 @@ static vr_status write_chunk(worker *w, int k, vr_error *err) {
   const size_t npx = (size_t)(y1 - y0) * (size_t)job->layout->width;
   w->halved = job->layout->half && w->sh->f16c;
   if (w->halved) {
-    vr_half_convert(w->spectra, w->hspectra, npx * job->layout->nbands);
+    vr_half_convert_planar(w->spectra, w->hspectra, (size_t)(y1 - y0),
+                           (size_t)job->layout->width, job->layout->nbands);
     if (w->rgb) vr_half_convert(w->rgb, w->hrgb, npx * 3);
   }
   w->chunk = k;

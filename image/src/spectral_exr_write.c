@@ -217,7 +217,7 @@ vr_status vr_spectral_exr_write_rows(const char *path, const vr_spectral_exr_lay
     free(names);
     return st;
   }
-  exr_stream s = {.fp = af.fp};
+  exr_stream s = {.fp = af.fp, .af = &af};
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.user_data = &s;
   init.write_fn = vr_exr_stream_write;
