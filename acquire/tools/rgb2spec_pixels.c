@@ -25,6 +25,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "rgb2spec.h"
 #include "vr/camera.h"
@@ -38,6 +41,10 @@ typedef float v4f __attribute__((vector_size(16)));
 
 typedef struct tstats {
   vr_pixel_workspace *ws;
+  float *crow;           /* one row's decoded responses, pixel-major (width x m) */
+  int32_t *code;         /* one row of one photo's codes (width x 3) */
+  unsigned char *clrow;  /* one row: 1 where a pixel has a clipped channel */
+  unsigned char *mrow;   /* one row's clip marks, pixel-major (width x m) */
   long pixels, bounded, clipped, misfit, no_data, fallback;
   double chi2_per_channel;
   double *sum;        /* n */
@@ -53,7 +60,6 @@ typedef struct ctx {
   float *lut[RGB2SPEC_MAX_LIGHTS][3];         /* integer photos: decoded value per code */
   unsigned char *clip[RGB2SPEC_MAX_LIGHTS];   /* integer photos: clip mark per code */
   int levels[RGB2SPEC_MAX_LIGHTS];
-  long clip_code[RGB2SPEC_MAX_LIGHTS];        /* integer photos: first code marked clipped high */
   double **ref;                               /* nregions: reference on the grid or NULL */
   double **patch;                             /* nregions: the region's spectrum, in [0, 1] */
   tstats *ts;
@@ -65,14 +71,68 @@ static float decode_float(const ctx *x, size_t l, int ch, float v, unsigned char
   return (float)vr_capture_decode(x->run->cap, p, ch, v, false);
 }
 
+/* Row y of every photo into t->crow (decoded responses), t->mrow (clip
+ * marks) and t->clrow (any channel clipped), pixel by pixel.  Integer
+ * photos in two simple passes per photo: their values (code / (levels -
+ * 1), as read) back to codes, a loop the compiler vectorises, then the
+ * table lookups. */
+static void decode_row(const ctx *x, tstats *t, int y) {
+  const size_t W = (size_t)x->width, m = x->m;
+  memset(t->clrow, 0, W);
+  for (size_t l = 0; l < x->L; l++) {
+    const float *v = x->img[l].data + (size_t)y * W * 3;
+    if (!x->lut[l][0]) {
+      for (size_t px = 0; px < W; px++)
+        for (int ch = 0; ch < 3; ch++) {
+          const size_t i = px * m + 3 * l + (size_t)ch;
+          t->crow[i] = decode_float(x, l, ch, v[px * 3 + (size_t)ch], &t->mrow[i]);
+          t->clrow[px] |= t->mrow[i] != VR_CLIP_NONE;
+        }
+      continue;
+    }
+    int32_t *code = t->code;
+    const float scale = (float)(x->levels[l] - 1), top = scale;
+    size_t i = 0;
+#ifdef __SSE2__
+    const __m128 vs = _mm_set1_ps(scale), vh = _mm_set1_ps(0.5f), vt = _mm_set1_ps(top),
+                 vz = _mm_setzero_ps();
+    for (; i + 4 <= 3 * W; i += 4) {
+      __m128 f = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(v + i), vs), vh);
+      f = _mm_min_ps(_mm_max_ps(f, vz), vt);
+      _mm_storeu_si128((__m128i *)(code + i), _mm_cvttps_epi32(f));
+    }
+#endif
+    for (; i < 3 * W; i++) {
+      float f = v[i] * scale + 0.5f; /* integer photos hold exact codes: never NaN */
+      f = f < 0.0f ? 0.0f : f;
+      f = f > top ? top : f;
+      code[i] = (int32_t)f;
+    }
+    const unsigned char *clip = x->clip[l];
+    const float *lut[3] = {x->lut[l][0], x->lut[l][1], x->lut[l][2]};
+    for (size_t px = 0; px < W; px++) {
+      float *c = t->crow + px * m + 3 * l;
+      unsigned char *mk = t->mrow + px * m + 3 * l;
+      unsigned char any = 0;
+      for (int ch = 0; ch < 3; ch++) {
+        const int32_t k = code[3 * px + (size_t)ch];
+        c[ch] = lut[ch][k];
+        /* The table marks code 0 and the codes from the first clipped one
+         * up (rg_per_pixel); a load, no branch. */
+        mk[ch] = clip[k];
+        any |= mk[ch];
+      }
+      t->clrow[px] |= any != VR_CLIP_NONE;
+    }
+  }
+}
+
 static vr_status fill_rows(void *user, int thread, int y0, int y1, float *spectra, float *rgb,
                            uint32_t *flags, vr_error *err) {
   (void)err;
   ctx *x = user;
   tstats *t = &x->ts[thread];
   size_t n = x->n, m = x->m, W = (size_t)x->width;
-  float c[3 * RGB2SPEC_MAX_LIGHTS];
-  unsigned char marks[3 * RGB2SPEC_MAX_LIGHTS];
   float rowsum[1024];
   struct {
     long bounded, clipped, misfit, no_data, fallback;
@@ -82,27 +142,12 @@ static vr_status fill_rows(void *user, int thread, int y0, int y1, float *spectr
     /* A row's spectra summed in float (at most a few thousand values in
      * [0, 1]: 1e-4 relative at worst), then into the double totals. */
     memset(rowsum, 0, n * sizeof *rowsum);
+    decode_row(x, t, y);
     for (size_t px = 0; px < W; px++) {
-      size_t at = (size_t)y * W + px, out = (size_t)(y - y0) * W + px;
-      bool any_clip = false;
-      for (size_t l = 0; l < x->L; l++) {
-        const float *v = x->img[l].data + at * 3;
-        for (int ch = 0; ch < 3; ch++) {
-          size_t i = 3 * l + (size_t)ch;
-          if (x->lut[l][0]) {
-            /* v = code / (levels - 1) exactly as read: round back to the code. */
-            float f = v[ch] * (float)(x->levels[l] - 1) + 0.5f;
-            long code = f <= 0.0f ? 0 : (long)f;
-            code = code >= x->levels[l] ? x->levels[l] - 1 : code;
-            c[i] = x->lut[l][ch][code];
-            /* Clipped: code 0, or at or above the first clipped code. */
-            marks[i] = code == 0 || code >= x->clip_code[l] ? x->clip[l][code] : VR_CLIP_NONE;
-          } else {
-            c[i] = decode_float(x, l, ch, v[ch], &marks[i]);
-          }
-          any_clip |= marks[i] != VR_CLIP_NONE;
-        }
-      }
+      size_t out = (size_t)(y - y0) * W + px;
+      const bool any_clip = t->clrow[px] != 0;
+      const float *c = t->crow + px * m;
+      const unsigned char *marks = t->mrow + px * m;
       float chi2;
       float *r = spectra + out * n;
       unsigned f = vr_pixel_recover(t->ws, c, any_clip ? marks : NULL, r, rgb + out * 3, &chi2);
@@ -229,11 +274,9 @@ vr_status rg_per_pixel(const rg_run *run, const vr_image *img, const char *path,
     int levels = x.levels[l] = img[l].bit_depth == 8 ? 256 : 65536;
     bool srgb_enc = p->encoding ? p->encoding == 1 : true;
     if (!(x.clip[l] = malloc((size_t)levels))) goto nomem;
-    x.clip_code[l] = levels;
     for (int k = levels - 1; k >= 0; k--) {
       double v = (double)k / (levels - 1);
       x.clip[l][k] = v >= p->clip ? VR_CLIP_HIGH : k == 0 ? VR_CLIP_LOW : VR_CLIP_NONE;
-      if (x.clip[l][k] == VR_CLIP_HIGH) x.clip_code[l] = k;
     }
     for (int ch = 0; ch < 3; ch++) {
       if (!(x.lut[l][ch] = malloc((size_t)levels * sizeof(float)))) goto nomem;
@@ -256,6 +299,11 @@ vr_status rg_per_pixel(const rg_run *run, const vr_image *img, const char *path,
       goto done;
     }
     ts->sum = calloc(n, sizeof *ts->sum);
+    ts->crow = malloc((size_t)x.width * m * sizeof *ts->crow);
+    ts->mrow = malloc((size_t)x.width * m);
+    ts->clrow = malloc((size_t)x.width);
+    ts->code = malloc((size_t)x.width * 3 * sizeof *ts->code);
+    if (!ts->crow || !ts->mrow || !ts->clrow || !ts->code) goto nomem;
     ts->rpix = calloc(R, sizeof *ts->rpix);
     ts->rse_patch = calloc(R, sizeof *ts->rse_patch);
     ts->rse_ref = calloc(R, sizeof *ts->rse_ref);
@@ -318,6 +366,10 @@ done:
   for (int t = 0; x.ts && t < threads; t++) {
     vr_pixel_workspace_destroy(x.ts[t].ws);
     free(x.ts[t].sum);
+    free(x.ts[t].crow);
+    free(x.ts[t].mrow);
+    free(x.ts[t].clrow);
+    free(x.ts[t].code);
     free(x.ts[t].rpix);
     free(x.ts[t].rse_patch);
     free(x.ts[t].rse_ref);
