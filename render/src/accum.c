@@ -132,18 +132,31 @@ void vr_accum_pixel(accum *a, uint32_t pixel, int nwl, const double *wl, const d
   for (int k = 0; k < 3; k++) vr_atomic_add(&a->xyz[(size_t)pixel * 3 + (size_t)k], xyz[k]);
 }
 
-void vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
-                     const double *E, double wl_weight) {
+/* The illuminance of E (and, with spectrum, its spectrum into point's
+ * bins) into slot `slot` of point. */
+static void sensor_add(accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,
+                       const double *E, double wl_weight, bool spectrum) {
   double lx = 0;
   for (int i = 0; i < nwl; i++) {
     if (E[i] == 0.0) continue;
     double c[3];
     cmf(a, wl[i], c);
     lx += KM * c[1] * E[i] * wl_weight;
-    long b = bin_of(a, wl[i]);
+    long b = spectrum ? bin_of(a, wl[i]) : -1;
     if (b >= 0)
       vr_atomic_add(&a->sensor_bins[(size_t)point * a->nbins + (size_t)b],
                     E[i] * wl_weight / a->bin_step);
   }
-  vr_atomic_add(&a->sensor_lx[(size_t)point * (size_t)a->groups + sample % (uint32_t)a->groups], lx);
+  vr_atomic_add(&a->sensor_lx[(size_t)point * (size_t)a->groups + slot], lx);
 }
+
+void vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
+                     const double *E, double wl_weight) {
+  sensor_add(a, point, sample % (uint32_t)a->groups, nwl, wl, E, wl_weight, true);
+}
+
+void vr_accum_sensor_lx(accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,
+                        const double *E, double wl_weight) {
+  if (slot < (uint32_t)a->groups) sensor_add(a, point, slot, nwl, wl, E, wl_weight, false);
+}
+

@@ -21,6 +21,7 @@
  * Glossy (GGX) vertices always continue by sampling, with next-event
  * estimation at each. */
 #include <math.h>
+#include <stdatomic.h>
 #include <string.h>
 
 #include "render_internal.h"
@@ -66,9 +67,12 @@ static void deliver(pass_ctx *c, const payload *p, const double *v0) {
   case TARGET_GATHER:
     vr_accum_pixel(c->acc, p->index, p->nwl, p->wl, v, wl_weight(c->rs, p->nwl));
     break;
-  case TARGET_SENSOR:
-    vr_accum_sensor(c->acc, p->index, p->sample, p->nwl, p->wl, v, wl_weight(c->rs, p->nwl));
+  case TARGET_SENSOR: {
+    /* Photon sensors keep their second half of slots for the bias probe. */
+    uint32_t slot = c->sensor_photons ? p->sample % (uint32_t)c->sensor_groups : p->sample;
+    vr_accum_sensor(c->acc, p->index, slot, p->nwl, p->wl, v, wl_weight(c->rs, p->nwl));
     break;
+  }
   case TARGET_TEXEL: {
     /* UV band integral: wavelengths uniform over 300-400 nm. */
     double s = 0;
@@ -175,24 +179,78 @@ static void sensor_f(const void *u, const double wi[3], double *fc) {
   for (int k = 0; k < VR_MAX_WL; k++) fc[k] = c > 0 ? c : 0.0;
 }
 
-static void photon_estimate(const pass_ctx *c, const vr_photon_set *ps, const double x[3],
-                            const double n[3], int nwl, const double *wl, double *E) {
-  for (int k = 0; k < nwl; k++) E[k] = 0;
-  if (!ps || !vr_photon_set_count(ps)) return;
+/* The share of a density estimate's disc (radius r about x, weighted by the
+ * cone filter of constant kc, or uniformly for kc <= 0) that lies on the
+ * rectangle of frame f (p = corner + u eu + v ev, u and v in [0, 1]).  A
+ * disc reaching past the rectangle's edge holds that surface's photons
+ * over only this share of its area, so the estimate, which divides by the
+ * whole disc, reads low by this factor near walls' and floors' edges and
+ * corners.  In polar coordinates about x: along each of 128 directions the
+ * rectangle ends at distance t, and the filter's integral out to s =
+ * min(t, r) is s^2/2 - s^3/(3 kc r) (s^2/2 for the box).  Returns 1 for a
+ * parallelogram that is not a rectangle. */
+static double rect_disc_share(const double f[9], const double x[3], double r, double kc) {
+  double Lu = sqrt(dot3(f + 3, f + 3)), Lv = sqrt(dot3(f + 6, f + 6));
+  if (!(Lu > 0) || !(Lv > 0) || !(r > 0) || fabs(dot3(f + 3, f + 6)) > 1e-9 * Lu * Lv) return 1.0;
+  double d[3] = {x[0] - f[0], x[1] - f[1], x[2] - f[2]};
+  double cx = dot3(d, f + 3) / Lu, cy = dot3(d, f + 6) / Lv;
+  cx = cx < 0 ? 0 : cx > Lu ? Lu : cx;
+  cy = cy < 0 ? 0 : cy > Lv ? Lv : cy;
+  enum { DIRS = 128 };
+  double full = kc > 0 ? r * r / 2 - r * r / (3 * kc) : r * r / 2, sum = 0;
+  for (int i = 0; i < DIRS; i++) {
+    double ph = (i + 0.5) * (2 * M_PI / DIRS), cu = cos(ph), sv = sin(ph), t = r;
+    if (cu > 0 && (Lu - cx) / cu < t) t = (Lu - cx) / cu;
+    if (cu < 0 && -cx / cu < t) t = -cx / cu;
+    if (sv > 0 && (Lv - cy) / sv < t) t = (Lv - cy) / sv;
+    if (sv < 0 && -cy / sv < t) t = -cy / sv;
+    sum += kc > 0 ? t * t / 2 - t * t * t / (3 * kc * r) : t * t / 2;
+  }
+  double share = sum / DIRS / full;
+  return share < 0.05 ? 0.05 : share > 1 ? 1 : share;
+}
+
+/* Irradiance at x on object `surface` from the photons of that object only:
+ * a floor's estimate never takes the ground's photons from beyond the
+ * wall, which share its plane and side (vr_photon_map_store_on). */
+static int photon_estimate_k(const pass_ctx *c, const vr_photon_set *ps, const double x[3],
+                             const double n[3], uint32_t surface, int k, double radius, int nwl,
+                             const double *wl, double *E) {
+  for (int j = 0; j < nwl; j++) E[j] = 0;
+  if (!ps || !vr_photon_set_count(ps)) return 0;
   const vr_photon_map *m = vr_photon_set_map(ps, 0); /* for its bins: all maps share them */
   int nb = vr_photon_map_nbins(m);
   double bins[512], r;
-  if (nb > 512) return;
-  int got = vr_photon_set_irradiance(ps, x, n, c->fixed_radius ? 0 : c->knn, c->radius, 1.1,
-                                     bins, &r);
-  if (got <= 0) return;
-  for (int k = 0; k < nwl; k++) {
-    int b = vr_photon_map_bin(m, wl[k]);
+  if (nb > 512) return 0;
+  int got = vr_photon_set_irradiance_on(ps, x, n, surface, c->fixed_radius ? 0 : k, radius, 1.1,
+                                        bins, &r);
+  if (got <= 0) return 0;
+  /* On a rect, the disc's part beyond its edges held none of its photons. */
+  const vr_scene_tables *t = c->rs->t;
+  double share = surface != VR_PHOTON_ANY_SURFACE && t->is_rect[surface]
+                     ? rect_disc_share(t->rect_frame[surface], x, r, 1.1)
+                     : 1.0;
+  for (int j = 0; j < nwl; j++) {
+    int b = vr_photon_map_bin(m, wl[j]);
     double lo, hi;
     if (b < 0 || !vr_photon_map_bin_range(m, b, &lo, &hi)) continue;
-    E[k] = bins[b] * c->photon_scale / (hi - lo);
+    E[j] = bins[b] * c->photon_scale / (hi - lo) / share;
   }
+  return got;
 }
+
+static void photon_estimate(const pass_ctx *c, const vr_photon_set *ps, const double x[3],
+                            const double n[3], uint32_t surface, int nwl, const double *wl,
+                            double *E) {
+  (void)photon_estimate_k(c, ps, x, n, surface, c->knn, c->radius, nwl, wl, E);
+}
+
+/* Radiance towards wo of a diffuse hit from the three photon maps
+ * (restricted to the hit's object), times beta: rho/pi E for the
+ * neighbourhood of k photons (or the fixed radius). */
+static void photon_radiance(const pass_ctx *c, const vr_hit *hit, const double wo[3],
+                            const void *se_, const payload *p, int maps, int k, double radius,
+                            double *L, int *got_global);
 
 /* Continues a path by sampling the BSDF; returns false when it ends. */
 static bool continue_path(pass_ctx *c, vr_flow_worker *w, payload *p, const vr_hit *hit,
@@ -248,6 +306,32 @@ static bool continue_path(pass_ctx *c, vr_flow_worker *w, payload *p, const vr_h
   return true;
 }
 
+/* maps: bits 1 direct, 2 caustic, 4 global; *got_global (may be NULL)
+ * gets the photons the global map's estimate used. */
+static void photon_radiance(const pass_ctx *c, const vr_hit *hit, const double wo[3],
+                            const void *se_, const payload *p, int maps, int k, double radius,
+                            double *L, int *got_global) {
+  const surf_eval *se = se_;
+  double n[3];
+  memcpy(n, hit->ng, sizeof n);
+  if (dot3(n, wo) < 0)
+    for (int a = 0; a < 3; a++) n[a] = -n[a];
+  double E[VR_MAX_WL], Et[VR_MAX_WL] = {0}, fc[VR_MAX_WL];
+  const vr_photon_set *set[3] = {c->direct, c->caustic, c->global};
+  for (int i = 0; i < 3; i++) {
+    if (!(maps >> i & 1)) continue;
+    int got = photon_estimate_k(c, set[i], hit->p, n, (uint32_t)hit->object, k, radius, p->nwl,
+                                p->wl, E);
+    if (i == 2 && got_global) *got_global = got;
+    for (int j = 0; j < p->nwl; j++) Et[j] += E[j];
+  }
+  double refl[3] = {2 * dot3(n, wo) * n[0] - wo[0], 2 * dot3(n, wo) * n[1] - wo[1],
+                    2 * dot3(n, wo) * n[2] - wo[2]};
+  surf_f(se, refl, fc);
+  double cs = fabs(dot3(hit->ns, refl));
+  for (int j = 0; j < p->nwl; j++) L[j] = p->beta[j] * (cs > 0 ? fc[j] / cs : 0) * Et[j];
+}
+
 static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit) {
   pass_ctx *c = ctx;
   const rscene *rs = c->rs;
@@ -281,25 +365,10 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
   if (p.target == TARGET_GATHER) {
     /* A final-gather ray: the photon maps' radiance at its first hit. */
     if (!diffuse) return;
-    double n[3];
-    memcpy(n, hit->ng, sizeof n);
-    if (dot3(n, wo) < 0)
-      for (int a = 0; a < 3; a++) n[a] = -n[a];
-    double E[VR_MAX_WL], Et[VR_MAX_WL] = {0}, fc[VR_MAX_WL];
-    const vr_photon_set *maps[3] = {c->direct, c->caustic, c->global};
-    for (int i = 0; i < 3; i++) {
-      photon_estimate(c, maps[i], hit->p, n, p.nwl, p.wl, E);
-      for (int k = 0; k < p.nwl; k++) Et[k] += E[k];
-    }
-    double refl[3] = {2 * dot3(n, wo) * n[0] - wo[0], 2 * dot3(n, wo) * n[1] - wo[1],
-                      2 * dot3(n, wo) * n[2] - wo[2]};
-    surf_f(&se, refl, fc);
-    double cs = fabs(dot3(hit->ns, refl));
-    for (int k = 0; k < p.nwl; k++) L[k] = p.beta[k] * (cs > 0 ? fc[k] / cs : 0) * Et[k];
+    photon_radiance(c, hit, wo, &se, &p, 7, c->knn, c->radius, L, NULL);
     deliver(c, &p, L);
     return;
   }
-
   if (nondelta) {
     double nsky[3];
     memcpy(nsky, hit->ng, sizeof nsky);
@@ -307,6 +376,40 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
       for (int a = 0; a < 3; a++) nsky[a] = -nsky[a];
     next_event(c, w, &p, hit->p, hit->ng, (lobes & VR_LOBE_GLOSSY_T) ? NULL : nsky, surf_f, &se,
                1000u + p.depth);
+  }
+  if (p.target == TARGET_SENSOR && (p.flags & FLAG_PHOTON_GATHER) && diffuse) {
+    /* A photon sensor's diffuse vertex: direct light came from the
+     * next-event estimate above; what arrives after a diffuse or specular
+     * bounce comes from the global and caustic maps (this object's
+     * photons), and the path ends there, if the global map is dense here:
+     * k photons within the radius (final gathering, Jensen 2001 ch. 9).
+     * Where it is not (a surface few photons reached), a disc of the
+     * maximum radius would spread them over area the surface may not
+     * have, so the path goes on as in the path estimator instead.
+     * Beside the estimate, the same with a quarter of the photons (or half
+     * the radius): a density estimate's bias grows as r^2 (the curvature
+     * term), so the difference is 3/4 of the bias of the full estimate;
+     * it goes to the point's probe slots (render_sensors.c). */
+    static const int GLOBAL_CAUSTIC = 6;
+    int got = 0;
+    photon_radiance(c, hit, wo, &se, &p, GLOBAL_CAUSTIC, c->knn, c->radius, L, &got);
+    bool dense = c->fixed_radius ? got >= 16 : got >= c->knn;
+    atomic_fetch_add_explicit(dense ? &c->fg_photon : &c->fg_path, 1, memory_order_relaxed);
+    if (dense) {
+      deliver(c, &p, L);
+      double Ls[VR_MAX_WL], D[VR_MAX_WL];
+      int ks = c->knn / 4 > 1 ? c->knn / 4 : 1;
+      photon_radiance(c, hit, wo, &se, &p, GLOBAL_CAUSTIC, ks, 0.5 * c->radius, Ls, NULL);
+      for (int k = 0; k < p.nwl; k++) D[k] = (L[k] - Ls[k]) * p.weight;
+      int G = c->sensor_groups;
+      vr_accum_sensor_lx(c->acc, p.index, (uint32_t)G + p.sample % (uint32_t)G, p.nwl, p.wl, D,
+                         wl_weight(c->rs, p.nwl));
+      return;
+    }
+    /* Sparse: the caustic map still adds what no path finds (the sun or a
+     * lamp through a specular bounce); the path takes the rest. */
+    photon_radiance(c, hit, wo, &se, &p, 2, c->knn, c->radius, L, NULL);
+    deliver(c, &p, L);
   }
   bool photon_mode = c->integrator == VR_INT_PHOTON || c->integrator == VR_INT_PROGRESSIVE;
   if (diffuse && p.target == TARGET_PIXEL &&
@@ -322,10 +425,10 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
     double cs = fabs(dot3(hit->ns, refl)), fd[VR_MAX_WL];
     for (int k = 0; k < p.nwl; k++) fd[k] = cs > 0 ? fc[k] / cs : 0; /* rho / pi */
     double E[VR_MAX_WL], Et[VR_MAX_WL] = {0};
-    photon_estimate(c, c->caustic, hit->p, n, p.nwl, p.wl, E);
+    photon_estimate(c, c->caustic, hit->p, n, (uint32_t)hit->object, p.nwl, p.wl, E);
     for (int k = 0; k < p.nwl; k++) Et[k] += E[k];
     if (!c->final_gather) {
-      photon_estimate(c, c->global, hit->p, n, p.nwl, p.wl, E);
+      photon_estimate(c, c->global, hit->p, n, (uint32_t)hit->object, p.nwl, p.wl, E);
       for (int k = 0; k < p.nwl; k++) Et[k] += E[k];
     }
     for (int k = 0; k < p.nwl; k++) L[k] = p.beta[k] * fd[k] * Et[k];
@@ -442,7 +545,7 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
 void vr_sensor_generate(void *ctx, vr_flow_worker *w, long unit) {
   pass_ctx *c = ctx;
   const rscene *rs = c->rs;
-  int groups = c->acc->groups;
+  int groups = c->sensor_photons ? c->sensor_groups : c->acc->groups;
   size_t point = (size_t)unit / (size_t)groups;
   int g = (int)(unit % groups);
   const double *x = c->points[point], *n = c->points[point] + 3;
@@ -477,6 +580,7 @@ void vr_sensor_generate(void *ctx, vr_flow_worker *w, long unit) {
     payload q = p;
     for (int k = 0; k < q.nwl; k++) q.beta[k] = M_PI;
     q.depth = 1;
+    if (c->sensor_photons) q.flags |= FLAG_PHOTON_GATHER;
     memcpy(r.payload, &q, sizeof q);
     vr_flow_push(w, &r);
   }

@@ -248,6 +248,16 @@ double vr_light_sky_power(const rscene *rs) {
   return e * vr_sky_horizontal_ratio(rs->sky) * M_PI * rs->scene_radius * rs->scene_radius;
 }
 
+double vr_light_ground_power(const rscene *rs) {
+  if (!rs->has_sky) return 0.0;
+  /* The ground glow's upward flux through a horizontal disc of the
+   * scene's radius: pi L A for a uniform radiance L over the lower
+   * hemisphere.  Only for sharing the photons among sources. */
+  double e = 0;
+  for (double nm = rs->lmin; nm <= rs->lmax; nm += 1.0) e += rspd_at(&rs->ground_spd, nm);
+  return rs->ground_radiance_scale * e * M_PI * M_PI * rs->scene_radius * rs->scene_radius;
+}
+
 /* A point on the disc of radius R perpendicular to d, centred on the
  * scene's centre moved 2R back along d: photons from far sources start
  * there and cross the whole scene. */
@@ -308,6 +318,19 @@ bool vr_light_emit_photon(const rscene *rs, size_t source, int nwl, const double
   }
   if (!rs->has_sky) return false;
   double d[3], pdf;
+  if (source > rs->nemitters) {
+    /* The ground glow: d (towards the source) uniform over the lower
+     * hemisphere, pdf 1 / (2 pi), radiance ground_radiance_scale times
+     * ground_spd whatever the direction (a Lambertian ground). */
+    double z = -u3, rr = sqrt(fmax(0.0, 1.0 - z * z)), ph = 2 * M_PI * u4;
+    d[0] = rr * cos(ph), d[1] = rr * sin(ph), d[2] = z;
+    for (int a = 0; a < 3; a++) out->dir[a] = -d[a];
+    disc_origin(rs, out->dir, u1, u2, out->org);
+    double area = M_PI * rs->scene_radius * rs->scene_radius;
+    for (int k = 0; k < nwl; k++)
+      out->power[k] = rs->ground_radiance_scale * rspd_at(&rs->ground_spd, wl[k]) * area * 2 * M_PI;
+    return rs->ground_radiance_scale > 0;
+  }
   vr_sky_sample(rs->sky, u3, u4, d, &pdf);
   if (!(pdf > 0)) return false;
   double L[VR_MAX_WL];

@@ -104,6 +104,7 @@ void vr_photon_map_destroy(vr_photon_map *m) {
   free(m->nodes);
   free(m->dir);
   free(m->nrm);
+  free(m->surf);
   free(m->keys);
   free(m->spec);
   free(m);
@@ -114,6 +115,12 @@ static bool nonzero3(const double v[3]) { return v[0] != 0.0 || v[1] != 0.0 || v
 vr_status vr_photon_map_store(vr_photon_map *m, uint64_t key, const double pos[3],
                               const double dir_in[3], const double normal[3],
                               const float *power, vr_error *err) {
+  return vr_photon_map_store_on(m, key, pos, dir_in, normal, VR_PHOTON_ANY_SURFACE, power, err);
+}
+
+vr_status vr_photon_map_store_on(vr_photon_map *m, uint64_t key, const double pos[3],
+                                 const double dir_in[3], const double normal[3],
+                                 uint32_t surface, const float *power, vr_error *err) {
   if (!m || !pos || !dir_in || !normal || !power)
     return vr_error_set(err, VR_E_ARG, "photon map store: NULL argument");
   /* Positions become floats about the centre: keep them far inside float range. */
@@ -172,7 +179,8 @@ vr_status vr_photon_map_store(vr_photon_map *m, uint64_t key, const double pos[3
       memcpy(r + OFF_POS, pos, 24);
       memcpy(r + OFF_DIR, &d, 4);
       memcpy(r + OFF_NRM, &nr, 4);
-      float *pw = (float *)(r + OFF_POW); /* 8-aligned: rec_size and OFF_POW are */
+      memcpy(r + OFF_SURF, &surface, 4);
+      float *pw = (float *)(r + OFF_POW); /* 4-aligned: rec_size is a multiple of 8, OFF_POW of 4 */
       if (!m->slots) {
         /* -0 is kept as +0, as in a sparse map: it adds nothing anyway */
         for (int b = 0; b < m->nbins; b++) pw[b] = power[b] != 0.0f ? power[b] : 0.0f;
@@ -321,9 +329,10 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err) {
   node *nodes = malloc((n ? n : 1) * sizeof *nodes);
   uint32_t *dir = malloc((n ? n : 1) * sizeof *dir);
   uint32_t *nrm = malloc((n ? n : 1) * sizeof *nrm);
+  uint32_t *surf = malloc((n ? n : 1) * sizeof *surf);
   uint64_t *keys = malloc((n ? n : 1) * sizeof *keys);
   unsigned char *spec = n <= SIZE_MAX / sz ? malloc((n ? n : 1) * sz) : NULL;
-  if (!order || !nodes || !dir || !nrm || !keys || !spec) goto nomem;
+  if (!order || !nodes || !dir || !nrm || !surf || !keys || !spec) goto nomem;
   for (size_t i = 0; i < n; i++) {
     memcpy(&order[i].key, m->stage + i * m->rec_size, 8);
     order[i].idx = i;
@@ -363,6 +372,7 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err) {
     keys[i] = order[pm_rank(&nodes[i])].key;
     memcpy(&dir[i], rec + OFF_DIR, 4);
     memcpy(&nrm[i], rec + OFF_NRM, 4);
+    memcpy(&surf[i], rec + OFF_SURF, 4);
     memcpy(spec + i * sz, rec + OFF_POW, sz);
   }
   free(order);
@@ -372,6 +382,7 @@ vr_status vr_photon_map_build(vr_photon_map *m, vr_error *err) {
   m->nodes = nodes;
   m->dir = dir;
   m->nrm = nrm;
+  m->surf = surf;
   m->keys = keys;
   m->spec = spec;
   m->n = n;
@@ -383,6 +394,7 @@ nomem:
   free(nodes);
   free(dir);
   free(nrm);
+  free(surf);
   free(keys);
   free(spec);
   return vr_error_set(err, VR_E_NOMEM, "photon map build: out of memory for %zu photons", n);
@@ -404,7 +416,7 @@ int vr_photon_map_nbins(const vr_photon_map *m) { return m ? m->nbins : 0; }
 bool vr_photon_map_built(const vr_photon_map *m) { return m && m->built; }
 
 size_t vr_photon_map_bytes_per_photon(const vr_photon_map *m) {
-  return m ? sizeof(node) + sizeof(uint64_t) + 2 * sizeof(uint32_t) + m->spec_size : 0;
+  return m ? sizeof(node) + sizeof(uint64_t) + 3 * sizeof(uint32_t) + m->spec_size : 0;
 }
 
 size_t vr_photon_map_bytes(const vr_photon_map *m) {
@@ -432,6 +444,10 @@ vr_status vr_photon_map_set_centre(vr_photon_map *m, const double centre[3], vr_
   }
   pthread_mutex_unlock(&m->lock);
   return st;
+}
+
+uint32_t vr_photon_map_surface(const vr_photon_map *m, size_t index) {
+  return m && m->built && index < m->n ? m->surf[index] : VR_PHOTON_ANY_SURFACE;
 }
 
 vr_status vr_photon_map_get(const vr_photon_map *m, size_t index, double pos[3],

@@ -31,7 +31,8 @@ struct vr_photon_map {
   size_t spec_size; /* bytes of a photon's power record */
 
   /* Staging, before the build: records of rec_size bytes, each
-   * key (u64) | pos (3 double) | dir (u32) | normal (u32) | power record | 0-padding. */
+   * key (u64) | pos (3 double) | dir (u32) | normal (u32) | surface (u32) |
+   * power record | 0-padding. */
   pthread_mutex_t lock;
   unsigned char *stage;
   size_t nstage, capstage, rec_size;
@@ -48,10 +49,11 @@ struct vr_photon_map {
   node *nodes;
   uint64_t *keys;      /* each photon's key, in node order */
   uint32_t *dir, *nrm; /* octahedral, 2 x 16 bits */
+  uint32_t *surf;      /* the surface each photon landed on (vr_photon_map_store_on) */
   unsigned char *spec; /* n power records of spec_size bytes */
 };
 
-enum { OFF_POS = 8, OFF_DIR = 32, OFF_NRM = 36, OFF_POW = 40 };
+enum { OFF_POS = 8, OFF_DIR = 32, OFF_NRM = 36, OFF_SURF = 40, OFF_POW = 44 };
 
 static inline uint32_t pm_rank(const node *a) { return a->rank_axis >> 2; }
 static inline int pm_axis(const node *a) { return (int)(a->rank_axis & 3u); }

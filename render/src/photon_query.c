@@ -55,6 +55,7 @@ typedef struct query {
   double *sum, kcr; /* kcr = kc r, 0 for the box filter */
   vr_photon_list *list;
   uint32_t label;
+  uint32_t surface; /* VR_PHOTON_ANY_SURFACE: every photon */
   bool nomem;
 } query;
 
@@ -86,6 +87,7 @@ static void consider(query *q, uint32_t i) {
   double dir[3];
   pm_oct_decode_raw(q->m->dir[i], dir);
   if (!(dir[0] * q->n[0] + dir[1] * q->n[1] + dir[2] * q->n[2] < 0.0)) return;
+  if (q->surface != VR_PHOTON_ANY_SURFACE && q->m->surf[i] != q->surface) return;
 
   if (!q->heap && q->list) { /* gathering every photon in the disc */
     vr_photon_list *l = q->list;
@@ -148,6 +150,7 @@ static bool query_init(query *q, const vr_photon_map *m, const double x[3], cons
     q->n[a] = n[a] / l;
   }
   q->rmax2 = radius_max * radius_max;
+  q->surface = VR_PHOTON_ANY_SURFACE;
   return true;
 }
 
@@ -250,10 +253,17 @@ void vr_photon_list_free(vr_photon_list *l) {
 
 long vr_photon_map_gather(const vr_photon_map *m, uint32_t label, const double x[3],
                           const double n[3], int k, double bound2, vr_photon_list *out) {
+  return vr_photon_map_gather_on(m, label, x, n, VR_PHOTON_ANY_SURFACE, k, bound2, out);
+}
+
+long vr_photon_map_gather_on(const vr_photon_map *m, uint32_t label, const double x[3],
+                             const double n[3], uint32_t surface, int k, double bound2,
+                             vr_photon_list *out) {
   query q;
   if (!out || k < 0 || !(bound2 > 0.0) || !isfinite(bound2) || !query_init(&q, m, x, n, 1.0))
     return -1;
   q.rmax2 = bound2;
+  q.surface = surface;
   q.label = label;
   if (k == 0) {
     q.list = out;

@@ -49,9 +49,16 @@ void vr_photon_set_destroy(vr_photon_set *s) {
 vr_status vr_photon_set_store(vr_photon_set *s, int map, uint64_t key, const double pos[3],
                               const double dir_in[3], const double normal[3],
                               const float *power, vr_error *err) {
+  return vr_photon_set_store_on(s, map, key, pos, dir_in, normal, VR_PHOTON_ANY_SURFACE, power,
+                                err);
+}
+
+vr_status vr_photon_set_store_on(vr_photon_set *s, int map, uint64_t key, const double pos[3],
+                                 const double dir_in[3], const double normal[3],
+                                 uint32_t surface, const float *power, vr_error *err) {
   if (!s || map < 0 || map >= s->nmaps)
     return vr_error_set(err, VR_E_ARG, "photon set store: map %d out of range", map);
-  return vr_photon_map_store(s->maps[map], key, pos, dir_in, normal, power, err);
+  return vr_photon_map_store_on(s->maps[map], key, pos, dir_in, normal, surface, power, err);
 }
 
 vr_status vr_photon_set_build(vr_photon_set *s, vr_error *err) {
@@ -157,6 +164,13 @@ static int by_box(const void *a, const void *b) {
 
 int vr_photon_set_irradiance(const vr_photon_set *s, const double x[3], const double n[3], int k,
                              double radius_max, double kc, double *out, double *r_used) {
+  return vr_photon_set_irradiance_on(s, x, n, VR_PHOTON_ANY_SURFACE, k, radius_max, kc, out,
+                                     r_used);
+}
+
+int vr_photon_set_irradiance_on(const vr_photon_set *s, const double x[3], const double n[3],
+                                uint32_t surface, int k, double radius_max, double kc,
+                                double *out, double *r_used) {
   if (!out) return -1;
   if (r_used) *r_used = 0.0;
   if (!s) return -1;
@@ -188,8 +202,8 @@ int vr_photon_set_irradiance(const vr_photon_set *s, const double x[3], const do
   int rc = -1;
   for (int j = 0; j < nm; j++) {
     if (order[j].d2 > bound2) break; /* sorted: the rest are farther still */
-    long got = vr_photon_map_gather(s->maps[order[j].map], (uint32_t)order[j].map, x, n, k,
-                                    bound2, &L);
+    long got = vr_photon_map_gather_on(s->maps[order[j].map], (uint32_t)order[j].map, x, n,
+                                       surface, k, bound2, &L);
     if (got < 0) goto done;
     if (k > 0 && got > 0 && L.n >= (size_t)k) {
       if (L.n > (size_t)k) {

@@ -44,6 +44,11 @@ static void photon_generate(void *ctx, vr_flow_worker *w, long unit) {
     if (!(ps > 0)) continue;
     photon_emit e;
     if (!vr_light_emit_photon(rs, s, p.nwl, p.wl, &key, &e)) continue;
+    /* The ground glow is light the ground reflected (a Lambertian ground
+     * under the sky): its photons belong in the global map, as the ground
+     * plane's own reflected photons would, since no next-event estimate
+     * samples it (vr_light_environment meets it only on escape). */
+    if (rs->has_sky && s == rs->nlights + rs->nemitters + 1) p.flags |= FLAG_HAS_DIFFUSE;
     /* Power per wavelength sample: the spectral power times the
      * wavelength weight, over the source's probability; the 1/N of the
      * photon count is applied at estimate time (photon_scale). */
@@ -80,7 +85,8 @@ static void store(pass_ctx *c, vr_photon_set *ps, const payload *p, const vr_hit
   }
   if (!any) return;
   uint64_t key = p->stream * 64u + p->depth;
-  vr_photon_set_store(ps, hit->cell, key, hit->p, dir, hit->ng, power, NULL);
+  vr_photon_set_store_on(ps, hit->cell, key, hit->p, dir, hit->ng, (uint32_t)hit->object, power,
+                         NULL);
   (void)c;
 }
 

@@ -156,6 +156,7 @@ void vr_wavelengths(const rscene *rs, const vr_rng_key *key, uint32_t strata, do
 vr_status vr_light_sky_create(rscene *rs, struct vr_matdb *db, vr_error *err);
 void vr_light_sky_destroy(rscene *rs);
 double vr_light_sky_power(const rscene *rs);
+double vr_light_ground_power(const rscene *rs); /* the ground glow's, likewise */
 /* Photon emission from source i of rs->source_cdf order. */
 typedef struct photon_emit {
   double org[3], dir[3];
@@ -169,7 +170,7 @@ enum { TARGET_PIXEL = 0, TARGET_SENSOR, TARGET_TEXEL, TARGET_PHOTON, TARGET_GATH
 enum { PURPOSE_CAMERA = 0, PURPOSE_SHADOW, PURPOSE_PHOTON, PURPOSE_SENSOR, PURPOSE_UV,
        PURPOSE_GATHER };
 enum { FLAG_SPECULAR_LAST = 1, FLAG_HAS_DIFFUSE = 2, FLAG_HAS_SPECULAR = 4,
-       FLAG_TERMINATED = 8 };
+       FLAG_TERMINATED = 8, FLAG_PHOTON_GATHER = 16 /* a photon sensor's gather path */ };
 
 typedef struct payload {
   uint64_t stream;
@@ -218,6 +219,10 @@ void vr_accum_pixel(accum *a, uint32_t pixel, int nwl, const double *wl, const d
                     double wl_weight);
 void vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
                      const double *E, double wl_weight);
+/* Adds the illuminance of E to slot `slot` (< groups) of point only, not
+ * to its spectrum: for side sums such as a photon sensor's bias probe. */
+void vr_accum_sensor_lx(accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,
+                        const double *E, double wl_weight);
 
 /* The passes (integrate.c, photons.c). */
 typedef struct pass_ctx {
@@ -237,6 +242,12 @@ typedef struct pass_ctx {
   double radius;
   bool fixed_radius, final_gather;
   int gather_rays;
+  /* Photon sensors (render_sensors.c): sensor paths end at their first
+   * diffuse hit in the photon maps' radiance; the accumulator has
+   * 2 sensor_groups slots a point, the second half for the bias probe. */
+  bool sensor_photons;
+  int sensor_groups;
+  _Atomic uint64_t fg_photon, fg_path; /* diffuse vertices ended by the maps / continued */
   /* UV pass. */
   size_t ntexels;
   uint32_t *texel_object;

@@ -3,16 +3,15 @@
  * Two estimators, chosen by the scene's `render sensors=`:
  *   path    paths from the sensor point (next-event estimation plus
  *           cosine-weighted continuation), the reference; valid anywhere;
- *   photon  density estimation in the direct, caustic and global photon
- *           maps at the sensor point: the irradiance of photons arriving on
- *           the sensor's side, within the k-nearest (or fixed-radius) disc.
- *           Valid on diffuse surfaces, where photons are stored; biased by
- *           the disc's extent where irradiance varies within it (edges,
- *           contact shadows), consistent as the photon count grows.
+ *   photon  the same paths ended at their first diffuse hit by the
+ *           photon maps' radiance there (final gathering; see
+ *           photon_sensors below): valid anywhere, with the maps' bias
+ *           estimated and added to the stated error.
  * Both give spectral irradiance in the film's bins (W/(m² nm)) and the
  * illuminance E_v = K_m ∫ V(λ) E(λ) dλ (K_m = 683.002 lm/W, V = ȳ of
  * CIE 1931). */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -97,76 +96,69 @@ static vr_status path_sensors(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
   return st;
 }
 
-/* K_m ∫ V over [lo, hi] nm by the trapezoid rule on a 1 nm grid (the
- * weight of one W/(m² nm) held constant over the interval). */
-static double luminous_weight(double lo, double hi) {
-  double sum = 0;
-  int n = (int)ceil(hi - lo);
-  if (n < 1) n = 1;
-  double h = (hi - lo) / n;
-  for (int i = 0; i <= n; i++) {
-    double xyz[3];
-    vr_cmf_eval(VR_CIE1931_2DEG, lo + i * h, xyz);
-    sum += xyz[1] * h * ((i == 0 || i == n) ? 0.5 : 1.0);
-  }
-  return VR_KM * sum;
-}
-
-/* The photon estimator.  Each map answers with its own neighbourhood (k
- * nearest of its photons, or the fixed radius); the standard error is the
- * Poisson estimate E / sqrt(m) per map for m photons found, combined in
- * quadrature: it assumes photons of similar power and leaves out the bias. */
-static vr_status photon_sensors(run *r, rscene *rs, pass_ctx *c, long photons, double radius,
-                                bool fixed, vr_error *err) {
+/* The photon estimator: the paths of the path estimator (next-event
+ * estimation at the point, one cosine-weighted direction on), each ended at
+ * its first diffuse hit by the photon maps' radiance there, from that
+ * object's photons only (final gathering, Jensen 2001 ch. 9).  Direct light
+ * at the point is as exact as in the path estimator; the photon maps only
+ * stand in for the light reflected by the surfaces the point sees, where
+ * their density errors (the disc across an edge, or across a wall) are
+ * averaged over the hemisphere instead of read at the point itself.  So a
+ * point need not lie on a surface (a work plane in mid-air reads the same as
+ * with paths), and photons from beyond a wall never reach it: a floor's
+ * estimate takes the floor's photons, not the ground's.
+ *
+ * The stated standard error is the spread of the `groups` batches (the
+ * gathering's noise) and the estimated bias of the density estimates in
+ * quadrature: each gather hit is read twice, with k and k/4 photons (or r
+ * and r/2); the bias of a density estimate grows as r^2 and r^2 is about
+ * proportional to k, so bias(k) ~ 4/3 (E(k) - E(k/4)). */
+static vr_status photon_sensors(run *r, rscene *rs, pass_ctx *c, long photons, double *ended,
+                                double *went_on, vr_error *err) {
   vr_render_result *res = r->res;
   vr_status st = vr_run_photon_pass(r, rs, c, photons, true, true, true, err);
   if (st) return st;
-  vr_photon_set *maps[3] = {c->direct, c->caustic, c->global};
-  const vr_photon_map *bins_of = vr_photon_set_map(c->global, 0); /* every map has these bins */
-  int nb = vr_photon_map_nbins(bins_of);
-  double *bins = calloc((size_t)nb, sizeof *bins), *E = calloc((size_t)nb, sizeof *E);
-  double *V = calloc((size_t)nb, sizeof *V), *lo = calloc((size_t)nb, sizeof *lo),
-         *hi = calloc((size_t)nb, sizeof *hi);
-  if (!bins || !E || !V || !lo || !hi) st = vr_error_set(err, VR_E_NOMEM, "out of memory");
-  for (int b = 0; !st && b < nb; b++) {
-    vr_photon_map_bin_range(bins_of, b, &lo[b], &hi[b]);
-    V[b] = luminous_weight(lo[b], hi[b]);
+  const int groups = 16;
+  accum acc;
+  st = vr_accum_create(&acc, 1, 1, rs->nbins, rs->film_lo, rs->film_step, c->npoints, 2 * groups,
+                       0, err);
+  if (!st && rs->bins_mode) st = vr_accum_set_bins(&acc, rs->lmin, rs->lmax, rs->nwl, err);
+  if (st) {
+    vr_accum_destroy(&acc);
+    vr_run_free_maps(c);
+    return st;
   }
+  c->acc = &acc;
+  c->sensor_photons = true;
+  c->sensor_groups = groups;
+  vr_integrator keep = c->integrator;
+  c->integrator = VR_INT_PATH;
+  atomic_store(&c->fg_photon, 0);
+  atomic_store(&c->fg_path, 0);
+  st = vr_run_flow(r, rs, &vr_sensor_ops, c, (long)(c->npoints * (size_t)groups), "sensors", err);
+  c->integrator = keep;
+  c->sensor_photons = false;
+  *ended = (double)atomic_load(&c->fg_photon);
+  *went_on = (double)atomic_load(&c->fg_path);
+  c->acc = NULL;
+  if (!st) st = vr_ranks_sum_accum(r, &acc, RANKS_SENSORS, err);
   for (size_t k = 0; !st && k < c->npoints; k++) {
-    const double *x = c->points[k], *n = c->points[k] + 3;
-    memset(E, 0, (size_t)nb * sizeof *E);
-    double lx = 0, var = 0;
-    for (int m = 0; m < 3; m++) {
-      if (!vr_photon_set_count(maps[m])) continue;
-      int got = vr_photon_set_irradiance(maps[m], x, n, fixed ? 0 : c->knn, radius, 0.0, bins, NULL);
-      if (got <= 0) continue; /* no photon near, or all at x: nothing to add */
-      double lm = 0;
-      for (int b = 0; b < nb; b++) {
-        double e = bins[b] * c->photon_scale / (hi[b] - lo[b]); /* W/(m² nm) */
-        E[b] += e;
-        lm += V[b] * e;
-      }
-      lx += lm;
-      var += lm * lm / got;
+    double sum = 0, sum2 = 0, diff = 0;
+    for (int g = 0; g < groups; g++) {
+      double e = vr_atomic_get(&acc.sensor_lx[k * (size_t)(2 * groups) + (size_t)g]);
+      sum += e;
+      sum2 += e * e;
+      diff += vr_atomic_get(&acc.sensor_lx[k * (size_t)(2 * groups) + (size_t)(groups + g)]);
     }
-    res->readings[k].illuminance_lx = lx;
-    res->readings[k].stderr_lx = sqrt(var);
-    /* Film bins: the mean of the piecewise-constant map spectrum over each. */
-    for (size_t fb = 0; fb < rs->nbins; fb++) {
-      double a = rs->film_lo + fb * rs->film_step, sum = 0;
-      int cnt = 0;
-      for (double nm = a + 0.5; nm < a + rs->film_step; nm += 1.0, cnt++) {
-        int b = vr_photon_map_bin(bins_of, nm);
-        if (b >= 0) sum += E[b];
-      }
-      res->sensor_spectral[k * rs->nbins + fb] = cnt ? sum / cnt : 0.0;
-    }
+    double mean = sum / groups, var = fmax(0, (sum2 - groups * mean * mean) / (groups - 1));
+    double bias = 4.0 / 3.0 * diff / groups;
+    res->readings[k].illuminance_lx = mean;
+    res->readings[k].stderr_lx = sqrt(var / groups + bias * bias);
+    for (size_t b = 0; b < rs->nbins; b++)
+      res->sensor_spectral[k * rs->nbins + b] =
+          vr_atomic_get(&acc.sensor_bins[k * rs->nbins + b]) / groups;
   }
-  free(bins);
-  free(E);
-  free(V);
-  free(lo);
-  free(hi);
+  vr_accum_destroy(&acc);
   vr_run_free_maps(c);
   return st;
 }
@@ -188,17 +180,31 @@ vr_status vr_sensor_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
     if (photons < 1)
       return vr_error_at(err, VR_E_ARG, rs->s->path, set->loc.line, set->loc.col,
                          "sensors=photon needs photons > 0");
-    bool fixed = !isnan(set->radius_m);
-    double radius = fixed ? set->radius_m : 0.1 * rs->scene_radius;
-    if (fixed)
+    c->fixed_radius = !isnan(set->radius_m);
+    c->radius = c->fixed_radius ? set->radius_m : 0.1 * rs->scene_radius;
+    if (!isnan(set->radius_m))
       p = vr_run_record(r, "sensors", true,
-                        "%zu illuminance points from %ld photons, fixed radius %.4g m", c->npoints,
-                        photons, radius);
+                        "%zu illuminance points, %d paths each ending in the maps of %ld photons "
+                        "(fixed radius %.4g m)",
+                        c->npoints, c->sensor_samples, photons, set->radius_m);
     else
       p = vr_run_record(r, "sensors", true,
-                        "%zu illuminance points from %ld photons, %d nearest per map", c->npoints,
-                        photons, c->knn);
-    st = photon_sensors(r, rs, c, photons, radius, fixed, err);
+                        "%zu illuminance points, %d paths each ending in the maps of %ld photons "
+                        "(%d nearest per map)",
+                        c->npoints, c->sensor_samples, photons, set->sensor_knn);
+    double ended = 0, went_on = 0;
+    int keep_knn = c->knn;
+    c->knn = set->sensor_knn;
+    st = photon_sensors(r, rs, c, photons, &ended, &went_on, err);
+    c->knn = keep_knn;
+    res->sensor_map_share = ended / fmax(1.0, ended + went_on);
+    if (!st)
+      vr_run_record(r, "sensor gathers", true,
+                    "%.1f %% of the diffuse vertices of sensor paths read the photon maps, %.1f %% "
+                    "went on as paths (fewer than the %s photons of this surface within reach)",
+                    100.0 * ended / fmax(1.0, ended + went_on),
+                    100.0 * went_on / fmax(1.0, ended + went_on),
+                    c->fixed_radius ? "16" : "k nearest");
   } else {
     p = vr_run_record(r, "sensors", true, "%zu illuminance points, %d paths each", c->npoints,
                       c->sensor_samples);

@@ -399,7 +399,10 @@ static void camera_frame(rscene *rs) {
 }
 
 static vr_status resolve_sources(rscene *rs, vr_error *err) {
-  size_t n = rs->nlights + rs->nemitters + (rs->has_sky ? 1 : 0);
+  /* The sky is two photon sources: the sky above the horizon and the
+   * ground glow below it (the light an escaping path meets there,
+   * vr_light_environment), so photon maps hold ground-reflected light too. */
+  size_t n = rs->nlights + rs->nemitters + (rs->has_sky ? 2 : 0);
   rs->nsources = n;
   rs->source_cdf = calloc(n + 1, sizeof *rs->source_cdf);
   if (!rs->source_cdf) return vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -408,7 +411,10 @@ static vr_status resolve_sources(rscene *rs, vr_error *err) {
   for (size_t i = 0; i < rs->nlights; i++) rs->source_cdf[k++] = (acc += rs->lights[i].power);
   for (size_t i = 0; i < rs->nemitters; i++)
     rs->source_cdf[k++] = (acc += rs->obj[rs->emitters[i]].emitted_power);
-  if (rs->has_sky) rs->source_cdf[k++] = (acc += vr_light_sky_power(rs));
+  if (rs->has_sky) {
+    rs->source_cdf[k++] = (acc += vr_light_sky_power(rs));
+    rs->source_cdf[k++] = (acc += vr_light_ground_power(rs));
+  }
   rs->total_power = acc;
   for (size_t i = 0; i < n; i++) rs->source_cdf[i] = acc > 0 ? rs->source_cdf[i] / acc : 0;
   return VR_OK;

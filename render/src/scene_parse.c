@@ -207,7 +207,7 @@ static void defaults(vr_scene *s) {
   vr_scene_settings *g = &s->settings;
   g->integrator = VR_INT_PHOTON, g->spp = 16, g->max_depth = 8, g->spectral = VR_SPECTRAL_HERO;
   g->wavelengths = 4, g->lambda_min = 360, g->lambda_max = 830;
-  g->photons = g->caustic_photons = 200000, g->knn = 50, g->radius_m = NAN;
+  g->photons = g->caustic_photons = 200000, g->knn = 50, g->sensor_knn = 50, g->radius_m = NAN;
   g->final_gather = false, g->gather_rays = 32, g->passes = 16, g->alpha = 2.0 / 3.0;
   g->sensor_samples = 4096, g->seed = 1;
   g->film_min_nm = 400, g->film_max_nm = 700, g->film_step_nm = 10;

@@ -215,7 +215,7 @@ vr_status scn_render(scn_stmt *t) {
       "integrator", "spp",          "depth",      "spectral",       "wavelengths", "range",
       "photons",    "caustic_photons", "knn",     "radius",         "final_gather", "gather_rays",
       "passes",     "alpha",        "sensor_samples", "seed",       "film",        "sensors",
-      NULL};
+      "sensor_knn", NULL};
   static const char *const INTEGRATORS[] = {"path", "whitted", "photon", "progressive", NULL};
   static const char *const SPECTRAL[] = {"hero", "bins", NULL};
   static const char *const ONOFF[] = {"off", "on", NULL};
@@ -229,7 +229,7 @@ vr_status scn_render(scn_stmt *t) {
       sensors = (int)g->sensors;
   long long spp = g->spp, depth = g->max_depth, wl = g->wavelengths, photons = g->photons,
             caustic = g->caustic_photons, knn = g->knn, gather = g->gather_rays, passes = g->passes,
-            samples = g->sensor_samples;
+            samples = g->sensor_samples, sensor_knn = g->sensor_knn;
   const scn_opt *o;
   if ((st = scn_choice(t, "integrator", INTEGRATORS, &integ)) || (st = scn_choice(t, "spectral", SPECTRAL, &spectral)) ||
       (st = scn_choice(t, "final_gather", ONOFF, &fg)) || (st = scn_choice(t, "sensors", SENSORS, &sensors)) || (st = scn_int_opt(t, "spp", 1, 1 << 20, &spp)) ||
@@ -239,6 +239,7 @@ vr_status scn_render(scn_stmt *t) {
       (st = scn_int_opt(t, "knn", 1, 100000, &knn)) || (st = scn_int_opt(t, "gather_rays", 1, 1 << 20, &gather)) ||
       (st = scn_int_opt(t, "passes", 1, 1 << 20, &passes)) ||
       (st = scn_int_opt(t, "sensor_samples", 1, 1 << 30, &samples)) ||
+      (st = scn_int_opt(t, "sensor_knn", 1, 100000, &sensor_knn)) ||
       (st = scn_range(t, "alpha", 0, 1, true, true, &g->alpha)) ||
       (st = band(t, "range", false, &g->lambda_min, &g->lambda_max, NULL)) ||
       (st = band(t, "film", true, &g->film_min_nm, &g->film_max_nm, &g->film_step_nm)))
@@ -253,6 +254,8 @@ vr_status scn_render(scn_stmt *t) {
   g->spp = (int)spp, g->max_depth = (int)depth, g->wavelengths = (int)wl, g->photons = (long)photons;
   g->caustic_photons = (long)caustic, g->knn = (int)knn, g->gather_rays = (int)gather;
   g->passes = (int)passes, g->sensor_samples = (int)samples;
+  /* Photon sensors read the maps with knn photons unless told otherwise. */
+  g->sensor_knn = scn_get(t, "sensor_knn") ? (int)sensor_knn : (int)knn;
   return VR_OK;
 }
 

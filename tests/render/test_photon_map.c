@@ -637,7 +637,7 @@ static void bad_input(void **state) {
   assert_true(lo == 550 && hi == 700);
   assert_false(vr_photon_map_bin_range(m, 2, &lo, &hi));
   assert_int_equal(vr_photon_map_nbins(m), 2);
-  assert_int_equal(vr_photon_map_bytes_per_photon(m), 32 + 4 * 2);
+  assert_int_equal(vr_photon_map_bytes_per_photon(m), 36 + 4 * 2);
   vr_photon_map_destroy(m);
 }
 
@@ -865,12 +865,12 @@ static void sparse_refusal(void **state) {
   /* max_nonzero above nbins is nbins: dense storage, nothing refused */
   m = vr_photon_map_create_sparse(3, 400, 700, 10, &err);
   assert_non_null(m);
-  assert_int_equal(vr_photon_map_bytes_per_photon(m), 32 + 4 * 3);
+  assert_int_equal(vr_photon_map_bytes_per_photon(m), 36 + 4 * 3);
   assert_int_equal(vr_photon_map_store(m, 1, at, DOWN, UP, (float[3]){1, 2, 3}, &err), VR_OK);
   vr_photon_map_destroy(m);
   /* 7 pairs would cost more than 8 bins: stored densely, yet the bound holds */
   m = vr_photon_map_create_sparse(8, 400, 700, 7, &err);
-  assert_int_equal(vr_photon_map_bytes_per_photon(m), 32 + 4 * 8);
+  assert_int_equal(vr_photon_map_bytes_per_photon(m), 36 + 4 * 8);
   float eight[8] = {1, 1, 1, 1, 1, 1, 1, 1};
   assert_int_equal(vr_photon_map_store(m, 1, at, DOWN, UP, eight, &err), VR_E_RANGE);
   assert_contains(err.message, "8 non-zero");
@@ -880,15 +880,15 @@ static void sparse_refusal(void **state) {
   vr_photon_map_destroy(m);
 }
 
-/* What a photon costs: 32 bytes of position, key, direction and normal, then
+/* What a photon costs: 36 bytes of position, key, direction, normal and surface, then
  * 4 nbins dense or max_nonzero (4 + 1) sparse (4 + 2 beyond 256 bins). */
 static void sparse_bytes(void **state) {
   (void)state;
   static const struct {
     int nb, nz;
     size_t dense, sparse;
-  } c[] = {{30, 4, 152, 52}, {47, 4, 220, 52},  {30, 8, 152, 72},
-           {47, 8, 220, 72}, {300, 4, 1232, 56}, {300, 8, 1232, 80}};
+  } c[] = {{30, 4, 156, 56}, {47, 4, 224, 56},  {30, 8, 156, 76},
+           {47, 8, 224, 76}, {300, 4, 1236, 60}, {300, 8, 1236, 84}};
   vr_error err;
   for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
     vr_photon_map *d = vr_photon_map_create(c[i].nb, 360, 830, &err);

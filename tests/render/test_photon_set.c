@@ -167,6 +167,58 @@ static void uniform_grid_fixed_radius(void **state) {
   vr_photon_set_destroy(s);
 }
 
+/* Light leaking under a wall: a floor (surface 1, y in [0, 1)) and the
+ * ground outside (surface 2, y in [-1, 0)) on one plane, both lit from
+ * above, the ground 100 times brighter (sunlit against a shaded room).
+ * Read on the floor 0.03 m from the wall with the 400 nearest photons,
+ * the estimate restricted to surface 1 must be the floor's own density,
+ * i.e. exactly (same photons, same bits) the estimate of a set holding the
+ * floor's photons alone, and the one that mixes surfaces is many times
+ * higher: the leak the surface rule removes. */
+static void surfaces_do_not_mix(void **state) {
+  (void)state;
+  vr_error err = {0};
+  vr_photon_set *both = vr_photon_set_create(4, NB, 400, 700, 1, CENTRE, &err);
+  vr_photon_set *floor_only = vr_photon_set_create(4, NB, 400, 700, 1, CENTRE, &err);
+  assert_non_null(both);
+  assert_non_null(floor_only);
+  int n = 100;
+  for (int j = -n; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      double pos[3] = {(i + 0.5) / n, (j + 0.5) / n, 0};
+      float pw[NB] = {0};
+      uint32_t surface = j >= 0 ? 1u : 2u;
+      pw[0] = surface == 1 ? 1.0f : 100.0f;
+      uint64_t key = (uint64_t)((j + n) * n + i);
+      assert_int_equal(vr_photon_set_store_on(both, cell_of(pos, 4), key, pos, DOWN, UP, surface,
+                                              pw, &err),
+                       VR_OK);
+      if (surface == 1)
+        assert_int_equal(vr_photon_set_store_on(floor_only, cell_of(pos, 4), key, pos, DOWN, UP,
+                                                surface, pw, &err),
+                         VR_OK);
+    }
+  assert_int_equal(vr_photon_set_build(both, &err), VR_OK);
+  assert_int_equal(vr_photon_set_build(floor_only, &err), VR_OK);
+  double x[3] = {0.5, 0.03, 0}, on[NB], alone[NB], mixed[NB], r_on, r_alone;
+  int got_on = vr_photon_set_irradiance_on(both, x, UP, 1, 400, 1.0, 0.0, on, &r_on);
+  int got_alone = vr_photon_set_irradiance(floor_only, x, UP, 400, 1.0, 0.0, alone, &r_alone);
+  assert_int_equal(got_on, 400);
+  assert_int_equal(got_alone, 400);
+  assert_true(r_on == r_alone);
+  same_bits(on, alone, NB, "surface 1 of both against the floor alone", 0);
+  assert_int_equal(vr_photon_set_irradiance(both, x, UP, 400, 1.0, 0.0, mixed, NULL), 400);
+  print_message("  floor 0.03 m from the wall: %.0f W/m2 on its own surface, %.0f mixing the "
+                "ground in\n", on[0], mixed[0]);
+  assert_true(mixed[0] > 10.0 * on[0]);
+  /* VR_PHOTON_ANY_SURFACE is the unrestricted estimate. */
+  double any[NB];
+  vr_photon_set_irradiance_on(both, x, UP, VR_PHOTON_ANY_SURFACE, 400, 1.0, 0.0, any, NULL);
+  same_bits(any, mixed, NB, "any surface against the plain estimate", 0);
+  vr_photon_set_destroy(both);
+  vr_photon_set_destroy(floor_only);
+}
+
 static void bad_arguments(void **state) {
   (void)state;
   vr_error err = {0};
@@ -193,6 +245,7 @@ int main(void) {
       cmocka_unit_test(split_maps_answer_as_one),
       cmocka_unit_test(uniform_grid_fixed_radius),
       cmocka_unit_test(bad_arguments),
+      cmocka_unit_test(surfaces_do_not_mix),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,25 +20,10 @@
 
 #include <cmocka.h>
 
-#include "vr/render.h"
-#include "vr/scene.h"
+#include "render_test_util.h"
 
 static vr_render_result *render_text(const char *text, int S, int P) {
-  vr_scene *s = NULL;
-  vr_error err = {0};
-  vr_status st = vr_scene_parse(text, strlen(text), "test.scn", &s, &err);
-  if (st) fprintf(stderr, "parse: %s\n", err.message);
-  assert_int_equal(st, VR_OK);
-  vr_render_options o;
-  vr_render_options_default(&o);
-  o.subdomains = S;
-  o.threads = P;
-  vr_render_result *r = NULL;
-  st = vr_render_scene(s, NULL, &o, &r, &err);
-  if (st) fprintf(stderr, "render: %s\n", err.message);
-  assert_int_equal(st, VR_OK);
-  vr_scene_destroy(s);
-  return r;
+  return render_text_with(text, S, P, false);
 }
 
 static void expect_lx(const vr_render_result *r, size_t i, double want, double rel) {
@@ -105,14 +90,8 @@ static void test_cie171_cube_indirect(void **state) {
       "render integrator=path depth=64 sensor_samples=4096\n";
   vr_render_result *r = render_text(scn, 2, 2);
   assert_int_equal(r->nreadings, 64);
-  double I = 10000.0 / (4 * M_PI), sum = 0;
-  for (size_t i = 0; i < r->nreadings; i++) {
-    const double *p = r->readings[i].position;
-    double r2 = p[0] * p[0] + p[1] * p[1] + 4.0;
-    sum += r->readings[i].illuminance_lx - I * (2.0 / sqrt(r2)) / r2;
-  }
-  double indirect = 0.5 * 10000.0 / (96.0 * (1 - 0.5)); /* rho Phi / (S_T (1 - rho)) = 104.17 lx */
-  double mean = sum / (double)r->nreadings;
+  double indirect; /* rho Phi / (S_T (1 - rho)) = 104.17 lx */
+  double mean = cie171_cube_indirect(r, 10000.0, 0.5, &indirect);
   if (fabs(mean - indirect) > 0.02 * indirect)
     fail_msg("mean indirect illuminance %.2f lx, CIE 171 expects %.2f within 2 %%", mean, indirect);
   vr_render_result_destroy(r);

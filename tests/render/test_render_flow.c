@@ -17,6 +17,7 @@
 
 #include <cmocka.h>
 
+#include "render_test_util.h"
 #include "vr/domains.h"
 #include "vr/flow.h"
 #include "vr/geometry.h"
@@ -46,26 +47,10 @@ static int teardown(void **state) {
   return 0;
 }
 
-static vr_scene *parse(const char *text) {
-  vr_scene *s = NULL;
-  vr_error err = {0};
-  vr_status st = vr_scene_parse(text, strlen(text), "flow.scn", &s, &err);
-  if (st) fprintf(stderr, "parse: %s\n", err.message);
-  assert_int_equal(st, VR_OK);
-  return s;
-}
+static vr_scene *parse(const char *text) { return parse_text(text, "flow.scn"); }
 
 static vr_render_result *render_mode(vr_scene *s, int S, int P, bool image_space) {
-  vr_render_options o;
-  vr_render_options_default(&o);
-  o.subdomains = S;
-  o.threads = P;
-  o.image_space = image_space;
-  vr_render_result *r = NULL;
-  vr_error err = {0};
-  vr_status st = vr_render_scene(s, db, &o, &r, &err);
-  if (st) fprintf(stderr, "render: %s\n", err.message);
-  assert_int_equal(st, VR_OK);
+  vr_render_result *r = render_scene_with(s, db, S, P, false, image_space);
   assert_true(r->rays_created == r->rays_finished);
   return r;
 }

@@ -44,7 +44,7 @@ static const char FULL[] =
     "sensor floor grid origin=0,0,0.85 u=4,0,0 v=0,3,0 n=8,6 normal=0,0,1\n"
     "render integrator=progressive spp=64 depth=12 spectral=bins wavelengths=8 range=380,780 "
     "photons=1e6 caustic_photons=500000 knn=100 radius=2cm final_gather=on gather_rays=64 "
-    "passes=32 alpha=0.7 sensor_samples=1000 sensors=photon seed=18446744073709551615 film=380,780,5\n";
+    "passes=32 alpha=0.7 sensor_samples=1000 sensors=photon sensor_knn=77 seed=18446744073709551615 film=380,780,5\n";
 
 static void full_scene(void **state) {
   (void)state;
@@ -189,6 +189,7 @@ static void full_scene(void **state) {
   assert_int_equal(g->photons, 1000000);
   assert_int_equal(g->caustic_photons, 500000);
   assert_int_equal(g->knn, 100);
+  assert_int_equal(g->sensor_knn, 77);
   assert_near(g->radius_m, 0.02, 1e-15);
   assert_true(g->final_gather);
   assert_int_equal(g->gather_rays, 64);
@@ -247,6 +248,7 @@ static void defaults(void **state) {
   assert_int_equal(g->photons, 200000);
   assert_int_equal(g->caustic_photons, 200000);
   assert_int_equal(g->knn, 50);
+  assert_int_equal(g->sensor_knn, 50);
   assert_true(isnan(g->radius_m));
   assert_false(g->final_gather);
   assert_int_equal(g->gather_rays, 32);
@@ -412,10 +414,23 @@ static const error_case ERRORS[] = {
     ERROR_CASE("spot cone plus falloff", "camera pinhole from=0,0,0 to=0,1,0\nlight spot position=0,0,3 direction=0,0,-1 cone=170 falloff=20 intensity=1cd\n", "room.scn:2:53: ", "exceeds 180"),
     ERROR_CASE("film step", "camera pinhole from=0,0,0 to=0,1,0\nrender film=400,700,0\n", "room.scn:2:8: ", "STEP"),
     ERROR_CASE("seed", "camera pinhole from=0,0,0 to=0,1,0\nrender seed=-1\n", "room.scn:2:8: ", "expected an integer"),
+    ERROR_CASE("sensor_knn zero", "camera pinhole from=0,0,0 to=0,1,0\nrender sensor_knn=0\n", "room.scn:2:8: ", "sensor_knn"),
     ERROR_CASE("coating not db", "camera pinhole from=0,0,0 to=0,1,0\nmaterial g db:float coating=lowe\n", "room.scn:2:21: ", "a coating is db:NAME"),
     ERROR_CASE("lambert without reflectance", "camera pinhole from=0,0,0 to=0,1,0\nmaterial g lambert\n", "room.scn:2:1: ", "a material needs reflectance="),
     ERROR_CASE("reflectance above 1", "camera pinhole from=0,0,0 to=0,1,0\nmaterial g lambert reflectance=1.2\n", "room.scn:2:20: ", "must be in [0, 1]"),
 };
+
+/* sensor_knn not given is knn's, whatever knn is. */
+static void sensor_knn_follows_knn(void **state) {
+  (void)state;
+  vr_scene *s = NULL;
+  vr_error err = {0};
+  const char *text = "camera pinhole from=0,0,0 to=0,1,0\nrender knn=600 sensors=photon\n";
+  assert_int_equal(vr_scene_parse(text, strlen(text), NAME, &s, &err), VR_OK);
+  assert_int_equal(s->settings.knn, 600);
+  assert_int_equal(s->settings.sensor_knn, 600);
+  vr_scene_destroy(s);
+}
 
 static void errors(void **state) {
   (void)state;
@@ -517,6 +532,6 @@ int main(void) {
       cmocka_unit_test(bins_default),
       cmocka_unit_test(transform_order), cmocka_unit_test(errors),
       cmocka_unit_test(whole_file_errors), cmocka_unit_test(text_robustness),
-      cmocka_unit_test(read_file)};
+      cmocka_unit_test(read_file), cmocka_unit_test(sensor_knn_follows_knn)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

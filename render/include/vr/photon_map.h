@@ -19,18 +19,18 @@
  * bytes; a sparse map (vr_photon_map_create_sparse) keeps only the non-zero
  * bins, as max_nonzero (power float, bin index) pairs, P = max_nonzero
  * (4 + c) bytes with c = 1 for nbins <= 256, else 2 (when that is not less
- * than 4 nbins it keeps the dense form instead).  A built map costs 32 + P
+ * than 4 nbins it keeps the dense form instead).  A built map costs 36 + P
  * bytes a photon (vr_photon_map_bytes_per_photon: 16 of tree node, 8 of
- * key, 8 of direction and normal); before it, a staged
- * photon takes 40 + P bytes rounded up to 8, and the build briefly holds
+ * key, 8 of direction and normal, 4 of surface); before it, a staged
+ * photon takes 44 + P bytes rounded up to 8, and the build briefly holds
  * both plus 32 bytes a photon for sorting.  For 10 nm bins over 400-700 or
  * 360-830 nm (30 or 47 bins) and photons of 4 or 8 hero wavelengths:
  *
  *                          built (B/photon)     staged (B/photon)
  *                          30 bins  47 bins     30 bins  47 bins
- *   dense                    152      220         160      232
- *   sparse, max_nonzero 4     52       52          64       64
- *   sparse, max_nonzero 8     72       72          80       80
+ *   dense                    156      224         168      232
+ *   sparse, max_nonzero 4     56       56          64       64
+ *   sparse, max_nonzero 8     76       76          88       88
  *
  * Both forms give the same photons back (vr_photon_map_get) and
  * bit-identical estimates: per bin, the same products are summed in the
@@ -93,6 +93,19 @@ void vr_photon_map_destroy(vr_photon_map *m);
 vr_status vr_photon_map_store(vr_photon_map *m, uint64_t key, const double pos[3],
                               const double dir_in[3], const double normal[3],
                               const float *power, vr_error *err);
+
+/* The surface a photon landed on, for estimates that must not mix
+ * surfaces: a floor and the ground outside its wall lie in one plane and
+ * face the same way, so neither the disc nor the side rule keeps the
+ * ground's photons out of the floor's estimate (light leaking under the
+ * wall).  The renderer passes its object index.  VR_PHOTON_ANY_SURFACE:
+ * no surface (vr_photon_map_store); as a query's surface: every photon. */
+#define VR_PHOTON_ANY_SURFACE UINT32_MAX
+vr_status vr_photon_map_store_on(vr_photon_map *m, uint64_t key, const double pos[3],
+                                 const double dir_in[3], const double normal[3],
+                                 uint32_t surface, const float *power, vr_error *err);
+/* Photon index's surface (VR_PHOTON_ANY_SURFACE for a bad index). */
+uint32_t vr_photon_map_surface(const vr_photon_map *m, size_t index);
 
 /* Staged photons as raw records, for moving them between processes before
  * the build: *records points at vr_photon_map_staged() records of
@@ -201,6 +214,11 @@ void vr_photon_list_free(vr_photon_list *l);
  * or memory exhaustion. */
 long vr_photon_map_gather(const vr_photon_map *m, uint32_t label, const double x[3],
                           const double n[3], int k, double bound2, vr_photon_list *out);
+/* The same among the photons of one surface only (VR_PHOTON_ANY_SURFACE:
+ * all, as vr_photon_map_gather). */
+long vr_photon_map_gather_on(const vr_photon_map *m, uint32_t label, const double x[3],
+                             const double n[3], uint32_t surface, int k, double bound2,
+                             vr_photon_list *out);
 /* Squared distance from x to the bounding box of m's photons, INFINITY
  * for an empty or unbuilt map.  It is never above the d2 that a gather at
  * x computes for any photon of m, so a map whose box_d2 exceeds a bound

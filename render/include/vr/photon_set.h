@@ -51,6 +51,10 @@ void vr_photon_set_destroy(vr_photon_set *s);
 vr_status vr_photon_set_store(vr_photon_set *s, int map, uint64_t key, const double pos[3],
                               const double dir_in[3], const double normal[3],
                               const float *power, vr_error *err);
+/* The same with the surface it landed on (vr_photon_map_store_on). */
+vr_status vr_photon_set_store_on(vr_photon_set *s, int map, uint64_t key, const double pos[3],
+                                 const double dir_in[3], const double normal[3],
+                                 uint32_t surface, const float *power, vr_error *err);
 /* Builds every map. */
 vr_status vr_photon_set_build(vr_photon_set *s, vr_error *err);
 
@@ -65,6 +69,11 @@ size_t vr_photon_set_bytes(const vr_photon_set *s);
  * photons used, or -1 with out zeroed as vr_photon_map_irradiance does. */
 int vr_photon_set_irradiance(const vr_photon_set *s, const double x[3], const double n[3], int k,
                              double radius_max, double kc, double *out, double *r_used);
+/* The same among the photons of one surface (VR_PHOTON_ANY_SURFACE: all):
+ * the k nearest of that surface, the union's answer restricted to it. */
+int vr_photon_set_irradiance_on(const vr_photon_set *s, const double x[3], const double n[3],
+                                uint32_t surface, int k, double radius_max, double kc,
+                                double *out, double *r_used);
 
 #ifdef __cplusplus
 }

@@ -105,6 +105,9 @@ typedef struct vr_render_result {
   vr_sensor_reading *readings;
   double *sensor_spectral; /* nreadings*nbins, W/(m² nm) */
   char *sensor_names;     /* storage of the readings' names (freed with the result) */
+  /* sensors=photon: the share of the sensor paths' diffuse vertices that
+   * read the photon maps (the rest went on as paths); 0 otherwise. */
+  double sensor_map_share;
   size_t npasses;
   vr_pass_record passes[VR_MAX_PASSES];
   uint64_t rays_camera, rays_shadow, rays_photon, rays_other, crossings;

@@ -213,6 +213,9 @@ typedef struct vr_scene_settings {
   long photons;               /* global photons per pass, default 200000 */
   long caustic_photons;       /* default 200000 */
   int knn;                    /* photons per estimate, default 50 */
+  int sensor_knn;             /* photons per estimate at photon sensors' gather vertices
+                                 (sensor_knn=, default knn): gathering averages many
+                                 estimates, so fewer than an image's direct view needs */
   double radius_m;            /* fixed radius; NAN -> k-nearest */
   bool final_gather;          /* default false */
   int gather_rays;            /* default 32 */

@@ -1,0 +1,69 @@
+/* Shared by the render tests: a scene from text rendered in one call, and
+ * the reading of CIE 171:2006 case 5.8 (the cube's indirect illuminance).
+ * Include after cmocka.h. */
+#ifndef VR_RENDER_TEST_UTIL_H
+#define VR_RENDER_TEST_UTIL_H
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "vr/render.h"
+#include "vr/scene.h"
+
+/* The scene of text, as file `name`; fails the test on a parse error. */
+static inline vr_scene *parse_text(const char *text, const char *name) {
+  vr_scene *s = NULL;
+  vr_error err = {0};
+  vr_status st = vr_scene_parse(text, strlen(text), name, &s, &err);
+  if (st) fprintf(stderr, "parse: %s\n", err.message);
+  assert_int_equal(st, VR_OK);
+  return s;
+}
+
+/* Renders s with the materials of db (may be NULL) on S sub-domains and P
+ * threads, without the camera pass when sensors_only, in image space when
+ * image_space; fails the test on any error. */
+static inline vr_render_result *render_scene_with(vr_scene *s, struct vr_matdb *db, int S, int P,
+                                                  bool sensors_only, bool image_space) {
+  vr_render_options o;
+  vr_render_options_default(&o);
+  o.subdomains = S;
+  o.threads = P;
+  o.no_camera = sensors_only;
+  o.image_space = image_space;
+  vr_render_result *r = NULL;
+  vr_error err = {0};
+  vr_status st = vr_render_scene(s, db, &o, &r, &err);
+  if (st) fprintf(stderr, "render: %s\n", err.message);
+  assert_int_equal(st, VR_OK);
+  return r;
+}
+
+/* Parses text and renders it (render_scene_with, no database). */
+static inline vr_render_result *render_text_with(const char *text, int S, int P,
+                                                 bool sensors_only) {
+  vr_scene *s = parse_text(text, "test.scn");
+  vr_render_result *r = render_scene_with(s, NULL, S, P, sensors_only, false);
+  vr_scene_destroy(s);
+  return r;
+}
+
+/* CIE 171:2006 case 5.8: a 4 m cube (floor z = 0 centred on the z axis),
+ * a point source of flux phi_lm at its centre, reflectance rho.  The mean
+ * over the readings (floor points) of the illuminance less the analytic
+ * direct part I cos / r^2, and (*expected) the standard's indirect value
+ * rho Phi / (S_T (1 - rho)), S_T = 96 m^2. */
+static inline double cie171_cube_indirect(const vr_render_result *r, double phi_lm, double rho,
+                                          double *expected) {
+  double I = phi_lm / (4 * M_PI), sum = 0;
+  for (size_t i = 0; i < r->nreadings; i++) {
+    const double *p = r->readings[i].position;
+    double r2 = p[0] * p[0] + p[1] * p[1] + 4.0;
+    sum += r->readings[i].illuminance_lx - I * (2.0 / sqrt(r2)) / r2;
+  }
+  *expected = rho * phi_lm / (96.0 * (1 - rho));
+  return sum / (double)r->nreadings;
+}
+
+#endif
