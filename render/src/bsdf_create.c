@@ -147,12 +147,12 @@ static vr_status make_dielectric(vr_bsdf *b, const vr_scene_material *sm, const 
               (sm->pane == VR_PANE_DEFAULT && given(d) && !rough);
   if (thin && rough)
     return vr_error_set(err, VR_E_ARG,
-                        "roughness on a thin pane is not modelled; use pane=interfaces for a "
+                        "roughness on a thin pane (model=thin) is not modelled; use model=interfaces for a "
                         "rough interface, or a btdf table (vr-spectro btdf) for frosted glass");
   if (thin && !given(d))
     return vr_error_set(err, VR_E_ARG, "a thin pane needs its thickness (thickness=)");
   if (coating && sm->pane == VR_PANE_INTERFACES)
-    return vr_error_set(err, VR_E_ARG, "a coated pane is a thin element; pane=interfaces "
+    return vr_error_set(err, VR_E_ARG, "a coated pane is a thin element; model=interfaces "
                                        "cannot carry a coating");
   vr_status st = fill_nk(b, m, err);
   if (st) return st;
@@ -234,7 +234,7 @@ static vr_status check_settings(const vr_scene_material *sm, vr_material_kind ki
     return vr_error_set(err, VR_E_ARG, "roughness= is for dielectrics and conductors, not a %s",
                         vr_kind_name(kind));
   if (sm->pane == VR_PANE_INTERFACES && !dielectric)
-    return vr_error_set(err, VR_E_ARG, "pane=interfaces needs a dielectric with n and k, not a %s",
+    return vr_error_set(err, VR_E_ARG, "model=interfaces needs a dielectric with n and k, not a %s",
                         vr_kind_name(kind));
   if (sm->coating_db && !dielectric)
     return vr_error_set(err, VR_E_ARG, "a coating goes on a dielectric pane, not on a %s",

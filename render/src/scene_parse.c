@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "scene_parse.h"
+#include "vr/sky.h"
 #include "vr/file.h"
 
 void vr_scene_destroy(vr_scene *s) {
@@ -192,7 +193,23 @@ static vr_status finish(scn_parser *p) {
       return vr_error_at(p->err, VR_E_PARSE, p->file, p->alias_loc[i].line, p->alias_loc[i].col,
                          "unknown material \"%s\" (no 'material %s ...' line)", p->alias[i], p->alias[i]);
   }
+  if (p->sun && s->sky.present && s->sky.sun_given)
+    return vr_error_at(p->err, VR_E_PARSE, p->file, s->sky.loc.line, s->sky.loc.col,
+                       "the sky's sun= and the sun on line %ld both place the sun: give it once "
+                       "(the sun line places the sky's too)",
+                       s->lights[p->sun - 1].loc.line);
   if (p->sun) memcpy(s->sky.sun_direction, s->lights[p->sun - 1].direction, sizeof s->sky.sun_direction);
+  if (s->sky.present && s->sky.cie_type > 0 && !p->sun && !s->sky.sun_given) {
+    /* A sky whose luminance follows the sun (an indicatrix that is not
+     * flat) must be told where the sun is, not given the zenith. */
+    vr_sky_params sp;
+    if (vr_sky_params_of(s->sky.cie_type, &sp, NULL) == VR_OK && (sp.c != 0.0 || sp.e != 0.0))
+      return vr_error_at(p->err, VR_E_PARSE, p->file, s->sky.loc.line, s->sky.loc.col,
+                         "CIE sky type %d is brighter towards the sun, but the scene does not "
+                         "say where the sun is: add a 'light sun' line (its place sets the "
+                         "sky's) or give the sky sun=ALTITUDE,AZIMUTH",
+                         s->sky.cie_type);
+  }
   if (!s->camera.given && s->nsensors == 0)
     return vr_error_at(p->err, VR_E_PARSE, p->file, 0, 0, "no camera and no sensor: nothing to render");
   return VR_OK;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "scene_parse.h"
+#include "vr/sun.h"
 
 /* ---- lights and the sky ---- */
 
@@ -56,20 +57,112 @@ static vr_status spot_light(scn_stmt *t, vr_scene_light *l) {
   return lamp_amount(t, l, true);
 }
 
+/* Days in a Gregorian month. */
+static int month_days(int y, int m) {
+  static const int D[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+  return m == 2 && leap ? 29 : D[m - 1];
+}
+
+/* The sun's direction at a site and a local civil time:
+ *   latitude=DEG (north +) longitude=DEG (east +) date=YYYY-MM-DD
+ *   time=HH:MM[:SS] [timezone=HOURS east of Greenwich, default 0 = UTC]
+ * through vr_sun_position_at (Meeus; NOAA's series), with standard air for
+ * refraction.  A sun below the horizon is refused: there is no daylight to
+ * render at that time. */
+static vr_status sun_from_site(scn_stmt *t, double dir[3]) {
+  scn_parser *p = t->p;
+  static const char *const SITE[] = {"latitude", "longitude", "date", "time", NULL};
+  const scn_opt *o;
+  for (int i = 0; SITE[i]; i++)
+    if (!scn_get(t, SITE[i]))
+      return scn_fail(p, t->w[0], "a sun placed by site and time needs latitude=, longitude=, "
+                                  "date= and time= (%s= is missing)", SITE[i]);
+  double lat, lon, tz = 0;
+  vr_status st;
+  if ((st = scn_range(t, "latitude", -90, 90, false, false, &lat)) ||
+      (st = scn_range(t, "longitude", -180, 360, false, true, &lon)) ||
+      (st = scn_range(t, "timezone", -14, 14, false, false, &tz)))
+    return st;
+  long long ymd[3];
+  o = scn_get(t, "date");
+  if ((st = scn_ints(p, o->word, o->val, '-', 3, 0, 9999, ymd))) return st;
+  if (ymd[0] < 1800 || ymd[0] > 2200 || ymd[1] < 1 || ymd[1] > 12 || ymd[2] < 1 ||
+      ymd[2] > month_days((int)ymd[0], (int)ymd[1]))
+    return scn_fail(p, o->word, "date=%s is not a calendar date YYYY-MM-DD between 1800 and 2200",
+                    o->val);
+  o = scn_get(t, "time");
+  long long hms[3] = {0, 0, 0};
+  int colons = 0;
+  for (const char *c = o->val; *c; c++) colons += *c == ':';
+  if ((colons != 1 && colons != 2) ||
+      (st = scn_ints(p, o->word, o->val, ':', colons + 1, 0, 59, hms)) || hms[0] > 23)
+    return st ? st : scn_fail(p, o->word, "time=%s is not HH:MM or HH:MM:SS (local, 00:00 to 23:59:59)",
+                              o->val);
+  /* Local time to UTC: minutes of the day less the zone, carried into the date. */
+  double minutes = (double)(hms[0] * 60 + hms[1]) + hms[2] / 60.0 - tz * 60.0;
+  int y = (int)ymd[0], m = (int)ymd[1], d = (int)ymd[2];
+  while (minutes < 0) {
+    minutes += 1440;
+    if (--d < 1) {
+      if (--m < 1) m = 12, y--;
+      d = month_days(y, m);
+    }
+  }
+  while (minutes >= 1440) {
+    minutes -= 1440;
+    if (++d > month_days(y, m)) {
+      d = 1;
+      if (++m > 12) m = 1, y++;
+    }
+  }
+  vr_datetime utc = {y, m, d, (int)(minutes / 60), (int)fmod(minutes, 60.0), 0.0};
+  utc.second = (minutes - floor(minutes)) * 60.0;
+  vr_sun_site site;
+  vr_sun_site_default(&site, lat, lon > 180 ? lon - 360 : lon);
+  vr_sun_position pos;
+  vr_error e = {0};
+  if (vr_sun_position_at(&site, &utc, &pos, &e) != VR_OK)
+    return scn_fail(p, t->w[0], "sun position: %s", e.message);
+  if (pos.altitude_deg <= 0)
+    return scn_fail(p, scn_get(t, "time")->word,
+                    "the sun is below the horizon at %s %s (altitude %.2f deg, UTC %04d-%02d-%02d "
+                    "%02d:%02d): no daylight to render",
+                    scn_get(t, "date")->val, scn_get(t, "time")->val, pos.altitude_deg, y, m, d,
+                    utc.hour, utc.minute);
+  memcpy(dir, pos.direction, 3 * sizeof *dir);
+  return VR_OK;
+}
+
 static vr_status sun_light(scn_stmt *t, vr_scene_light *l) {
   scn_parser *p = t->p;
-  static const char *const SUN[] = {"direction", "altitude", "azimuth", "illuminance", "radius", "spectrum", NULL};
+  static const char *const SUN[] = {"direction", "altitude", "azimuth", "illuminance", "radius",
+                                    "spectrum", "latitude", "longitude", "date", "time",
+                                    "timezone", NULL};
   static const vr_light_unit SUN_UNITS[] = {VR_UNIT_LX, VR_UNIT_W_M2, VR_UNIT_NONE};
   t->what = "a sun";
   vr_status st = scn_options(t, 2, SUN);
   if (st) return st;
   const scn_opt *dir = scn_get(t, "direction"), *alt = scn_get(t, "altitude"), *az = scn_get(t, "azimuth"), *o;
+  const scn_opt *site = scn_get(t, "latitude") ? scn_get(t, "latitude")
+                        : scn_get(t, "longitude") ? scn_get(t, "longitude")
+                        : scn_get(t, "date")      ? scn_get(t, "date")
+                        : scn_get(t, "time")      ? scn_get(t, "time")
+                                                  : scn_get(t, "timezone");
   if (dir && (alt || az))
     return scn_fail(p, scn_later(dir, alt ? alt : az), "give direction= or altitude= and azimuth=, not both");
-  if (dir) {
+  if (site && (dir || alt || az))
+    return scn_fail(p, scn_later(site, dir ? dir : alt ? alt : az),
+                    "give the sun's place as direction=, altitude= and azimuth=, or latitude=, "
+                    "longitude=, date= and time=, not both");
+  if (site) {
+    if ((st = sun_from_site(t, l->direction))) return st;
+  } else if (dir) {
     if ((st = scn_direction(p, dir->word, dir->val, l->direction))) return st;
   } else {
-    if (!alt && !az) return scn_fail(p, t->w[0], "a sun needs direction= or altitude= and azimuth=");
+    if (!alt && !az)
+      return scn_fail(p, t->w[0], "a sun needs direction=, altitude= and azimuth=, or latitude=, "
+                                  "longitude=, date= and time=");
     if (!alt || !az) return scn_fail(p, (alt ? alt : az)->word, "a sun needs both altitude= and azimuth=");
     double a = 0, z = 0;
     if ((st = scn_range(t, "altitude", -90, 90, false, false, &a)) ||
@@ -123,7 +216,7 @@ vr_status scn_sky(scn_stmt *t) {
   if (k->present) return scn_fail(p, t->w[0], "a second sky (the first is on line %ld)", k->loc.line);
   vr_status st = scn_positional(t, 1, "a kind: cie or overcast");
   if (st) return st;
-  static const char *const CIE[] = {"type", "illuminance", "zenith", "spectrum", "ground", NULL};
+  static const char *const CIE[] = {"type", "illuminance", "zenith", "spectrum", "ground", "sun", NULL};
   static const char *const OVERCAST[] = {"illuminance", "zenith", "spectrum", "ground", NULL};
   bool cie = !strcmp(t->w[1], "cie");
   if (!cie && strcmp(t->w[1], "overcast"))
@@ -144,6 +237,15 @@ vr_status scn_sky(scn_stmt *t) {
   else if (zen) st = scn_quantity(p, zen->word, zen->val, ZEN, VR_UNIT_CD_M2, "a zenith luminance", &k->level);
   else st = scn_fail(p, t->w[0], "a sky needs illuminance=LX (diffuse horizontal) or zenith=CD/M2");
   if (st || (st = scn_spectrum_opt(t, "spectrum", &k->spectrum))) return st;
+  if ((o = scn_get(t, "sun"))) {
+    /* The sun's place for a sky without a sun line: ALTITUDE,AZIMUTH. */
+    double aa[2];
+    if ((st = scn_numbers(p, o->word, o->val, false, 2, aa))) return st;
+    if (!(aa[0] > 0 && aa[0] <= 90))
+      return scn_fail(p, o->word, "sun=%s: the altitude must be in (0, 90] degrees", o->val);
+    vr_sun_direction_of(aa[0], aa[1], k->sun_direction);
+    k->sun_given = true;
+  }
   return scn_range(t, "ground", 0, 1, false, false, &k->ground_reflectance);
 }
 

@@ -3,6 +3,7 @@
  * line and column of the word at fault. */
 #include "vr_test.h"
 #include "vr/scene.h"
+#include "vr/sun.h"
 
 #define NAME "/scenes/room.scn"
 
@@ -420,6 +421,87 @@ static const error_case ERRORS[] = {
     ERROR_CASE("reflectance above 1", "camera pinhole from=0,0,0 to=0,1,0\nmaterial g lambert reflectance=1.2\n", "room.scn:2:20: ", "must be in [0, 1]"),
 };
 
+/* The sun placed by site and local time.  Reference: the test case of the
+ * NREL Solar Position Algorithm (Reda & Andreas, NREL/TP-560-34302, 2008,
+ * table A4.1): Golden, Colorado, 39.742476 N, 105.1786 W, 2003-10-17
+ * 12:30:30 at UTC-7 gives a topocentric zenith angle of 50.11162 deg and an
+ * azimuth of 194.34024 deg (from north, eastward).  SPA's case has 820 hPa
+ * and 11 C; the scene uses standard air, which moves the refraction by
+ * about 0.004 deg at this altitude: 0.02 deg is allowed.  The same instant
+ * written in other zones (the date rolling over) must give the same
+ * direction bit for bit. */
+static void sun_by_site_and_time(void **state) {
+  (void)state;
+  static const char *const LINES[] = {
+      "light sun latitude=39.742476 longitude=-105.1786 date=2003-10-17 time=12:30:30 "
+      "timezone=-7 illuminance=80000lx\n",
+      "light sun latitude=39.742476 longitude=-105.1786 date=2003-10-17 time=19:30:30 "
+      "illuminance=80000lx\n",
+      "light sun latitude=39.742476 longitude=254.8214 date=2003-10-18 time=04:30:30 "
+      "timezone=9 illuminance=80000lx\n"};
+  double first[3];
+  for (int i = 0; i < 3; i++) {
+    char text[512];
+    snprintf(text, sizeof text, "%ssky cie type=12 illuminance=15000\n"
+                                "sensor s point position=0,0,0 normal=0,0,1\n", LINES[i]);
+    vr_scene *s = NULL;
+    vr_error err = {0};
+    if (parse(text, &s, &err) != VR_OK) fail_msg("line %d: %s", i, err.message);
+    double alt, az;
+    assert_true(vr_sun_angles_of(s->lights[0].direction, &alt, &az));
+    print_message("  %s  altitude %.5f, azimuth %.5f deg\n", i == 0 ? "UTC-7" : i == 1 ? "UTC  " : "UTC+9", alt, az);
+    assert_near(90.0 - alt, 50.11162, 0.02);
+    assert_near(az, 194.34024, 0.02);
+    /* The sky takes the sun line's place. */
+    assert_memory_equal(s->sky.sun_direction, s->lights[0].direction, sizeof first);
+    if (i == 0) memcpy(first, s->lights[0].direction, sizeof first);
+    else assert_memory_equal(first, s->lights[0].direction, sizeof first);
+    vr_scene_destroy(s);
+  }
+}
+
+/* text, with a sensor added, must be refused with a message holding needle. */
+static void refused(const char *text, const char *needle) {
+  char buf[512];
+  snprintf(buf, sizeof buf, "%ssensor s point position=0,0,0 normal=0,0,1\n", text);
+  vr_scene *s = NULL;
+  vr_error err = {0};
+  assert_int_equal(parse(buf, &s, &err), VR_E_PARSE);
+  if (!strstr(err.message, needle)) fail_msg("'%s' does not say '%s'", err.message, needle);
+  assert_null(s);
+}
+
+/* A sky brighter towards the sun needs to know where the sun is; sun=
+ * places it without a sun line; a sky that does not depend on the sun
+ * (type 1, azimuthally uniform) needs neither. */
+static void sky_needs_the_sun(void **state) {
+  (void)state;
+  vr_scene *s = NULL;
+  vr_error err = {0};
+  refused("sky cie type=12 illuminance=15000\n", "room.scn:1:1: CIE sky type 12");
+  refused("sky cie type=12 illuminance=15000\n", "sun=ALTITUDE,AZIMUTH");
+  assert_int_equal(parse("sky cie type=12 illuminance=15000 sun=30,90\n"
+                         "sensor s point position=0,0,0 normal=0,0,1\n", &s, &err), VR_OK);
+  /* 30 deg up in the east: (cos 30, 0, sin 30). */
+  assert_vec(s->sky.sun_direction, cos(M_PI / 6), 0, 0.5, 1e-15);
+  vr_scene_destroy(s);
+  assert_int_equal(parse("sky cie type=1 illuminance=15000\n"
+                         "sensor s point position=0,0,0 normal=0,0,1\n", &s, &err), VR_OK);
+  vr_scene_destroy(s);
+  refused("sky cie type=12 illuminance=15000 sun=30,90\n"
+          "light sun altitude=30 azimuth=90 illuminance=1000\n", "give it once");
+  /* Site and time: all four, not mixed with angles, the sun up, real dates. */
+  refused("light sun latitude=40 longitude=0 time=12:00 illuminance=1\n", "date= is missing");
+  refused("light sun latitude=40 longitude=0 date=2026-06-21 time=12:00 altitude=30 "
+          "illuminance=1\n", "not both");
+  refused("light sun latitude=39.742476 longitude=-105.1786 date=2003-10-17 time=23:00 "
+          "timezone=-7 illuminance=1\n", "below the horizon");
+  refused("light sun latitude=40 longitude=0 date=2026-02-30 time=12:00 illuminance=1\n",
+          "not a calendar date");
+  refused("light sun latitude=40 longitude=0 date=2026-06-21 time=24:00 illuminance=1\n",
+          "time=24:00");
+}
+
 /* sensor_knn not given is knn's, whatever knn is. */
 static void sensor_knn_follows_knn(void **state) {
   (void)state;
@@ -532,6 +614,7 @@ int main(void) {
       cmocka_unit_test(bins_default),
       cmocka_unit_test(transform_order), cmocka_unit_test(errors),
       cmocka_unit_test(whole_file_errors), cmocka_unit_test(text_robustness),
-      cmocka_unit_test(read_file), cmocka_unit_test(sensor_knn_follows_knn)};
+      cmocka_unit_test(read_file), cmocka_unit_test(sensor_knn_follows_knn),
+      cmocka_unit_test(sun_by_site_and_time), cmocka_unit_test(sky_needs_the_sun)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,10 +8,10 @@
  *   reflectance (role "value")          Lambertian with that spectrum
  *   conductor                           Fresnel mirror with complex N;
  *                                       GGX (roughness=alpha) when rough
- *   dielectric, thickness, pane=thin    thin pane: one straight-through
+ *   dielectric, thickness, model=thin   thin pane: one straight-through
  *   (default when a thickness is known) element, R and T from the exact
  *                                       thick-slab series (vr_slab)
- *   dielectric, pane=interfaces or no   one refracting interface (Fresnel
+ *   dielectric, model=interfaces or no  one refracting interface (Fresnel
  *   thickness                           with complex N, Snell, total
  *                                       internal reflection); absorption
  *                                       inside is the caller's, through

@@ -168,7 +168,8 @@ typedef struct vr_scene_light {
 typedef struct vr_scene_sky {
   bool present;
   int cie_type;              /* 0 = traditional overcast, 1..15 = CIE standard general sky */
-  double sun_direction[3];   /* unit, towards the sun (from the sun line if any, else zenith) */
+  double sun_direction[3];   /* unit, towards the sun: the sun line's, or the sky's sun= */
+  bool sun_given;            /* the sky line gave sun=ALTITUDE,AZIMUTH itself */
   vr_quantity level;         /* lx (diffuse horizontal) or cd/m2 (zenith) */
   vr_spectrum_ref spectrum;  /* default CIE D65 */
   double ground_reflectance; /* below the horizon: a uniform ground, default 0.2 */
