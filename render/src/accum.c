@@ -61,8 +61,10 @@ vr_status vr_accum_create(accum *a, int width, int height, size_t nbins, double 
   a->bins = zeros(px * nbins);
   a->sensor_lx = zeros(npoints * (size_t)groups);
   a->sensor_bins = zeros(npoints * nbins);
+  a->sensor_parts = zeros(npoints * VR_SENSOR_PARTS);
   a->texel_uv = zeros(ntexels);
-  if (!a->xyz || !a->bins || !a->sensor_lx || !a->sensor_bins || !a->texel_uv) {
+  if (!a->xyz || !a->bins || !a->sensor_lx || !a->sensor_bins || !a->sensor_parts ||
+      !a->texel_uv) {
     vr_accum_destroy(a);
     return vr_error_set(err, VR_E_NOMEM, "film of %d x %d x %zu bins: out of memory", width,
                         height, nbins);
@@ -75,6 +77,7 @@ void vr_accum_destroy(accum *a) {
   free(a->bins);
   free(a->sensor_lx);
   free(a->sensor_bins);
+  free(a->sensor_parts);
   free(a->texel_uv);
   free(a->cmf_avg);
   memset(a, 0, sizeof *a);
@@ -132,22 +135,37 @@ void vr_accum_pixel(accum *a, uint32_t pixel, int nwl, const double *wl, const d
   for (int k = 0; k < 3; k++) vr_atomic_add(&a->xyz[(size_t)pixel * 3 + (size_t)k], xyz[k]);
 }
 
-/* The illuminance of E (and, with spectrum, its spectrum into point's
- * bins) into slot `slot` of point. */
-static void sensor_add(accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,
-                       const double *E, double wl_weight, bool spectrum) {
+/* The illuminance of E, in lx. */
+static double illuminance(accum *a, int nwl, const double *wl, const double *E, double wl_weight) {
   double lx = 0;
   for (int i = 0; i < nwl; i++) {
     if (E[i] == 0.0) continue;
     double c[3];
     cmf(a, wl[i], c);
     lx += KM * c[1] * E[i] * wl_weight;
-    long b = spectrum ? bin_of(a, wl[i]) : -1;
+  }
+  return lx;
+}
+
+void vr_accum_sensor_part(accum *a, uint32_t point, int part, int nwl, const double *wl,
+                          const double *E, double wl_weight) {
+  if (part >= 0 && part < VR_SENSOR_PARTS)
+    vr_atomic_add(&a->sensor_parts[(size_t)point * VR_SENSOR_PARTS + (size_t)part],
+                  illuminance(a, nwl, wl, E, wl_weight));
+}
+
+/* The illuminance of E (and, with spectrum, its spectrum into point's
+ * bins) into slot `slot` of point. */
+static void sensor_add(accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,
+                       const double *E, double wl_weight, bool spectrum) {
+  for (int i = 0; spectrum && i < nwl; i++) {
+    long b = E[i] != 0.0 ? bin_of(a, wl[i]) : -1;
     if (b >= 0)
       vr_atomic_add(&a->sensor_bins[(size_t)point * a->nbins + (size_t)b],
                     E[i] * wl_weight / a->bin_step);
   }
-  vr_atomic_add(&a->sensor_lx[(size_t)point * (size_t)a->groups + slot], lx);
+  vr_atomic_add(&a->sensor_lx[(size_t)point * (size_t)a->groups + slot],
+                illuminance(a, nwl, wl, E, wl_weight));
 }
 
 void vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,

@@ -132,7 +132,11 @@ static vr_status write_csv_to(const vr_render_result *r, const char *path, vr_er
   bool spectral = r->sensor_spectral && r->nbins;
   fputs("sensor,i,j,x,y,z,illuminance_lx,stderr_lx", f);
   for (size_t b = 0; spectral && b < r->nbins; b++) fprintf(f, ",E_%g", r->bin_nm[b]);
-  fputc('\n', f);
+  fputs(",sky_component_lx,sun_direct_lx,externally_reflected_sky_lx,externally_reflected_sun_lx,"
+        "internally_reflected_sky_lx,internally_reflected_sun_lx,electric_lx,"
+        "daylight_factor_pct,df_sky_component_pct,df_externally_reflected_pct,"
+        "df_internally_reflected_pct\n",
+        f);
   for (size_t k = 0; k < r->nreadings; k++) {
     const vr_sensor_reading *s = &r->readings[k];
     csv_field(f, sensor_name(s));
@@ -140,6 +144,16 @@ static vr_status write_csv_to(const vr_render_result *r, const char *path, vr_er
             s->position[2], s->illuminance_lx, s->stderr_lx);
     for (size_t b = 0; spectral && b < r->nbins; b++)
       fprintf(f, ",%.9g", r->sensor_spectral[k * r->nbins + b]);
+    /* The parts and the daylight factor; an empty field where they do not
+     * apply (photon sensors, no sky). */
+    const double more[] = {s->part_lx[0], s->part_lx[1], s->part_lx[2], s->part_lx[3],
+                           s->part_lx[4], s->part_lx[5], s->part_lx[6], s->df_pct,
+                           s->df_sc_pct,  s->df_erc_pct, s->df_irc_pct};
+    for (size_t q = 0; q < sizeof more / sizeof more[0]; q++)
+      if (isnan(more[q]))
+        fputc(',', f);
+      else
+        fprintf(f, ",%.9g", more[q]);
     fputc('\n', f);
   }
   return vr_atomic_file_commit(&af, err);
@@ -384,6 +398,8 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
     vr_json_number(f, s->illuminance_lx);
     fputs(", \"stderr_lx\": ", f);
     vr_json_number(f, s->stderr_lx);
+    fputs(", \"daylight_factor_pct\": ", f);
+    vr_json_number(f, s->df_pct);
     fputs("}", f);
   }
   fputs(r->nreadings ? "\n  ],\n" : "],\n", f);

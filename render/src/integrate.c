@@ -58,6 +58,40 @@ double vr_hit_state(const rscene *rs, const vr_hit *hit) {
 
 static double wl_weight(const rscene *rs, int nwl) { return (rs->lmax - rs->lmin) / nwl; }
 
+/* A sensor path's contribution v into its daylight component: the source
+ * (p->source) and whether a non-delta vertex reflected it on the way
+ * (FLAG_REFLECTED), the last one exterior or not (FLAG_OUTSIDE_LAST).  The
+ * ground glow is an exterior reflection by definition; its radiance is
+ * split between the sun and the sky wavelength by wavelength. */
+static void sensor_parts(pass_ctx *c, const payload *p, const double *v) {
+  const rscene *rs = c->rs;
+  double w = wl_weight(rs, p->nwl);
+  bool reflected = p->flags & FLAG_REFLECTED, outside = p->flags & FLAG_OUTSIDE_LAST;
+  int erc_or_irc = !reflected || outside ? VR_PART_ERC_SKY : VR_PART_IRC_SKY;
+  switch (p->source) {
+  case SRC_LAMP: vr_accum_sensor_part(c->acc, p->index, VR_PART_ELECTRIC, p->nwl, p->wl, v, w); break;
+  case SRC_SKY:
+    vr_accum_sensor_part(c->acc, p->index, reflected ? erc_or_irc : VR_PART_SKY, p->nwl, p->wl, v, w);
+    break;
+  case SRC_SUN:
+    vr_accum_sensor_part(c->acc, p->index, reflected ? erc_or_irc + 1 : VR_PART_SUN, p->nwl, p->wl,
+                         v, w);
+    break;
+  case SRC_GROUND: {
+    double sun[VR_MAX_WL], sky[VR_MAX_WL];
+    for (int k = 0; k < p->nwl; k++) {
+      double f = vr_light_ground_sun_share(rs, p->wl[k]);
+      sun[k] = v[k] * f;
+      sky[k] = v[k] - sun[k];
+    }
+    vr_accum_sensor_part(c->acc, p->index, erc_or_irc, p->nwl, p->wl, sky, w);
+    vr_accum_sensor_part(c->acc, p->index, erc_or_irc + 1, p->nwl, p->wl, sun, w);
+    break;
+  }
+  default: break; /* photon-map radiance: no single source */
+  }
+}
+
 /* Delivers a finished contribution to what the path serves. */
 static void deliver(pass_ctx *c, const payload *p, const double *v0) {
   double v[VR_MAX_WL];
@@ -71,6 +105,7 @@ static void deliver(pass_ctx *c, const payload *p, const double *v0) {
     /* Photon sensors keep their second half of slots for the bias probe. */
     uint32_t slot = c->sensor_photons ? p->sample % (uint32_t)c->sensor_groups : p->sample;
     vr_accum_sensor(c->acc, p->index, slot, p->nwl, p->wl, v, wl_weight(c->rs, p->nwl));
+    sensor_parts(c, p, v);
     break;
   }
   case TARGET_TEXEL: {
@@ -86,7 +121,7 @@ static void deliver(pass_ctx *c, const payload *p, const double *v0) {
 
 /* A shadow ray from x (offset to o) towards the light dist away along dir. */
 static void push_shadow(vr_flow_worker *w, const payload *p, const double x[3], const double o[3],
-                        const double dir[3], double dist, const double *contrib) {
+                        const double dir[3], double dist, const double *contrib, uint8_t source) {
   vr_ray r = {0};
   memcpy(r.org, o, sizeof r.org);
   r.tnear = 0;
@@ -109,6 +144,7 @@ static void push_shadow(vr_flow_worker *w, const payload *p, const double x[3], 
   r.purpose = PURPOSE_SHADOW;
   payload *q = (payload *)r.payload;
   *q = *p;
+  q->source = source;
   memcpy(q->beta, contrib, sizeof q->beta);
   vr_flow_push(w, &r);
 }
@@ -132,7 +168,8 @@ static void next_event(pass_ctx *c, vr_flow_worker *w, const payload *p, const d
     for (int k = 0; k < p->nwl; k++) any |= (contrib[k] = p->beta[k] * fc[k] * ls.L[k]) > 0;
     if (!any) continue;
     spawn_origin(x, ng, ls.dir, o);
-    push_shadow(w, p, x, o, ls.dir, ls.dist, contrib);
+    push_shadow(w, p, x, o, ls.dir, ls.dist, contrib,
+                rs->lights[i].kind == VR_LIGHT_SUN ? SRC_SUN : SRC_LAMP);
   }
   if (vr_light_sample_emitter(rs, x, p->nwl, p->wl, &key, &ls)) {
     f(fu, ls.dir, fc);
@@ -140,7 +177,7 @@ static void next_event(pass_ctx *c, vr_flow_worker *w, const payload *p, const d
     for (int k = 0; k < p->nwl; k++) any |= (contrib[k] = p->beta[k] * fc[k] * ls.L[k]) > 0;
     if (any) {
       spawn_origin(x, ng, ls.dir, o);
-      push_shadow(w, p, x, o, ls.dir, ls.dist, contrib);
+      push_shadow(w, p, x, o, ls.dir, ls.dist, contrib, SRC_LAMP);
     }
   }
   if (vr_light_sample_sky(rs, x, n_for_sky, p->nwl, p->wl, &key, &ls)) {
@@ -149,7 +186,7 @@ static void next_event(pass_ctx *c, vr_flow_worker *w, const payload *p, const d
     for (int k = 0; k < p->nwl; k++) any |= (contrib[k] = p->beta[k] * fc[k] * ls.L[k]) > 0;
     if (any) {
       spawn_origin(x, ng, ls.dir, o);
-      push_shadow(w, p, x, o, ls.dir, INFINITY, contrib);
+      push_shadow(w, p, x, o, ls.dir, INFINITY, contrib, SRC_SKY);
     }
   }
 }
@@ -342,6 +379,7 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
   if (!hit) {
     vr_light_environment(rs, r->dir, first && p.target != TARGET_GATHER, p.nwl, p.wl, L);
     for (int k = 0; k < p.nwl; k++) L[k] *= p.beta[k];
+    p.source = r->dir[2] >= 0 ? SRC_SKY : SRC_GROUND;
     deliver(c, &p, L);
     return;
   }
@@ -355,7 +393,9 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
   double wo[3] = {-r->dir[0], -r->dir[1], -r->dir[2]};
   if (o->emission.n && first && p.target != TARGET_GATHER && dot3(hit->ng, wo) > 0) {
     for (int k = 0; k < p.nwl; k++) L[k] = p.beta[k] * rspd_at(&o->emission, p.wl[k]);
-    deliver(c, &p, L);
+    payload pe = p;
+    pe.source = SRC_LAMP;
+    deliver(c, &pe, L);
   }
   unsigned lobes = vr_bsdf_lobes(m->bsdf);
   surf_eval se = {m->bsdf, vr_hit_state(rs, hit), v3(hit->ns), v3(wo), p.nwl, p.wl, v3(hit->ns)};
@@ -368,6 +408,14 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
     photon_radiance(c, hit, wo, &se, &p, 7, c->knn, c->radius, L, NULL);
     deliver(c, &p, L);
     return;
+  }
+  if (nondelta && p.target == TARGET_SENSOR) {
+    /* This vertex reflects what reaches the sensor from here on. */
+    p.flags |= FLAG_REFLECTED;
+    if (o->outside)
+      p.flags |= FLAG_OUTSIDE_LAST;
+    else
+      p.flags &= (uint8_t)~FLAG_OUTSIDE_LAST;
   }
   if (nondelta) {
     double nsky[3];

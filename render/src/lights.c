@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "render_internal.h"
+#include "vr/colour.h"
 #include "vr/ies.h"
 
 static void frame(const double n[3], double t[3], double b[3]) {
@@ -228,6 +229,25 @@ vr_status vr_light_sky_create(rscene *rs, struct vr_matdb *db, vr_error *err) {
   }
   rs->ground_radiance_scale = sk->ground_reflectance / M_PI;
   return VR_OK;
+}
+
+double vr_light_ground_sun_share(const rscene *rs, double nm) {
+  if (!rs->has_sky) return 0.0;
+  double g = rspd_at(&rs->ground_spd, nm);
+  if (!(g > 0)) return 0.0;
+  double share = 1.0 - rspd_at(&rs->sky_spd, nm) * vr_sky_horizontal_ratio(rs->sky) / g;
+  return share < 0 ? 0 : share > 1 ? 1 : share;
+}
+
+double vr_light_sky_horizontal_lx(const rscene *rs) {
+  if (!rs->has_sky) return 0.0;
+  double eh = vr_sky_horizontal_ratio(rs->sky), lx = 0;
+  for (double nm = rs->lmin; nm <= rs->lmax; nm += 1.0) {
+    double xyz[3];
+    vr_cmf_eval(VR_CIE1931_2DEG, nm, xyz);
+    lx += xyz[1] * rspd_at(&rs->sky_spd, nm) * eh;
+  }
+  return VR_KM * lx;
 }
 
 void vr_light_sky_destroy(rscene *rs) {

@@ -52,6 +52,7 @@ typedef struct robject {
   int nu, nv;
   size_t texel0;           /* its first texel in the UV pass's numbering */
   double corner[3], eu[3], ev[3], normal[3]; /* rect: point = corner + u eu + v ev */
+  bool outside;            /* an exterior surface (outside=yes) */
 } robject;
 
 /* What the renderer keeps per cell besides its geometry (which vr_domains
@@ -156,7 +157,12 @@ void vr_wavelengths(const rscene *rs, const vr_rng_key *key, uint32_t strata, do
 vr_status vr_light_sky_create(rscene *rs, struct vr_matdb *db, vr_error *err);
 void vr_light_sky_destroy(rscene *rs);
 double vr_light_sky_power(const rscene *rs);
-double vr_light_ground_power(const rscene *rs); /* the ground glow's, likewise */
+double vr_light_ground_power(const rscene *rs);
+/* The share of the ground glow's radiance at nm that the sun lit (the rest
+ * is the sky's), and the unobstructed sky's horizontal illuminance (lx,
+ * without the sun): the daylight factor's denominator. */
+double vr_light_ground_sun_share(const rscene *rs, double nm);
+double vr_light_sky_horizontal_lx(const rscene *rs); /* the ground glow's, likewise */
 /* Photon emission from source i of rs->source_cdf order. */
 typedef struct photon_emit {
   double org[3], dir[3];
@@ -170,13 +176,20 @@ enum { TARGET_PIXEL = 0, TARGET_SENSOR, TARGET_TEXEL, TARGET_PHOTON, TARGET_GATH
 enum { PURPOSE_CAMERA = 0, PURPOSE_SHADOW, PURPOSE_PHOTON, PURPOSE_SENSOR, PURPOSE_UV,
        PURPOSE_GATHER };
 enum { FLAG_SPECULAR_LAST = 1, FLAG_HAS_DIFFUSE = 2, FLAG_HAS_SPECULAR = 4,
-       FLAG_TERMINATED = 8, FLAG_PHOTON_GATHER = 16 /* a photon sensor's gather path */ };
+       FLAG_TERMINATED = 8, FLAG_PHOTON_GATHER = 16 /* a photon sensor's gather path */,
+       FLAG_REFLECTED = 32 /* a sensor path met a non-delta vertex */,
+       FLAG_OUTSIDE_LAST = 64 /* ... and the last one was an exterior surface */ };
+/* Where a sensor path's light came from, and the daylight components
+ * (render_sensors.c): the part of a reading each delivery adds to. */
+enum { SRC_OTHER = 0, SRC_SUN, SRC_SKY, SRC_LAMP, SRC_GROUND };
+/* The parts of a reading they add to: VR_PART_* (vr/render.h). */
 
 typedef struct payload {
   uint64_t stream;
   uint32_t sample;
   uint32_t index;          /* pixel, sensor point, texel */
   uint8_t depth, target, flags, nwl;
+  uint8_t source;          /* sensor paths: SRC_* of the light a shadow ray carries */
   int32_t medium;          /* object whose inside the path is in, -1 outside */
   double weight;           /* sample weight (1/spp, ...), applied on delivery */
   double wl[VR_MAX_WL];
@@ -194,6 +207,8 @@ typedef struct accum {
   int groups;                 /* batches for the standard error */
   _Atomic uint64_t *sensor_lx;  /* npoints*groups */
   _Atomic uint64_t *sensor_bins;/* npoints*nbins */
+  _Atomic uint64_t *sensor_parts;/* npoints*VR_SENSOR_PARTS: illuminance by component (lx, summed
+                                    over the groups' samples) */
   size_t ntexels;
   _Atomic uint64_t *texel_uv;   /* W/m2 in the UV band, summed */
   /* Fixed-bins mode: the CMFs averaged over each of the cmf_n bins of
@@ -219,6 +234,9 @@ void vr_accum_pixel(accum *a, uint32_t pixel, int nwl, const double *wl, const d
                     double wl_weight);
 void vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
                      const double *E, double wl_weight);
+/* Adds the illuminance of E to part `part` (VR_PART_*) of point. */
+void vr_accum_sensor_part(accum *a, uint32_t point, int part, int nwl, const double *wl,
+                          const double *E, double wl_weight);
 /* Adds the illuminance of E to slot `slot` (< groups) of point only, not
  * to its spectrum: for side sums such as a photon sensor's bias probe. */
 void vr_accum_sensor_lx(accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,

@@ -58,6 +58,22 @@ vr_status vr_sensor_points(const vr_scene *s, pass_ctx *c, vr_render_result *res
   return VR_OK;
 }
 
+/* A reading's parts (the sums over all samples, over the groups) and its
+ * daylight factor. */
+static void set_parts(const rscene *rs, accum *acc, size_t k, int groups, vr_sensor_reading *rd) {
+  for (int q = 0; q < VR_SENSOR_PARTS; q++)
+    rd->part_lx[q] = vr_atomic_get(&acc->sensor_parts[k * VR_SENSOR_PARTS + (size_t)q]) / groups;
+  double eh = vr_light_sky_horizontal_lx(rs);
+  if (eh > 0) {
+    rd->df_sc_pct = 100 * rd->part_lx[VR_PART_SKY] / eh;
+    rd->df_erc_pct = 100 * rd->part_lx[VR_PART_ERC_SKY] / eh;
+    rd->df_irc_pct = 100 * rd->part_lx[VR_PART_IRC_SKY] / eh;
+    rd->df_pct = rd->df_sc_pct + rd->df_erc_pct + rd->df_irc_pct;
+  } else {
+    rd->df_pct = rd->df_sc_pct = rd->df_erc_pct = rd->df_irc_pct = NAN;
+  }
+}
+
 /* The path estimator: `groups` independent batches per point, whose spread
  * gives the standard error. */
 static vr_status path_sensors(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
@@ -88,6 +104,7 @@ static vr_status path_sensors(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
     double mean = sum / groups, var = fmax(0, (sum2 - groups * mean * mean) / (groups - 1));
     res->readings[k].illuminance_lx = mean;
     res->readings[k].stderr_lx = sqrt(var / groups);
+    set_parts(rs, &acc, k, groups, &res->readings[k]);
     for (size_t b = 0; b < rs->nbins; b++)
       res->sensor_spectral[k * rs->nbins + b] =
           vr_atomic_get(&acc.sensor_bins[k * rs->nbins + b]) / groups;
@@ -154,6 +171,10 @@ static vr_status photon_sensors(run *r, rscene *rs, pass_ctx *c, long photons, d
     double bias = 4.0 / 3.0 * diff / groups;
     res->readings[k].illuminance_lx = mean;
     res->readings[k].stderr_lx = sqrt(var / groups + bias * bias);
+    /* Map radiance has no single source: no parts, no daylight factor. */
+    for (int q = 0; q < VR_SENSOR_PARTS; q++) res->readings[k].part_lx[q] = NAN;
+    res->readings[k].df_pct = res->readings[k].df_sc_pct = res->readings[k].df_erc_pct =
+        res->readings[k].df_irc_pct = NAN;
     for (size_t b = 0; b < rs->nbins; b++)
       res->sensor_spectral[k * rs->nbins + b] =
           vr_atomic_get(&acc.sensor_bins[k * rs->nbins + b]) / groups;
@@ -165,6 +186,7 @@ static vr_status photon_sensors(run *r, rscene *rs, pass_ctx *c, long photons, d
 
 vr_status vr_sensor_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
   vr_render_result *res = r->res;
+  res->sky_horizontal_lx = vr_light_sky_horizontal_lx(rs);
   const vr_scene_settings *set = &rs->s->settings;
   if (!c->npoints) {
     vr_run_record(r, "sensors", false, "no sensors in the scene");

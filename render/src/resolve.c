@@ -284,6 +284,7 @@ static vr_status resolve_objects(rscene *rs, vr_matdb *db, vr_error *err) {
     const vr_scene_object *so = &s->objects[i];
     robject *o = &rs->obj[i];
     o->material = so->material;
+    o->outside = so->outside;
     if (so->emission.value > 0) {
       vr_status st = vr_rscene_spectrum(rs, db, so->emission_spectrum, "D65", &so->loc, &o->emission, err);
       if (!st)

@@ -141,7 +141,7 @@ vr_status scn_material(scn_stmt *t) {
 
 /* ---- objects ---- */
 
-#define OBJECT_OPTIONS "material", "name", "emission", "emission_spectrum", "translate", "rotate", "scale", "texels"
+#define OBJECT_OPTIONS "material", "name", "emission", "emission_spectrum", "translate", "rotate", "scale", "texels", "outside"
 
 /* A stable in-plane direction for a rectangle without up=: world up (+z)
  * for walls and anything tilted, north (+y) when the normal is within
@@ -235,6 +235,10 @@ vr_status scn_object(scn_stmt *t, vr_shape_kind kind) {
       (st = scn_quantity(p, o->word, o->val, EMISSION, VR_UNIT_NONE, "an emission", &ob->emission)))
     return st;
   if ((st = scn_spectrum_opt(t, "emission_spectrum", &ob->emission_spectrum))) return st;
+  static const char *const YESNO[] = {"no", "yes", NULL};
+  int outside = 0;
+  if ((st = scn_choice(t, "outside", YESNO, &outside))) return st;
+  ob->outside = outside == 1;
   if ((o = scn_get(t, "texels"))) {
     long long n[2];
     if ((st = scn_ints(p, o->word, o->val, ',', 2, 1, 4096, n))) return st;

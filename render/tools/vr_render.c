@@ -235,8 +235,12 @@ static void summary(const vr_render_result *r, const char *prefix, const char *s
            r->photons_direct);
   for (size_t k = 0; k < r->nreadings; k++) {
     const vr_sensor_reading *s = &r->readings[k];
-    printf("sensor   %s (%d, %d)  %.6g lx  +- %.2g lx\n", s->sensor ? s->sensor : "", s->i, s->j,
+    printf("sensor   %s (%d, %d)  %.6g lx  +- %.2g lx", s->sensor ? s->sensor : "", s->i, s->j,
            s->illuminance_lx, s->stderr_lx);
+    if (!isnan(s->df_pct))
+      printf("  DF %.3g %% (sky %.3g, externally reflected %.3g, internally reflected %.3g)",
+             s->df_pct, s->df_sc_pct, s->df_erc_pct, s->df_irc_pct);
+    putchar('\n');
   }
   if (r->photochromic_texels)
     printf("photochromic  %zu texels, state %.4g to %.4g\n", r->photochromic_texels,

@@ -64,7 +64,16 @@ E = float(rows[0]["illuminance_lx"])
 assert abs(E - 1000 / 9) <= 0.01 * 1000 / 9, E
 head = open(d + "/point.sensors.csv").readline().strip().split(",")
 assert head[:8] == ["sensor", "i", "j", "x", "y", "z", "illuminance_lx", "stderr_lx"], head
-assert len(head) > 8 and all(h.startswith("E_") for h in head[8:]), head
+parts = ["sky_component_lx", "sun_direct_lx", "externally_reflected_sky_lx",
+         "externally_reflected_sun_lx", "internally_reflected_sky_lx",
+         "internally_reflected_sun_lx", "electric_lx", "daylight_factor_pct",
+         "df_sky_component_pct", "df_externally_reflected_pct", "df_internally_reflected_pct"]
+assert head[-len(parts):] == parts, head
+spec = head[8:-len(parts)]
+assert len(spec) > 0 and all(h.startswith("E_") for h in spec), head
+# A point lamp and no sky: all of it electric light, no daylight factor.
+assert abs(float(rows[0]["electric_lx"]) - E) <= 1e-6 * E, rows[0]
+assert rows[0]["daylight_factor_pct"] == "", rows[0]
 s = json.load(open(d + "/point.json"))
 for k in ("passes", "rays", "peak_rss_bytes", "photons", "sensors", "seconds_total", "photochromic"):
     assert k in s, k

@@ -40,8 +40,19 @@ static void make_result(owned_result *o, double Y) {
     for (int b = 0; b < NB; b++) o->spectral[p * NB + b] = 0.01 * (b + 1);
   }
   memcpy(o->bin_nm, BINS, sizeof BINS);
-  o->readings[0] = (vr_sensor_reading){"floor", 0, 0, {0, 0, 0}, 111.1, 0.2};
-  o->readings[1] = (vr_sensor_reading){"desk, left", 1, 2, {1.5, -2, 0.75}, 42.5, 0.5};
+  o->readings[0] = (vr_sensor_reading){.sensor = "floor", .illuminance_lx = 111.1, .stderr_lx = 0.2};
+  o->readings[1] = (vr_sensor_reading){.sensor = "desk, left", .i = 1, .j = 2,
+                                       .position = {1.5, -2, 0.75}, .illuminance_lx = 42.5,
+                                       .stderr_lx = 0.5};
+  /* The floor with parts and a daylight factor (a path sensor under a sky),
+   * the desk without (a photon sensor). */
+  const double parts[VR_SENSOR_PARTS] = {50, 30, 5, 4, 12, 10, 0.1};
+  memcpy(o->readings[0].part_lx, parts, sizeof parts);
+  o->readings[0].df_pct = 6.7, o->readings[0].df_sc_pct = 5;
+  o->readings[0].df_erc_pct = 0.5, o->readings[0].df_irc_pct = 1.2;
+  for (int q = 0; q < VR_SENSOR_PARTS; q++) o->readings[1].part_lx[q] = NAN;
+  o->readings[1].df_pct = o->readings[1].df_sc_pct = o->readings[1].df_erc_pct =
+      o->readings[1].df_irc_pct = NAN;
   for (int k = 0; k < 2 * NB; k++) o->sensor_spectral[k] = 0.1 * (k + 1);
   vr_render_result *r = &o->r;
   r->width = W, r->height = H;
@@ -211,9 +222,14 @@ static void sensor_table_has_one_row_per_point(void **state) {
   assert_int_equal(vr_film_write(&o.r, in_dir("sn"), NULL, &err), VR_OK);
   char *csv = slurp(in_dir("sn.sensors.csv"));
   assert_string_equal(csv,
-                      "sensor,i,j,x,y,z,illuminance_lx,stderr_lx,E_450,E_550,E_650\n"
-                      "floor,0,0,0,0,0,111.1,0.2,0.1,0.2,0.3\n"
-                      "\"desk, left\",1,2,1.5,-2,0.75,42.5,0.5,0.4,0.5,0.6\n");
+                      "sensor,i,j,x,y,z,illuminance_lx,stderr_lx,E_450,E_550,E_650,"
+                      "sky_component_lx,sun_direct_lx,externally_reflected_sky_lx,"
+                      "externally_reflected_sun_lx,internally_reflected_sky_lx,"
+                      "internally_reflected_sun_lx,electric_lx,daylight_factor_pct,"
+                      "df_sky_component_pct,df_externally_reflected_pct,"
+                      "df_internally_reflected_pct\n"
+                      "floor,0,0,0,0,0,111.1,0.2,0.1,0.2,0.3,50,30,5,4,12,10,0.1,6.7,5,0.5,1.2\n"
+                      "\"desk, left\",1,2,1.5,-2,0.75,42.5,0.5,0.4,0.5,0.6,,,,,,,,,,,\n");
   /* A sensors-only result: no images, the table alone. */
   o.r.width = o.r.height = 0;
   o.r.xyz = NULL;

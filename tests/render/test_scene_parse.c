@@ -512,6 +512,17 @@ static void sensor_knn_follows_knn(void **state) {
   assert_int_equal(s->settings.knn, 600);
   assert_int_equal(s->settings.sensor_knn, 600);
   vr_scene_destroy(s);
+  /* outside=yes marks an exterior surface; no is the default. */
+  const char *ground = "material g lambert reflectance=0.2\n"
+                       "rect center=0,0,0 normal=0,0,1 size=9,9 material=g outside=yes\n"
+                       "rect center=0,0,3 normal=0,0,-1 size=9,9 material=g\n"
+                       "sensor s point position=0,0,1 normal=0,0,1\n";
+  assert_int_equal(vr_scene_parse(ground, strlen(ground), NAME, &s, &err), VR_OK);
+  assert_true(s->objects[0].outside);
+  assert_false(s->objects[1].outside);
+  vr_scene_destroy(s);
+  refused("material g lambert reflectance=0.2\n"
+          "rect center=0,0,0 normal=0,0,1 size=9,9 material=g outside=maybe\n", "outside");
 }
 
 static void errors(void **state) {

@@ -74,12 +74,33 @@ typedef struct vr_pass_record {
   double seconds;
 } vr_pass_record;
 
+/* The parts of a reading (sensors=path; NaN with sensors=photon, whose
+ * map radiance has no single source): daylight by the way it arrives, the
+ * split-flux components of the daylight factor (CIE 16-1970; BRE Digest
+ * 309), each for the sky and the sun, and electric light. */
+enum {
+  VR_PART_SKY = 0,   /* sky component: from the sky, no reflection on the way */
+  VR_PART_SUN,       /* sunlight, no reflection on the way */
+  VR_PART_ERC_SKY,   /* externally reflected: last reflected by an outside=yes object or */
+  VR_PART_ERC_SUN,   /*   the sky's ground below the horizon; sky light, sunlight */
+  VR_PART_IRC_SKY,   /* internally reflected: last reflected by any other surface */
+  VR_PART_IRC_SUN,
+  VR_PART_ELECTRIC,  /* lamps and emitting surfaces, however they arrive */
+  VR_SENSOR_PARTS
+};
+
 typedef struct vr_sensor_reading {
   const char *sensor;     /* name in the scene (a copy the result owns) */
   int i, j;               /* grid indices (0,0 for a point) */
   double position[3];
   double illuminance_lx;
   double stderr_lx;       /* standard error of the estimate */
+  double part_lx[VR_SENSOR_PARTS];
+  /* Daylight factor: 100 (SC + ERC + IRC of the sky) / E_h, E_h the
+   * unobstructed sky's horizontal illuminance (sky_horizontal_lx of the
+   * result), and its three components, in %; NaN without a sky or with
+   * sensors=photon.  Sunlight is left out, as the definition asks. */
+  double df_pct, df_sc_pct, df_erc_pct, df_irc_pct;
 } vr_sensor_reading;
 
 /* One rank's share of a render over several ranks. */
@@ -108,6 +129,7 @@ typedef struct vr_render_result {
   /* sensors=photon: the share of the sensor paths' diffuse vertices that
    * read the photon maps (the rest went on as paths); 0 otherwise. */
   double sensor_map_share;
+  double sky_horizontal_lx; /* the unobstructed sky's horizontal illuminance, 0 without a sky */
   size_t npasses;
   vr_pass_record passes[VR_MAX_PASSES];
   uint64_t rays_camera, rays_shadow, rays_photon, rays_other, crossings;

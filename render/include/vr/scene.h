@@ -127,6 +127,9 @@ typedef struct vr_scene_object {
   vr_quantity emission;           /* emissive surface: cd/m2 or W/(m2 sr); value 0 if none */
   vr_spectrum_ref emission_spectrum;
   int texels[2];                  /* photochromic state map resolution, default 16 x 16 */
+  bool outside;                   /* outside=yes: an exterior surface (ground, neighbouring
+                                     buildings): light it reflects to a sensor is the
+                                     externally reflected component */
   vr_scene_loc loc;
 } vr_scene_object;
 
