@@ -20,6 +20,8 @@
 #include "vr/render.h"
 #include "vr/scene.h"
 
+#include "bench_sensors.h"
+
 #define NPATCH 5
 static const char *patches[NPATCH] = {"floor_front", "floor_back", "ceiling", "back_wall",
                                       "green_wall"};
@@ -27,12 +29,6 @@ static const char *patches[NPATCH] = {"floor_front", "floor_back", "ceiling", "b
 static void die(const char *what, const vr_error *err) {
   fprintf(stderr, "bench_cornell: %s: %s\n", what, err->message);
   exit(1);
-}
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 static void import(vr_matdb *db, const char *file, const char *name, const char *kind) {
@@ -58,14 +54,8 @@ static double run(vr_matdb *db, int threads, vr_sensor_estimator how, long photo
   s->settings.knn = knn;
   s->settings.sensor_knn = knn;
   s->settings.sensor_samples = paths;
-  vr_render_options o;
-  vr_render_options_default(&o);
-  o.threads = threads;
-  o.no_camera = true;
-  vr_render_result *r = NULL;
-  double t0 = now();
-  if (vr_render_scene(s, db, &o, &r, &err)) die(path, &err);
-  double t = now() - t0;
+  double t;
+  vr_render_result *r = bench_sensors_render(s, db, threads, "bench_cornell", &t);
   for (int i = 0; i < NPATCH; i++) {
     double sum = 0;
     int n = 0;

@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "render_internal.h"
+#include "vr/fisheye.h"
 
 static double dot3(const double a[3], const double b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -561,10 +562,18 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
       vr_wavelengths(rs, &key, (uint32_t)c->spp, p.wl);
       p.weight = 1.0 / c->spp;
       for (int k = 0; k < p.nwl; k++) p.beta[k] = 1.0;
-      double sx = (2 * (x + vr_rng(&key, VR_DIM_PIXEL_X)) / W - 1) * rs->tan_half;
-      double sy = (1 - 2 * (y + vr_rng(&key, VR_DIM_PIXEL_Y)) / H) * rs->tan_half * aspect;
+      double px = x + vr_rng(&key, VR_DIM_PIXEL_X), py = y + vr_rng(&key, VR_DIM_PIXEL_Y);
       vr_ray r = {0};
-      for (int a = 0; a < 3; a++) r.dir[a] = rs->cam_w[a] + sx * rs->cam_u[a] + sy * rs->cam_v[a];
+      if (cam->model == VR_CAM_FISHEYE) {
+        double d[3];
+        if (!vr_fisheye_direction(cam, px, py, d)) continue; /* outside the image circle */
+        for (int a = 0; a < 3; a++)
+          r.dir[a] = d[2] * rs->cam_w[a] + d[0] * rs->cam_u[a] + d[1] * rs->cam_v[a];
+      } else {
+        double sx = (2 * px / W - 1) * rs->tan_half;
+        double sy = (1 - 2 * py / H) * rs->tan_half * aspect;
+        for (int a = 0; a < 3; a++) r.dir[a] = rs->cam_w[a] + sx * rs->cam_u[a] + sy * rs->cam_v[a];
+      }
       memcpy(r.org, rs->cam_o, sizeof r.org);
       if (cam->model == VR_CAM_THINLENS && cam->aperture_m > 0) {
         /* Thin lens: the point on the plane of focus stays, the origin

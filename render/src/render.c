@@ -15,6 +15,7 @@
 #include "render_run.h"
 #include "vr/chromogenic.h"
 #include "vr/comm.h"
+#include "vr/fisheye.h"
 
 void vr_render_options_default(vr_render_options *o) {
   memset(o, 0, sizeof *o);
@@ -132,6 +133,7 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   *out = NULL;
   double t_start = vr_run_now();
   vr_render_result *res = calloc(1, sizeof *res);
+  if (res) res->eye_illuminance_lx = NAN; /* set by a fisheye camera pass */
   if (!res) return vr_error_set(err, VR_E_NOMEM, "out of memory");
   run r = {.opt = opt, .res = res, .comm = opt->comm, .rank = vr_comm_rank(opt->comm),
            .nranks = vr_comm_size(opt->comm)};
@@ -306,6 +308,17 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   if (st) goto done;
   for (size_t i = 0; i < px * 3; i++) res->xyz[i] = vr_atomic_get(&acc.xyz[i]) / passes;
   for (size_t i = 0; i < px * rs->nbins; i++) res->spectral[i] = vr_atomic_get(&acc.bins[i]) / passes;
+  if (s->camera.model == VR_CAM_FISHEYE) {
+    /* The vertical illuminance at the lens from the image's luminance. */
+    double *Y = malloc(px * sizeof *Y);
+    if (!Y) {
+      st = vr_error_set(err, VR_E_NOMEM, "out of memory");
+      goto done;
+    }
+    for (size_t i = 0; i < px; i++) Y[i] = res->xyz[3 * i + 1];
+    res->eye_illuminance_lx = vr_fisheye_vertical_illuminance(&s->camera, Y);
+    free(Y);
+  }
 
 done:
   /* A failure the other ranks do not know of yet meets their next sync. */

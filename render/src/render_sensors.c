@@ -16,6 +16,8 @@
 #include <string.h>
 
 #include "render_run.h"
+
+#define SENSOR_GATHER_RADIUS_M 1.0
 #include "vr/colour.h"
 
 vr_status vr_sensor_points(const vr_scene *s, pass_ctx *c, vr_render_result *res, vr_error *err) {
@@ -203,7 +205,12 @@ vr_status vr_sensor_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
       return vr_error_at(err, VR_E_ARG, rs->s->path, set->loc.line, set->loc.col,
                          "sensors=photon needs photons > 0");
     c->fixed_radius = !isnan(set->radius_m);
-    c->radius = c->fixed_radius ? set->radius_m : 0.1 * rs->scene_radius;
+    /* The k nearest are looked for within a metre at most: a surface with
+     * fewer photons than that (under k / (pi 1 m^2), 32 per m^2 for
+     * k = 100) goes on as paths.  A disc sized by the scene alone (a tenth
+     * of its radius: 4 m with a 60 m outdoor ground) spans a room's sun
+     * patch and its shade, and floor points read 5-10 % high. */
+    c->radius = c->fixed_radius ? set->radius_m : fmin(0.1 * rs->scene_radius, SENSOR_GATHER_RADIUS_M);
     if (!isnan(set->radius_m))
       p = vr_run_record(r, "sensors", true,
                         "%zu illuminance points, %d paths each ending in the maps of %ld photons "

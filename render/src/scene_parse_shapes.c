@@ -13,15 +13,21 @@ vr_status scn_camera(scn_stmt *t) {
   vr_scene_camera *c = &p->s->camera;
   if (c->given)
     return scn_fail(p, t->w[0], "a second camera (the first is on line %ld)", c->loc.line);
-  vr_status st = scn_positional(t, 1, "a model: pinhole or thinlens");
+  vr_status st = scn_positional(t, 1, "a model: pinhole, thinlens or fisheye");
   if (st) return st;
   static const char *const PINHOLE[] = {"from", "to", "up", "fov", "resolution", "exposure", NULL};
   static const char *const THINLENS[] = {"from",     "to",       "up",    "fov", "resolution",
                                          "exposure", "aperture", "focus", NULL};
+  static const char *const FISHEYE[] = {"from",     "to",         "up", "fov", "resolution",
+                                        "exposure", "projection", NULL};
   if (!strcmp(t->w[1], "pinhole")) c->model = VR_CAM_PINHOLE, t->what = "a pinhole camera";
   else if (!strcmp(t->w[1], "thinlens")) c->model = VR_CAM_THINLENS, t->what = "a thinlens camera";
-  else return scn_fail(p, t->w[1], "unknown camera model \"%s\" (pinhole, thinlens)", t->w[1]);
-  if ((st = scn_options(t, 2, c->model == VR_CAM_THINLENS ? THINLENS : PINHOLE))) return st;
+  else if (!strcmp(t->w[1], "fisheye")) c->model = VR_CAM_FISHEYE, t->what = "a fisheye camera";
+  else return scn_fail(p, t->w[1], "unknown camera model \"%s\" (pinhole, thinlens, fisheye)", t->w[1]);
+  if ((st = scn_options(t, 2, c->model == VR_CAM_THINLENS ? THINLENS
+                              : c->model == VR_CAM_FISHEYE ? FISHEYE
+                                                           : PINHOLE)))
+    return st;
   c->given = true;
   c->loc = scn_loc(p, t->w[0]);
   const scn_opt *from, *to, *o;
@@ -38,8 +44,17 @@ vr_status scn_camera(scn_stmt *t) {
   if (!(sqrt(scn_dot3(side, side)) > 1e-9 * dist))
     return scn_fail(p, o ? o->word : to->word, "up (%g,%g,%g) is parallel to the view direction%s",
                     c->up[0], c->up[1], c->up[2], o ? "" : ": give up=");
-  if ((st = scn_range(t, "fov", 0, 180, true, true, &c->fov_deg)) ||
-      (st = scn_range(t, "exposure", -HUGE_VAL, HUGE_VAL, false, false, &c->exposure_ev)))
+  if (c->model == VR_CAM_FISHEYE) {
+    static const char *const PROJ[] = {"equisolid", "angular", NULL};
+    int proj = 0;
+    if ((st = scn_choice(t, "projection", PROJ, &proj))) return st;
+    c->projection = (vr_fisheye_projection)proj;
+    c->fov_deg = 180;
+    if ((st = scn_range(t, "fov", 0, 360, true, false, &c->fov_deg))) return st;
+  } else if ((st = scn_range(t, "fov", 0, 180, true, true, &c->fov_deg))) {
+    return st;
+  }
+  if ((st = scn_range(t, "exposure", -HUGE_VAL, HUGE_VAL, false, false, &c->exposure_ev)))
     return st;
   if ((o = scn_get(t, "resolution"))) {
     long long wh[2];

@@ -21,6 +21,7 @@
 #include "vr/film.h"
 #include "vr/matdb.h"
 #include "vr/progress.h"
+#include "vr/fisheye.h"
 #include "vr/render.h"
 #include "vr/scene.h"
 
@@ -242,6 +243,10 @@ static void summary(const vr_render_result *r, const char *prefix, const char *s
              s->df_pct, s->df_sc_pct, s->df_erc_pct, s->df_irc_pct);
     putchar('\n');
   }
+  if (!isnan(r->eye_illuminance_lx))
+    printf("glare    vertical illuminance at the lens %.6g lx, DGPs %.3f (Wienold 2009: "
+           "6.22e-5 E_v + 0.184, no contrast term)\n",
+           r->eye_illuminance_lx, vr_dgps(r->eye_illuminance_lx));
   if (r->photochromic_texels)
     printf("photochromic  %zu texels, state %.4g to %.4g\n", r->photochromic_texels,
            r->photochromic_state_min, r->photochromic_state_max);

@@ -29,41 +29,20 @@
 
 #include <cmocka.h>
 
+#include "daylit_room.h"
 #include "render_test_util.h"
 
 static vr_render_result *render_text(const char *text) { return render_text_with(text, 2, 2, true); }
 
-/* The room of issue 17: south wall y = 0 with a 2 x 1.2 m opening, floor
- * sensors on a 4 x 4 grid, north-wall sensors on 3 x 2, a mid-air point. */
-static const char ROOM[] =
-    "material wall lambert reflectance=0.5\n"
-    "material floor lambert reflectance=0.3\n"
-    "material ground lambert reflectance=0.2\n"
-    "rect center=2,2,0   normal=0,0,1  size=4,4 material=floor\n"
-    "rect center=2,2,3   normal=0,0,-1 size=4,4 material=wall\n"
-    "rect center=2,4,1.5 normal=0,-1,0 size=4,3 material=wall\n"
-    "rect center=0,2,1.5 normal=1,0,0  size=4,3 material=wall\n"
-    "rect center=4,2,1.5 normal=-1,0,0 size=4,3 material=wall\n"
-    "rect center=2,0,0.45 normal=0,1,0 size=4,0.9 material=wall\n"
-    "rect center=2,0,2.55 normal=0,1,0 size=4,0.9 material=wall\n"
-    "rect center=0.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"
-    "rect center=3.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"
-    "%s"
-    "light sun altitude=35 azimuth=180 illuminance=80000lx spectrum=D65\n"
-    "sky cie type=12 illuminance=15000lx spectrum=D65\n"
-    "sensor floor grid origin=0.05,0.05,0.001 u=3.9,0,0 v=0,3.9,0 n=4,4 normal=0,0,1\n"
-    "sensor wall grid origin=0.5,3.999,0.5 u=3,0,0 v=0,0,2 n=3,2 normal=0,-1,0\n"
-    "sensor desk point position=3.2,3.1,0.8 normal=0,0,1\n"
-    "render %s\n";
-
-static const char GROUND[] = "rect center=2,-4,0 normal=0,0,1 size=12,8 material=ground\n";
+static const char GROUND[] =
+    "rect center=2,-4,0 normal=0,0,1 size=12,8 material=ground outside=yes\n";
 
 static void compare_room(bool ground, double min_share) {
   char text[4096];
-  snprintf(text, sizeof text, ROOM, ground ? GROUND : "",
+  snprintf(text, sizeof text, DAYLIT_ROOM, ground ? GROUND : "",
            "sensors=photon photons=2000000 knn=200 sensor_samples=4096");
   vr_render_result *ph = render_text(text);
-  snprintf(text, sizeof text, ROOM, ground ? GROUND : "", "sensors=path sensor_samples=4096");
+  snprintf(text, sizeof text, DAYLIT_ROOM, ground ? GROUND : "", "sensors=path sensor_samples=4096");
   vr_render_result *pa = render_text(text);
   assert_int_equal(ph->nreadings, 23);
   assert_int_equal(pa->nreadings, 23);

@@ -130,6 +130,10 @@ typedef struct vr_render_result {
    * read the photon maps (the rest went on as paths); 0 otherwise. */
   double sensor_map_share;
   double sky_horizontal_lx; /* the unobstructed sky's horizontal illuminance, 0 without a sky */
+  /* A fisheye camera: the illuminance at the lens on the plane facing the
+   * view (vr_fisheye_vertical_illuminance of the image's luminance); NaN
+   * for other cameras or without a camera pass. */
+  double eye_illuminance_lx;
   size_t npasses;
   vr_pass_record passes[VR_MAX_PASSES];
   uint64_t rays_camera, rays_shadow, rays_photon, rays_other, crossings;

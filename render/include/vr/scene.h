@@ -39,7 +39,14 @@ typedef struct vr_scene_loc {
   long line, col;
 } vr_scene_loc;
 
-typedef enum vr_camera_model { VR_CAM_PINHOLE = 0, VR_CAM_THINLENS } vr_camera_model;
+typedef enum vr_camera_model { VR_CAM_PINHOLE = 0, VR_CAM_THINLENS, VR_CAM_FISHEYE } vr_camera_model;
+
+/* Fisheye projections, r the distance from the image circle's centre over
+ * its radius and theta the angle from the view direction (theta_max =
+ * fov/2): equisolid r = sin(theta/2) / sin(theta_max/2) (equal areas hold
+ * equal solid angles, as in glare analysis); angular (equidistant)
+ * r = theta / theta_max. */
+typedef enum vr_fisheye_projection { VR_FISHEYE_EQUISOLID = 0, VR_FISHEYE_ANGULAR } vr_fisheye_projection;
 
 typedef struct vr_scene_camera {
   vr_camera_model model;
@@ -51,6 +58,8 @@ typedef struct vr_scene_camera {
   double aperture_m;            /* thin lens: lens radius, metres, default 0 (a pinhole) */
   double focus_m;               /* thin lens: focus distance, default |to - from| */
   double exposure_ev;           /* multiplies the image by 2^exposure_ev, default 0 */
+  vr_fisheye_projection projection; /* fisheye: default equisolid; fov is the circle's,
+                                       default 180, up to 360 */
   bool given;
   vr_scene_loc loc;
 } vr_scene_camera;
