@@ -147,34 +147,38 @@ static double illuminance(accum *a, int nwl, const double *wl, const double *E, 
   return lx;
 }
 
+void vr_accum_sensor_part_lx(accum *a, uint32_t point, int part, double lx) {
+  if (part >= 0 && part < VR_SENSOR_PARTS)
+    vr_atomic_add(&a->sensor_parts[(size_t)point * VR_SENSOR_PARTS + (size_t)part], lx);
+}
+
 void vr_accum_sensor_part(accum *a, uint32_t point, int part, int nwl, const double *wl,
                           const double *E, double wl_weight) {
-  if (part >= 0 && part < VR_SENSOR_PARTS)
-    vr_atomic_add(&a->sensor_parts[(size_t)point * VR_SENSOR_PARTS + (size_t)part],
-                  illuminance(a, nwl, wl, E, wl_weight));
+  vr_accum_sensor_part_lx(a, point, part, illuminance(a, nwl, wl, E, wl_weight));
 }
 
 /* The illuminance of E (and, with spectrum, its spectrum into point's
  * bins) into slot `slot` of point. */
-static void sensor_add(accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,
-                       const double *E, double wl_weight, bool spectrum) {
+static double sensor_add(accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,
+                         const double *E, double wl_weight, bool spectrum) {
   for (int i = 0; spectrum && i < nwl; i++) {
     long b = E[i] != 0.0 ? bin_of(a, wl[i]) : -1;
     if (b >= 0)
       vr_atomic_add(&a->sensor_bins[(size_t)point * a->nbins + (size_t)b],
                     E[i] * wl_weight / a->bin_step);
   }
-  vr_atomic_add(&a->sensor_lx[(size_t)point * (size_t)a->groups + slot],
-                illuminance(a, nwl, wl, E, wl_weight));
+  double lx = illuminance(a, nwl, wl, E, wl_weight);
+  vr_atomic_add(&a->sensor_lx[(size_t)point * (size_t)a->groups + slot], lx);
+  return lx;
 }
 
-void vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
-                     const double *E, double wl_weight) {
-  sensor_add(a, point, sample % (uint32_t)a->groups, nwl, wl, E, wl_weight, true);
+double vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
+                       const double *E, double wl_weight) {
+  return sensor_add(a, point, sample % (uint32_t)a->groups, nwl, wl, E, wl_weight, true);
 }
 
 void vr_accum_sensor_lx(accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,
                         const double *E, double wl_weight) {
-  if (slot < (uint32_t)a->groups) sensor_add(a, point, slot, nwl, wl, E, wl_weight, false);
+  if (slot < (uint32_t)a->groups) (void)sensor_add(a, point, slot, nwl, wl, E, wl_weight, false);
 }
 

@@ -64,22 +64,20 @@ static double wl_weight(const rscene *rs, int nwl) { return (rs->lmax - rs->lmin
  * (FLAG_REFLECTED), the last one exterior or not (FLAG_OUTSIDE_LAST).  The
  * ground glow is an exterior reflection by definition; its radiance is
  * split between the sun and the sky wavelength by wavelength. */
-static void sensor_parts(pass_ctx *c, const payload *p, const double *v) {
+static void sensor_parts(pass_ctx *c, const payload *p, const double *v, double lx) {
   const rscene *rs = c->rs;
-  double w = wl_weight(rs, p->nwl);
   bool reflected = p->flags & FLAG_REFLECTED, outside = p->flags & FLAG_OUTSIDE_LAST;
   int erc_or_irc = !reflected || outside ? VR_PART_ERC_SKY : VR_PART_IRC_SKY;
   switch (p->source) {
-  case SRC_LAMP: vr_accum_sensor_part(c->acc, p->index, VR_PART_ELECTRIC, p->nwl, p->wl, v, w); break;
+  case SRC_LAMP: vr_accum_sensor_part_lx(c->acc, p->index, VR_PART_ELECTRIC, lx); break;
   case SRC_SKY:
-    vr_accum_sensor_part(c->acc, p->index, reflected ? erc_or_irc : VR_PART_SKY, p->nwl, p->wl, v, w);
+    vr_accum_sensor_part_lx(c->acc, p->index, reflected ? erc_or_irc : VR_PART_SKY, lx);
     break;
   case SRC_SUN:
-    vr_accum_sensor_part(c->acc, p->index, reflected ? erc_or_irc + 1 : VR_PART_SUN, p->nwl, p->wl,
-                         v, w);
+    vr_accum_sensor_part_lx(c->acc, p->index, reflected ? erc_or_irc + 1 : VR_PART_SUN, lx);
     break;
   case SRC_GROUND: {
-    double sun[VR_MAX_WL], sky[VR_MAX_WL];
+    double sun[VR_MAX_WL], sky[VR_MAX_WL], w = wl_weight(rs, p->nwl);
     for (int k = 0; k < p->nwl; k++) {
       double f = vr_light_ground_sun_share(rs, p->wl[k]);
       sun[k] = v[k] * f;
@@ -105,8 +103,8 @@ static void deliver(pass_ctx *c, const payload *p, const double *v0) {
   case TARGET_SENSOR: {
     /* Photon sensors keep their second half of slots for the bias probe. */
     uint32_t slot = c->sensor_photons ? p->sample % (uint32_t)c->sensor_groups : p->sample;
-    vr_accum_sensor(c->acc, p->index, slot, p->nwl, p->wl, v, wl_weight(c->rs, p->nwl));
-    sensor_parts(c, p, v);
+    double lx = vr_accum_sensor(c->acc, p->index, slot, p->nwl, p->wl, v, wl_weight(c->rs, p->nwl));
+    sensor_parts(c, p, v, lx);
     break;
   }
   case TARGET_TEXEL: {
@@ -292,6 +290,7 @@ static void photon_estimate(const pass_ctx *c, const vr_photon_set *ps, const do
 /* Radiance towards wo of a diffuse hit from the three photon maps
  * (restricted to the hit's object), times beta: rho/pi E for the
  * neighbourhood of k photons (or the fixed radius). */
+enum { MAP_DIRECT = 1, MAP_CAUSTIC = 2, MAP_GLOBAL = 4 };
 static void photon_radiance(const pass_ctx *c, const vr_hit *hit, const double wo[3],
                             const void *se_, const payload *p, int maps, int k, double radius,
                             double *L, int *got_global);
@@ -350,8 +349,8 @@ static bool continue_path(pass_ctx *c, vr_flow_worker *w, payload *p, const vr_h
   return true;
 }
 
-/* maps: bits 1 direct, 2 caustic, 4 global; *got_global (may be NULL)
- * gets the photons the global map's estimate used. */
+/* maps: MAP_* bits; *got_global (may be NULL) gets the photons the global
+ * map's estimate used. */
 static void photon_radiance(const pass_ctx *c, const vr_hit *hit, const double wo[3],
                             const void *se_, const payload *p, int maps, int k, double radius,
                             double *L, int *got_global) {
@@ -412,7 +411,8 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
   if (p.target == TARGET_GATHER) {
     /* A final-gather ray: the photon maps' radiance at its first hit. */
     if (!diffuse) return;
-    photon_radiance(c, hit, wo, &se, &p, 7, c->knn, c->radius, L, NULL);
+    photon_radiance(c, hit, wo, &se, &p, MAP_DIRECT | MAP_CAUSTIC | MAP_GLOBAL, c->knn, c->radius,
+                    L, NULL);
     deliver(c, &p, L);
     return;
   }
@@ -445,16 +445,15 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
      * the radius): a density estimate's bias grows as r^2 (the curvature
      * term), so the difference is 3/4 of the bias of the full estimate;
      * it goes to the point's probe slots (render_sensors.c). */
-    static const int GLOBAL_CAUSTIC = 6;
     int got = 0;
-    photon_radiance(c, hit, wo, &se, &p, GLOBAL_CAUSTIC, c->knn, c->radius, L, &got);
+    photon_radiance(c, hit, wo, &se, &p, MAP_GLOBAL | MAP_CAUSTIC, c->knn, c->radius, L, &got);
     bool dense = c->fixed_radius ? got >= 16 : got >= c->knn;
     atomic_fetch_add_explicit(dense ? &c->fg_photon : &c->fg_path, 1, memory_order_relaxed);
     if (dense) {
       deliver(c, &p, L);
       double Ls[VR_MAX_WL], D[VR_MAX_WL];
       int ks = c->knn / 4 > 1 ? c->knn / 4 : 1;
-      photon_radiance(c, hit, wo, &se, &p, GLOBAL_CAUSTIC, ks, 0.5 * c->radius, Ls, NULL);
+      photon_radiance(c, hit, wo, &se, &p, MAP_GLOBAL | MAP_CAUSTIC, ks, 0.5 * c->radius, Ls, NULL);
       for (int k = 0; k < p.nwl; k++) D[k] = (L[k] - Ls[k]) * p.weight;
       int G = c->sensor_groups;
       vr_accum_sensor_lx(c->acc, p.index, (uint32_t)G + p.sample % (uint32_t)G, p.nwl, p.wl, D,
@@ -463,7 +462,7 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
     }
     /* Sparse: the caustic map still adds what no path finds (the sun or a
      * lamp through a specular bounce); the path takes the rest. */
-    photon_radiance(c, hit, wo, &se, &p, 2, c->knn, c->radius, L, NULL);
+    photon_radiance(c, hit, wo, &se, &p, MAP_CAUSTIC, c->knn, c->radius, L, NULL);
     deliver(c, &p, L);
   }
   bool photon_mode = c->integrator == VR_INT_PHOTON || c->integrator == VR_INT_PROGRESSIVE;

@@ -232,9 +232,11 @@ double vr_atomic_get(_Atomic uint64_t *cell);
 /* Adds radiance samples (already divided by their wavelength pdf) of a pixel. */
 void vr_accum_pixel(accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,
                     double wl_weight);
-void vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
-                     const double *E, double wl_weight);
-/* Adds the illuminance of E to part `part` (VR_PART_*) of point. */
+/* Returns the illuminance (lx) it added. */
+double vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
+                       const double *E, double wl_weight);
+/* Adds lx, or the illuminance of E, to part `part` (VR_PART_*) of point. */
+void vr_accum_sensor_part_lx(accum *a, uint32_t point, int part, double lx);
 void vr_accum_sensor_part(accum *a, uint32_t point, int part, int nwl, const double *wl,
                           const double *E, double wl_weight);
 /* Adds the illuminance of E to slot `slot` (< groups) of point only, not

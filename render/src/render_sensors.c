@@ -61,11 +61,10 @@ vr_status vr_sensor_points(const vr_scene *s, pass_ctx *c, vr_render_result *res
 }
 
 /* A reading's parts (the sums over all samples, over the groups) and its
- * daylight factor. */
-static void set_parts(const rscene *rs, accum *acc, size_t k, int groups, vr_sensor_reading *rd) {
+ * daylight factor, eh the unobstructed sky's horizontal illuminance (lx). */
+static void set_parts(double eh, accum *acc, size_t k, int groups, vr_sensor_reading *rd) {
   for (int q = 0; q < VR_SENSOR_PARTS; q++)
     rd->part_lx[q] = vr_atomic_get(&acc->sensor_parts[k * VR_SENSOR_PARTS + (size_t)q]) / groups;
-  double eh = vr_light_sky_horizontal_lx(rs);
   if (eh > 0) {
     rd->df_sc_pct = 100 * rd->part_lx[VR_PART_SKY] / eh;
     rd->df_erc_pct = 100 * rd->part_lx[VR_PART_ERC_SKY] / eh;
@@ -106,7 +105,7 @@ static vr_status path_sensors(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
     double mean = sum / groups, var = fmax(0, (sum2 - groups * mean * mean) / (groups - 1));
     res->readings[k].illuminance_lx = mean;
     res->readings[k].stderr_lx = sqrt(var / groups);
-    set_parts(rs, &acc, k, groups, &res->readings[k]);
+    set_parts(res->sky_horizontal_lx, &acc, k, groups, &res->readings[k]);
     for (size_t b = 0; b < rs->nbins; b++)
       res->sensor_spectral[k * rs->nbins + b] =
           vr_atomic_get(&acc.sensor_bins[k * rs->nbins + b]) / groups;
