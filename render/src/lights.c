@@ -166,10 +166,21 @@ static void sky_radiance(const rscene *rs, const double dir[3], int nwl, const d
 
 bool vr_light_sample_sky(const rscene *rs, const double x[3], const double n[3], int nwl,
                          const double *wl, const vr_rng_key *key, light_sample *out) {
-  (void)x;
   if (!rs->has_sky) return false;
-  double pdf;
-  vr_sky_sample(rs->sky, vr_rng(key, VR_DIM_SKY_U), vr_rng(key, VR_DIM_SKY_V), out->dir, &pdf);
+  double pdf, u = vr_rng(key, VR_DIM_SKY_U), v = vr_rng(key, VR_DIM_SKY_V);
+  if (rs->nportals) {
+    /* The portal / sky mixture of portals.c, weighted by its density. */
+    double q = VR_PORTAL_SHARE;
+    if (vr_rng(key, VR_DIM_SKY_PICK) < q) {
+      if (!vr_portal_sample(rs, x, vr_rng(key, VR_DIM_SKY_W), u, v, out->dir)) return false;
+    } else {
+      vr_sky_sample(rs->sky, u, v, out->dir, &pdf);
+    }
+    if (out->dir[2] < 0) return false; /* the sky gives nothing below the horizon */
+    pdf = q * vr_portal_pdf(rs, x, out->dir) + (1 - q) * vr_sky_pdf(rs->sky, out->dir);
+  } else {
+    vr_sky_sample(rs->sky, u, v, out->dir, &pdf);
+  }
   if (!(pdf > 0)) return false;
   if (n && out->dir[0] * n[0] + out->dir[1] * n[1] + out->dir[2] * n[2] <= 0) return false;
   sky_radiance(rs, out->dir, nwl, wl, out->L);
@@ -194,7 +205,9 @@ vr_status vr_light_sky_create(rscene *rs, struct vr_matdb *db, vr_error *err) {
   (void)db;
   const vr_scene_sky *sk = &rs->s->sky;
   if (!sk->present) return VR_OK;
-  vr_status st = vr_sky_create(sk->cie_type, sk->sun_direction, &rs->sky, err);
+  vr_status st = sk->cie_type == VR_SKY_PEREZ
+                     ? vr_sky_create_perez(&sk->perez.lum, sk->sun_direction, &rs->sky, err)
+                     : vr_sky_create(sk->cie_type, sk->sun_direction, &rs->sky, err);
   if (st) {
     vr_error_prefix(err, "%s:%ld:%ld: sky: ", rs->s->path, sk->loc.line, sk->loc.col);
     return st;
@@ -360,4 +373,69 @@ bool vr_light_emit_photon(const rscene *rs, size_t source, int nwl, const double
   double area = M_PI * rs->scene_radius * rs->scene_radius;
   for (int k = 0; k < nwl; k++) out->power[k] = L[k] * area / pdf;
   return true;
+}
+
+/* ---- photons through the portals (portals.c) ---- */
+
+bool vr_light_emit_portal_photon(const rscene *rs, int kind, int nwl, const double *wl,
+                                 const vr_rng_key *key, photon_emit *out, double *to_portal) {
+  if (!rs->nportals) return false;
+  double y[3], d[3], w[3], L[VR_MAX_WL], pdf = 1.0;
+  size_t j;
+  vr_portal_point(rs, vr_rng(key, VR_DIM_EMIT_Y), vr_rng(key, VR_DIM_EMIT_U),
+                  vr_rng(key, VR_DIM_EMIT_V), y, &j);
+  double u3 = vr_rng(key, VR_DIM_EMIT_W), u4 = vr_rng(key, VR_DIM_EMIT_X);
+  /* w: from the portal towards the source; the photon travels along -w. */
+  if (kind == PORTAL_SRC_SUN) {
+    if (rs->sun_light >= rs->nlights) return false;
+    const rlight *l = &rs->lights[rs->sun_light];
+    cone_dir(l->axis, l->cos_sun, u3, u4, w);
+    /* The sun's spectrum is its irradiance normal to the beam: the flux
+     * through area A at incidence theta is E A cos theta. */
+    for (int k = 0; k < nwl; k++) L[k] = rspd_at(&l->spd, wl[k]);
+  } else if (kind == PORTAL_SRC_SKY) {
+    if (!rs->has_sky) return false;
+    vr_sky_sample(rs->sky, u3, u4, w, &pdf);
+    if (!(pdf > 0)) return false;
+    sky_radiance(rs, w, nwl, wl, L);
+  } else {
+    if (!rs->has_sky || !(rs->ground_radiance_scale > 0)) return false;
+    double z = -u3, rr = sqrt(fmax(0.0, 1.0 - z * z)), ph = 2 * M_PI * u4;
+    w[0] = rr * cos(ph), w[1] = rr * sin(ph), w[2] = z;
+    pdf = 1.0 / (2 * M_PI);
+    for (int k = 0; k < nwl; k++) L[k] = rs->ground_radiance_scale * rspd_at(&rs->ground_spd, wl[k]);
+  }
+  for (int a = 0; a < 3; a++) d[a] = -w[a];
+  double c = rs->portals[j].n[0] * d[0] + rs->portals[j].n[1] * d[1] + rs->portals[j].n[2] * d[2];
+  if (!(c > 0)) return false; /* leaving the room: not light that enters by this portal */
+  double R = rs->scene_radius;
+  for (int a = 0; a < 3; a++) {
+    out->dir[a] = d[a];
+    out->org[a] = y[a] - 2 * R * d[a];
+  }
+  *to_portal = 2 * R;
+  bool any = false;
+  for (int k = 0; k < nwl; k++) any |= (out->power[k] = L[k] * c * rs->portal_area / pdf) > 0;
+  return any;
+}
+
+double vr_light_portal_power(const rscene *rs, int kind) {
+  double e = 0;
+  if (kind == PORTAL_SRC_SUN) {
+    if (rs->sun_light >= rs->nlights) return 0;
+    const rlight *l = &rs->lights[rs->sun_light];
+    double a = 0;
+    for (size_t j = 0; j < rs->nportals; j++) {
+      const rportal *q = &rs->portals[j];
+      double c = -(q->n[0] * l->axis[0] + q->n[1] * l->axis[1] + q->n[2] * l->axis[2]);
+      if (c > 0) a += q->area * c;
+    }
+    for (double nm = rs->lmin; nm <= rs->lmax; nm += 1.0) e += rspd_at(&l->spd, nm);
+    return e * a;
+  }
+  if (!rs->has_sky) return 0;
+  const rspd *spd = kind == PORTAL_SRC_SKY ? &rs->sky_spd : &rs->ground_spd;
+  double scale = kind == PORTAL_SRC_SKY ? vr_sky_horizontal_ratio(rs->sky) : rs->ground_radiance_scale * M_PI;
+  for (double nm = rs->lmin; nm <= rs->lmax; nm += 1.0) e += rspd_at(spd, nm);
+  return 0.5 * e * scale * rs->portal_area;
 }

@@ -13,7 +13,9 @@
  * Photon power is stored per spectral bin; the estimate divides by the bin
  * width, so the maps answer in W/(m² nm) at any wavelength.  Each map is a
  * vr_photon_set: a photon is stored in the map of the cell where it
- * landed, and estimates gather across cells as one map would. */
+ * landed, and estimates gather across cells as one map would.
+ * With sky portals, the far sources also emit through them and their usual
+ * photons stop where they would enter by a portal (portals.c). */
 #include <math.h>
 #include <string.h>
 
@@ -43,12 +45,23 @@ static void photon_generate(void *ctx, vr_flow_worker *w, long unit) {
     double ps = rs->source_cdf[s] - (s ? rs->source_cdf[s - 1] : 0.0);
     if (!(ps > 0)) continue;
     photon_emit e;
-    if (!vr_light_emit_photon(rs, s, p.nwl, p.wl, &key, &e)) continue;
+    size_t base = rs->nsources - rs->nportal_sources;
+    bool ground = rs->has_sky && s == rs->nlights + rs->nemitters + 1;
+    if (s >= base) {
+      int kind = rs->portal_source[s - base];
+      if (!vr_light_emit_portal_photon(rs, kind, p.nwl, p.wl, &key, &e, &p.portal_t)) continue;
+      p.flags |= FLAG_PORTAL_PATH;
+      ground = kind == PORTAL_SRC_GROUND;
+    } else {
+      if (!vr_light_emit_photon(rs, s, p.nwl, p.wl, &key, &e)) continue;
+      bool far = s == rs->sun_light || (rs->has_sky && s >= rs->nlights + rs->nemitters);
+      if (rs->nportals && far) p.flags |= FLAG_FAR_DIRECT;
+    }
     /* The ground glow is light the ground reflected (a Lambertian ground
      * under the sky): its photons belong in the global map, as the ground
      * plane's own reflected photons would, since no next-event estimate
      * samples it (vr_light_environment meets it only on escape). */
-    if (rs->has_sky && s == rs->nlights + rs->nemitters + 1) p.flags |= FLAG_HAS_DIFFUSE;
+    if (ground) p.flags |= FLAG_HAS_DIFFUSE;
     /* Power per wavelength sample: the spectral power times the
      * wavelength weight, over the source's probability; the 1/N of the
      * photon count is applied at estimate time (photon_scale). */
@@ -100,9 +113,18 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
     const vr_bsdf *mb = rs->mat[rs->obj[p.medium].material].bsdf;
     for (int k = 0; k < p.nwl; k++) p.beta[k] *= exp(-vr_bsdf_medium_sigma_a(mb, p.wl[k]) * hit->t);
   }
+  /* Portals: a portal photon met something before its portal (only a
+   * straight pane may let it on); a far source's unscattered photon that
+   * enters by a portal is the portal photons' light: it stops there. */
+  bool before_portal = false;
+  if (p.flags & FLAG_PORTAL_PATH) {
+    if (hit->t < p.portal_t * (1 - 1e-9)) before_portal = true;
+    else p.flags &= (uint8_t)~FLAG_PORTAL_PATH;
+  }
+  if ((p.flags & FLAG_FAR_DIRECT) && vr_portal_crossed_inward(rs, r->org, r->dir, hit->t)) return;
   const rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   unsigned lobes = vr_bsdf_lobes(m->bsdf);
-  if (lobes & VR_LOBE_DIFFUSE) {
+  if ((lobes & VR_LOBE_DIFFUSE) && !before_portal) {
     vr_photon_set *map = (p.flags & FLAG_HAS_DIFFUSE)    ? c->global
                          : (p.flags & FLAG_HAS_SPECULAR) ? c->caustic
                                                          : c->direct;
@@ -117,6 +139,11 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
                           vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
                           vr_rng(&key, VR_DIM_DIR_V), &bs))
     return;
+  if (before_portal) {
+    if (!(bs.lobe & VR_LOBE_STRAIGHT)) return; /* shaded before the portal */
+    p.portal_t -= hit->t;
+  }
+  if (!(bs.lobe & VR_LOBE_STRAIGHT)) p.flags &= (uint8_t)~FLAG_FAR_DIRECT;
   if (bs.terminate_secondary) {
     if (p.flags & FLAG_TERMINATED) bs.weight[0] /= p.nwl;
     p.flags |= FLAG_TERMINATED;

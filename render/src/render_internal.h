@@ -71,6 +71,17 @@ typedef struct rmaterial {
   double temperature_K;
 } rmaterial;
 
+/* A sky portal (portals.c), from the scene's corner, u, v. */
+typedef struct rportal {
+  double corner[3], u[3], v[3], n[3]; /* n unit, u x v / |u x v| */
+  double area, uu, vv;                /* |u x v|, u.u, v.v */
+} rportal;
+
+/* At most this many portals (the scene parser refuses more). */
+#define VR_MAX_PORTALS VR_SCENE_MAX_PORTALS
+/* The share of sky samples aimed through the portals when there are any. */
+#define VR_PORTAL_SHARE 0.9
+
 typedef struct rscene {
   const vr_scene *s;
   vr_domains *d;
@@ -102,6 +113,14 @@ typedef struct rscene {
   rspd sky_spd;            /* radiance per unit relative luminance: W/(m² sr nm) per (cd/m²) */
   double ground_radiance_scale; /* ground glow: luminance below the horizon, cd/m² */
   rspd ground_spd;
+  size_t nportals;         /* sky portals: windows the sky's samples aim through */
+  rportal *portals;
+  double *portal_area_cdf, portal_area; /* running sums of the portals' areas, their total */
+  /* Photon sources through the portals (after the usual ones): the sun,
+   * the sky, the ground glow, those present (PORTAL_SRC_*). */
+  size_t nportal_sources;
+  int portal_source[3];
+  size_t sun_light;        /* index of the sun light, or nlights */
   /* Light choice for photons: lights, then emitters, then the sky. */
   size_t nsources;
   double *source_cdf;
@@ -150,6 +169,25 @@ bool vr_light_sample_sky(const rscene *rs, const double x[3], const double n[3],
 void vr_light_environment(const rscene *rs, const double dir[3], bool include_sky, int nwl,
                           const double *wl, double *L);
 
+/* Sky portals (portals.c): the rscene's copy of the scene's portals; a
+ * direction through one of them from x (u0 picks the portal, u1 and u2 the
+ * point; false if none is usable from x); and the portal strategy's
+ * density in solid angle at x for a direction. */
+vr_status vr_portals_create(rscene *rs, vr_error *err);
+bool vr_portal_sample(const rscene *rs, const double x[3], double u0, double u1, double u2,
+                      double dir[3]);
+double vr_portal_pdf(const rscene *rs, const double x[3], const double dir[3]);
+/* A point uniform over the portals' total area (u0 picks the portal by
+ * area, u1 and u2 the point), and which portal. */
+void vr_portal_point(const rscene *rs, double u0, double u1, double u2, double y[3], size_t *which);
+/* Whether org + t dir, t in (0, tmax], crosses a portal inwards (along its
+ * normal). */
+bool vr_portal_crossed_inward(const rscene *rs, const double org[3], const double dir[3],
+                              double tmax);
+enum { PORTAL_SRC_SUN, PORTAL_SRC_SKY, PORTAL_SRC_GROUND };
+/* The share of photons the portal sources get when there are any. */
+#define VR_PORTAL_PHOTON_SHARE 0.75
+
 /* Wavelengths of a path: hero plus equally spaced rotations, or bins. */
 void vr_wavelengths(const rscene *rs, const vr_rng_key *key, uint32_t strata, double *wl);
 
@@ -170,6 +208,12 @@ typedef struct photon_emit {
 } photon_emit;
 bool vr_light_emit_photon(const rscene *rs, size_t source, int nwl, const double *wl,
                           const vr_rng_key *key, photon_emit *out);
+/* A photon of a far source (PORTAL_SRC_*) through the portals; *to_portal
+ * is the distance from its origin to the portal it enters by. */
+bool vr_light_emit_portal_photon(const rscene *rs, int kind, int nwl, const double *wl,
+                                 const vr_rng_key *key, photon_emit *out, double *to_portal);
+/* Rough powers of the portal sources, only to share the photons. */
+double vr_light_portal_power(const rscene *rs, int kind);
 
 /* Ray payloads (integrate.c). */
 enum { TARGET_PIXEL = 0, TARGET_SENSOR, TARGET_TEXEL, TARGET_PHOTON, TARGET_GATHER };
@@ -179,6 +223,9 @@ enum { FLAG_SPECULAR_LAST = 1, FLAG_HAS_DIFFUSE = 2, FLAG_HAS_SPECULAR = 4,
        FLAG_TERMINATED = 8, FLAG_PHOTON_GATHER = 16 /* a photon sensor's gather path */,
        FLAG_REFLECTED = 32 /* a sensor path met a non-delta vertex */,
        FLAG_OUTSIDE_LAST = 64 /* ... and the last one was an exterior surface */ };
+/* Photon payloads reuse two of the sensor paths' bits: */
+enum { FLAG_FAR_DIRECT = 32 /* a far source's usual photon, not yet scattered (portals) */,
+       FLAG_PORTAL_PATH = 64 /* a portal photon that has not yet reached its portal */ };
 /* Where a sensor path's light came from, and the daylight components
  * (render_sensors.c): the part of a reading each delivery adds to. */
 enum { SRC_OTHER = 0, SRC_SUN, SRC_SKY, SRC_LAMP, SRC_GROUND };
@@ -194,7 +241,9 @@ typedef struct payload {
   double weight;           /* sample weight (1/spp, ...), applied on delivery */
   double wl[VR_MAX_WL];
   double beta[VR_MAX_WL];  /* throughput, photon power, or a shadow ray's contribution */
+  double portal_t;         /* portal photons: distance left to the portal */
 } payload;
+_Static_assert(sizeof(payload) <= VR_RAY_PAYLOAD, "a payload must fit in a ray");
 
 /* Accumulators shared by the passes (film.c). */
 typedef struct accum {

@@ -402,8 +402,27 @@ static void camera_frame(rscene *rs) {
 static vr_status resolve_sources(rscene *rs, vr_error *err) {
   /* The sky is two photon sources: the sky above the horizon and the
    * ground glow below it (the light an escaping path meets there,
-   * vr_light_environment), so photon maps hold ground-reflected light too. */
-  size_t n = rs->nlights + rs->nemitters + (rs->has_sky ? 2 : 0);
+   * vr_light_environment), so photon maps hold ground-reflected light too.
+   * With portals, the far sources (sun, sky, ground glow) also emit through
+   * them (portals.c): those sources get VR_PORTAL_PHOTON_SHARE of the
+   * photons, shared by power, the usual ones the rest. */
+  rs->sun_light = rs->nlights;
+  for (size_t i = 0; i < rs->nlights; i++)
+    if (rs->lights[i].kind == VR_LIGHT_SUN) rs->sun_light = i;
+  rs->nportal_sources = 0;
+  double pp[3], portal_total = 0;
+  if (rs->nportals) {
+    static const int KINDS[3] = {PORTAL_SRC_SUN, PORTAL_SRC_SKY, PORTAL_SRC_GROUND};
+    for (int i = 0; i < 3; i++) {
+      double w = vr_light_portal_power(rs, KINDS[i]);
+      if (!(w > 0)) continue;
+      rs->portal_source[rs->nportal_sources] = KINDS[i];
+      pp[rs->nportal_sources++] = w;
+      portal_total += w;
+    }
+  }
+  size_t base = rs->nlights + rs->nemitters + (rs->has_sky ? 2 : 0);
+  size_t n = base + rs->nportal_sources;
   rs->nsources = n;
   rs->source_cdf = calloc(n + 1, sizeof *rs->source_cdf);
   if (!rs->source_cdf) return vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -417,7 +436,14 @@ static vr_status resolve_sources(rscene *rs, vr_error *err) {
     rs->source_cdf[k++] = (acc += vr_light_ground_power(rs));
   }
   rs->total_power = acc;
-  for (size_t i = 0; i < n; i++) rs->source_cdf[i] = acc > 0 ? rs->source_cdf[i] / acc : 0;
+  double q = rs->nportal_sources && acc > 0 ? VR_PORTAL_PHOTON_SHARE : 0.0;
+  if (rs->nportal_sources && !(acc > 0)) q = 1.0;
+  for (size_t i = 0; i < base; i++) rs->source_cdf[i] = acc > 0 ? (1 - q) * rs->source_cdf[i] / acc : 0;
+  double pacc = 0;
+  for (size_t i = 0; i < rs->nportal_sources; i++)
+    rs->source_cdf[base + i] = (1 - q) + q * (pacc += pp[i]) / portal_total;
+  if (rs->nportal_sources) rs->source_cdf[n - 1] = 1.0;
+  if (rs->nportal_sources) rs->total_power += portal_total;
   return VR_OK;
 }
 
@@ -475,6 +501,7 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
     if (!rs->owner || !rs->cell_ns || !rs->cell_total_ns) st = vr_error_set(err, VR_E_NOMEM, "out of memory");
   }
   if (!st) st = vr_light_sky_create(rs, db, err);
+  if (!st) st = vr_portals_create(rs, err);
   if (!st) st = resolve_sources(rs, err);
   if (st) goto fail;
   camera_frame(rs);
@@ -510,6 +537,8 @@ void vr_rscene_destroy(rscene *rs) {
   free(rs->lights);
   free(rs->obj);
   free(rs->emitters);
+  free(rs->portals);
+  free(rs->portal_area_cdf);
   free(rs->emitter_cdf);
   free(rs->emitter_sphere);
   free(rs->source_cdf);

@@ -32,6 +32,8 @@ void vr_scene_destroy(vr_scene *s) {
   }
   for (size_t i = 0; i < s->nsensors; i++) free(s->sensors[i].name);
   free(s->sky.spectrum);
+  free(s->sky.weather_path);
+  free(s->portals);
   free(s->materials);
   free(s->objects);
   free(s->lights);
@@ -175,11 +177,12 @@ static vr_status statement(scn_parser *p, char **w, size_t nw) {
   if (!strcmp(kw, "mesh")) return scn_object(&t, VR_SHAPE_MESH);
   if (!strcmp(kw, "light")) return scn_light(&t);
   if (!strcmp(kw, "sky")) return scn_sky(&t);
+  if (!strcmp(kw, "portal")) return scn_portal(&t);
   if (!strcmp(kw, "sensor")) return scn_sensor(&t);
   if (!strcmp(kw, "render")) return scn_render(&t);
   return scn_fail(p, kw,
                   "unknown statement \"%s\" (camera, material, sphere, rect, box, mesh, light, sky, "
-                  "sensor, render)",
+                  "portal, sensor, render)",
                   kw);
 }
 
@@ -193,23 +196,8 @@ static vr_status finish(scn_parser *p) {
       return vr_error_at(p->err, VR_E_PARSE, p->file, p->alias_loc[i].line, p->alias_loc[i].col,
                          "unknown material \"%s\" (no 'material %s ...' line)", p->alias[i], p->alias[i]);
   }
-  if (p->sun && s->sky.present && s->sky.sun_given)
-    return vr_error_at(p->err, VR_E_PARSE, p->file, s->sky.loc.line, s->sky.loc.col,
-                       "the sky's sun= and the sun on line %ld both place the sun: give it once "
-                       "(the sun line places the sky's too)",
-                       s->lights[p->sun - 1].loc.line);
-  if (p->sun) memcpy(s->sky.sun_direction, s->lights[p->sun - 1].direction, sizeof s->sky.sun_direction);
-  if (s->sky.present && s->sky.cie_type > 0 && !p->sun && !s->sky.sun_given) {
-    /* A sky whose luminance follows the sun (an indicatrix that is not
-     * flat) must be told where the sun is, not given the zenith. */
-    vr_sky_params sp;
-    if (vr_sky_params_of(s->sky.cie_type, &sp, NULL) == VR_OK && (sp.c != 0.0 || sp.e != 0.0))
-      return vr_error_at(p->err, VR_E_PARSE, p->file, s->sky.loc.line, s->sky.loc.col,
-                         "CIE sky type %d is brighter towards the sun, but the scene does not "
-                         "say where the sun is: add a 'light sun' line (its place sets the "
-                         "sky's) or give the sky sun=ALTITUDE,AZIMUTH",
-                         s->sky.cie_type);
-  }
+  vr_status st = scn_sky_finish(p);
+  if (st) return st;
   if (!s->camera.given && s->nsensors == 0)
     return vr_error_at(p->err, VR_E_PARSE, p->file, 0, 0, "no camera and no sensor: nothing to render");
   return VR_OK;
@@ -221,6 +209,7 @@ static void defaults(vr_scene *s) {
   c->fov_deg = 60, c->width = 320, c->height = 240, c->focus_m = 1;
   s->sky.sun_direction[2] = 1;
   s->sky.ground_reflectance = 0.2;
+  s->sky.dew_point_c = NAN;
   vr_scene_settings *g = &s->settings;
   g->integrator = VR_INT_PHOTON, g->spp = 16, g->max_depth = 8, g->spectral = VR_SPECTRAL_HERO;
   g->wavelengths = 4, g->lambda_min = 360, g->lambda_max = 830;

@@ -48,6 +48,21 @@ vr_status scn_material(scn_stmt *t);
 vr_status scn_object(scn_stmt *t, vr_shape_kind kind);
 vr_status scn_light(scn_stmt *t);
 vr_status scn_sky(scn_stmt *t);
+vr_status scn_portal(scn_stmt *t);
+/* The sky's last pass, once the whole file is read: the sun it follows,
+ * a Perez sky's model and the sun's illuminance from it. */
+vr_status scn_sky_finish(scn_parser *p);
+
+/* Calendar and clock helpers shared by the sun and the weather sky. */
+int scn_month_days(int y, int m);
+int scn_day_of_year(int y, int m, int d);
+/* time=HH:MM[:SS] as minutes of the day. */
+vr_status scn_clock_time(scn_parser *p, const scn_opt *o, double *minutes);
+/* The sun's direction at a site and local civil time (minutes of the day
+ * in a zone tz hours east of UTC); below the horizon is an error at word,
+ * "when" naming the instant in the message. */
+vr_status scn_sun_at(scn_parser *p, const char *word, const char *when, double lat, double lon,
+                     double tz, int y, int m, int d, double minutes, double dir[3]);
 vr_status scn_sensor(scn_stmt *t);
 vr_status scn_render(scn_stmt *t);
 

@@ -1,13 +1,14 @@
 /* Scene statements for how the scene is lit and measured: point, spot and
  * sun lights, the sky, illuminance sensors and the render settings. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "scene_parse.h"
 #include "vr/sun.h"
 
-/* ---- lights and the sky ---- */
+/* ---- lights ---- */
 
 static const vr_light_unit LAMP_UNITS[] = {VR_UNIT_CD, VR_UNIT_LM, VR_UNIT_W, VR_UNIT_W_SR, VR_UNIT_NONE};
 
@@ -58,19 +59,76 @@ static vr_status spot_light(scn_stmt *t, vr_scene_light *l) {
 }
 
 /* Days in a Gregorian month. */
-static int month_days(int y, int m) {
+int scn_month_days(int y, int m) {
   static const int D[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
   bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
   return m == 2 && leap ? 29 : D[m - 1];
 }
 
+/* Day of the year (1..366) of a Gregorian date. */
+int scn_day_of_year(int y, int m, int d) {
+  int n = d;
+  for (int i = 1; i < m; i++) n += scn_month_days(y, i);
+  return n;
+}
+
+/* The sun's direction at a site (latitude north +, longitude east +) and a
+ * local civil time (minutes of the day in a zone tz hours east of UTC),
+ * through vr_sun_position_at (Meeus; NOAA's series) with standard air for
+ * refraction.  A sun on or below the horizon is refused, naming the word at
+ * fault: there is no daylight to render at that time. */
+vr_status scn_sun_at(scn_parser *p, const char *word, const char *when, double lat, double lon,
+                        double tz, int y, int m, int d, double minutes, double dir[3]) {
+  minutes -= tz * 60.0;
+  while (minutes < 0) {
+    minutes += 1440;
+    if (--d < 1) {
+      if (--m < 1) m = 12, y--;
+      d = scn_month_days(y, m);
+    }
+  }
+  while (minutes >= 1440) {
+    minutes -= 1440;
+    if (++d > scn_month_days(y, m)) {
+      d = 1;
+      if (++m > 12) m = 1, y++;
+    }
+  }
+  vr_datetime utc = {y, m, d, (int)(minutes / 60), (int)fmod(minutes, 60.0), 0.0};
+  utc.second = (minutes - floor(minutes)) * 60.0;
+  vr_sun_site site;
+  vr_sun_site_default(&site, lat, lon > 180 ? lon - 360 : lon);
+  vr_sun_position pos;
+  vr_error e = {0};
+  if (vr_sun_position_at(&site, &utc, &pos, &e) != VR_OK)
+    return scn_fail(p, word, "sun position: %s", e.message);
+  if (pos.altitude_deg <= 0)
+    return scn_fail(p, word,
+                    "the sun is below the horizon at %s (altitude %.2f deg, UTC %04d-%02d-%02d "
+                    "%02d:%02d): no daylight to render",
+                    when, pos.altitude_deg, y, m, d, utc.hour, utc.minute);
+  memcpy(dir, pos.direction, 3 * sizeof *dir);
+  return VR_OK;
+}
+
+/* time=HH:MM[:SS] as minutes of the day. */
+vr_status scn_clock_time(scn_parser *p, const scn_opt *o, double *minutes) {
+  long long hms[3] = {0, 0, 0};
+  int colons = 0;
+  vr_status st = VR_OK;
+  for (const char *c = o->val; *c; c++) colons += *c == ':';
+  if ((colons != 1 && colons != 2) ||
+      (st = scn_ints(p, o->word, o->val, ':', colons + 1, 0, 59, hms)) || hms[0] > 23)
+    return st ? st : scn_fail(p, o->word, "time=%s is not HH:MM or HH:MM:SS (local, 00:00 to 23:59:59)",
+                              o->val);
+  *minutes = (double)(hms[0] * 60 + hms[1]) + hms[2] / 60.0;
+  return VR_OK;
+}
+
 /* The sun's direction at a site and a local civil time:
  *   latitude=DEG (north +) longitude=DEG (east +) date=YYYY-MM-DD
- *   time=HH:MM[:SS] [timezone=HOURS east of Greenwich, default 0 = UTC]
- * through vr_sun_position_at (Meeus; NOAA's series), with standard air for
- * refraction.  A sun below the horizon is refused: there is no daylight to
- * render at that time. */
-static vr_status sun_from_site(scn_stmt *t, double dir[3]) {
+ *   time=HH:MM[:SS] [timezone=HOURS east of Greenwich, default 0 = UTC] */
+static vr_status sun_from_site(scn_stmt *t, vr_scene_light *l) {
   scn_parser *p = t->p;
   static const char *const SITE[] = {"latitude", "longitude", "date", "time", NULL};
   const scn_opt *o;
@@ -88,50 +146,16 @@ static vr_status sun_from_site(scn_stmt *t, double dir[3]) {
   o = scn_get(t, "date");
   if ((st = scn_ints(p, o->word, o->val, '-', 3, 0, 9999, ymd))) return st;
   if (ymd[0] < 1800 || ymd[0] > 2200 || ymd[1] < 1 || ymd[1] > 12 || ymd[2] < 1 ||
-      ymd[2] > month_days((int)ymd[0], (int)ymd[1]))
+      ymd[2] > scn_month_days((int)ymd[0], (int)ymd[1]))
     return scn_fail(p, o->word, "date=%s is not a calendar date YYYY-MM-DD between 1800 and 2200",
                     o->val);
-  o = scn_get(t, "time");
-  long long hms[3] = {0, 0, 0};
-  int colons = 0;
-  for (const char *c = o->val; *c; c++) colons += *c == ':';
-  if ((colons != 1 && colons != 2) ||
-      (st = scn_ints(p, o->word, o->val, ':', colons + 1, 0, 59, hms)) || hms[0] > 23)
-    return st ? st : scn_fail(p, o->word, "time=%s is not HH:MM or HH:MM:SS (local, 00:00 to 23:59:59)",
-                              o->val);
-  /* Local time to UTC: minutes of the day less the zone, carried into the date. */
-  double minutes = (double)(hms[0] * 60 + hms[1]) + hms[2] / 60.0 - tz * 60.0;
-  int y = (int)ymd[0], m = (int)ymd[1], d = (int)ymd[2];
-  while (minutes < 0) {
-    minutes += 1440;
-    if (--d < 1) {
-      if (--m < 1) m = 12, y--;
-      d = month_days(y, m);
-    }
-  }
-  while (minutes >= 1440) {
-    minutes -= 1440;
-    if (++d > month_days(y, m)) {
-      d = 1;
-      if (++m > 12) m = 1, y++;
-    }
-  }
-  vr_datetime utc = {y, m, d, (int)(minutes / 60), (int)fmod(minutes, 60.0), 0.0};
-  utc.second = (minutes - floor(minutes)) * 60.0;
-  vr_sun_site site;
-  vr_sun_site_default(&site, lat, lon > 180 ? lon - 360 : lon);
-  vr_sun_position pos;
-  vr_error e = {0};
-  if (vr_sun_position_at(&site, &utc, &pos, &e) != VR_OK)
-    return scn_fail(p, t->w[0], "sun position: %s", e.message);
-  if (pos.altitude_deg <= 0)
-    return scn_fail(p, scn_get(t, "time")->word,
-                    "the sun is below the horizon at %s %s (altitude %.2f deg, UTC %04d-%02d-%02d "
-                    "%02d:%02d): no daylight to render",
-                    scn_get(t, "date")->val, scn_get(t, "time")->val, pos.altitude_deg, y, m, d,
-                    utc.hour, utc.minute);
-  memcpy(dir, pos.direction, 3 * sizeof *dir);
-  return VR_OK;
+  double minutes;
+  if ((st = scn_clock_time(p, scn_get(t, "time"), &minutes))) return st;
+  char when[96];
+  snprintf(when, sizeof when, "%s %s", o->val, scn_get(t, "time")->val);
+  l->day_of_year = scn_day_of_year((int)ymd[0], (int)ymd[1], (int)ymd[2]);
+  return scn_sun_at(p, scn_get(t, "time")->word, when, lat, lon, tz, (int)ymd[0], (int)ymd[1],
+                (int)ymd[2], minutes, l->direction);
 }
 
 static vr_status sun_light(scn_stmt *t, vr_scene_light *l) {
@@ -156,13 +180,15 @@ static vr_status sun_light(scn_stmt *t, vr_scene_light *l) {
                     "give the sun's place as direction=, altitude= and azimuth=, or latitude=, "
                     "longitude=, date= and time=, not both");
   if (site) {
-    if ((st = sun_from_site(t, l->direction))) return st;
+    if ((st = sun_from_site(t, l))) return st;
   } else if (dir) {
     if ((st = scn_direction(p, dir->word, dir->val, l->direction))) return st;
   } else {
-    if (!alt && !az)
-      return scn_fail(p, t->w[0], "a sun needs direction=, altitude= and azimuth=, or latitude=, "
-                                  "longitude=, date= and time=");
+    if (!alt && !az) {
+      /* Only a weather sky may place it; the parser's last pass checks. */
+      l->from_sky = true;
+      goto amount;
+    }
     if (!alt || !az) return scn_fail(p, (alt ? alt : az)->word, "a sun needs both altitude= and azimuth=");
     double a = 0, z = 0;
     if ((st = scn_range(t, "altitude", -90, 90, false, false, &a)) ||
@@ -174,9 +200,14 @@ static vr_status sun_light(scn_stmt *t, vr_scene_light *l) {
     l->direction[1] = cos(ar) * cos(zr);
     l->direction[2] = sin(ar);
   }
-  if ((st = scn_need(t, "illuminance", &o)) ||
-      (st = scn_quantity(p, o->word, o->val, SUN_UNITS, VR_UNIT_LX, "a sun's illuminance", &l->amount)))
+amount:
+  /* Without illuminance=, only a Perez sky may set it (the last pass checks). */
+  if (!(o = scn_get(t, "illuminance"))) {
+    l->amount.value = NAN;
+  } else if ((st = scn_quantity(p, o->word, o->val, SUN_UNITS, VR_UNIT_LX, "a sun's illuminance",
+                                &l->amount))) {
     return st;
+  }
   return scn_range(t, "radius", 0, 90, false, true, &l->sun_radius_deg);
 }
 
@@ -208,45 +239,6 @@ vr_status scn_light(scn_stmt *t) {
     st = spot_light(t, l);
   }
   return st ? st : scn_spectrum_opt(t, "spectrum", &l->spectrum);
-}
-
-vr_status scn_sky(scn_stmt *t) {
-  scn_parser *p = t->p;
-  vr_scene_sky *k = &p->s->sky;
-  if (k->present) return scn_fail(p, t->w[0], "a second sky (the first is on line %ld)", k->loc.line);
-  vr_status st = scn_positional(t, 1, "a kind: cie or overcast");
-  if (st) return st;
-  static const char *const CIE[] = {"type", "illuminance", "zenith", "spectrum", "ground", "sun", NULL};
-  static const char *const OVERCAST[] = {"illuminance", "zenith", "spectrum", "ground", NULL};
-  bool cie = !strcmp(t->w[1], "cie");
-  if (!cie && strcmp(t->w[1], "overcast"))
-    return scn_fail(p, t->w[1], "unknown sky \"%s\" (cie, overcast)", t->w[1]);
-  t->what = cie ? "a CIE sky" : "an overcast sky";
-  if ((st = scn_options(t, 2, cie ? CIE : OVERCAST))) return st;
-  k->present = true;
-  k->loc = scn_loc(p, t->w[0]);
-  const scn_opt *o, *lx = scn_get(t, "illuminance"), *zen = scn_get(t, "zenith");
-  if (cie) {
-    long long type;
-    if ((st = scn_need(t, "type", &o)) || (st = scn_ints(p, o->word, o->val, ',', 1, 1, 15, &type))) return st;
-    k->cie_type = (int)type;
-  }
-  static const vr_light_unit LX[] = {VR_UNIT_LX, VR_UNIT_NONE}, ZEN[] = {VR_UNIT_CD_M2, VR_UNIT_NONE};
-  if (lx && zen) return scn_fail(p, scn_later(lx, zen), "give illuminance= or zenith=, not both");
-  if (lx) st = scn_quantity(p, lx->word, lx->val, LX, VR_UNIT_LX, "a diffuse horizontal illuminance", &k->level);
-  else if (zen) st = scn_quantity(p, zen->word, zen->val, ZEN, VR_UNIT_CD_M2, "a zenith luminance", &k->level);
-  else st = scn_fail(p, t->w[0], "a sky needs illuminance=LX (diffuse horizontal) or zenith=CD/M2");
-  if (st || (st = scn_spectrum_opt(t, "spectrum", &k->spectrum))) return st;
-  if ((o = scn_get(t, "sun"))) {
-    /* The sun's place for a sky without a sun line: ALTITUDE,AZIMUTH. */
-    double aa[2];
-    if ((st = scn_numbers(p, o->word, o->val, false, 2, aa))) return st;
-    if (!(aa[0] > 0 && aa[0] <= 90))
-      return scn_fail(p, o->word, "sun=%s: the altitude must be in (0, 90] degrees", o->val);
-    vr_sun_direction_of(aa[0], aa[1], k->sun_direction);
-    k->sun_given = true;
-  }
-  return scn_range(t, "ground", 0, 1, false, false, &k->ground_reflectance);
 }
 
 /* ---- sensors and settings ---- */

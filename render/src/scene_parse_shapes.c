@@ -191,6 +191,35 @@ static vr_status rect(scn_stmt *t, vr_scene_object *ob) {
   return VR_OK;
 }
 
+/* portal center=X,Y,Z normal=X,Y,Z size=W,H [up=X,Y,Z]: a rectangle the
+ * sky's light enters through (a window, an opening), used only to aim the
+ * sky's next-event estimation; it is not geometry. */
+vr_status scn_portal(scn_stmt *t) {
+  scn_parser *p = t->p;
+  vr_scene *s = p->s;
+  static const char *const PORTAL[] = {"center", "normal", "size", "up", NULL};
+  t->what = "a portal";
+  vr_status st = scn_options(t, 1, PORTAL);
+  if (st) return st;
+  if (s->nportals >= VR_SCENE_MAX_PORTALS)
+    return scn_fail(p, t->w[0], "more than %d portals (merge neighbouring windows into one)",
+                    VR_SCENE_MAX_PORTALS);
+  vr_scene_object ob;
+  memset(&ob, 0, sizeof ob);
+  if ((st = rect(t, &ob))) return st;
+  vr_scene_portal *q = scn_grow((void **)&s->portals, &s->nportals, sizeof *q);
+  if (!q) return scn_nomem(p);
+  q->loc = scn_loc(p, t->w[0]);
+  double u[3];
+  scn_cross3(ob.up, ob.normal, u); /* unit: up is in-plane and unit */
+  for (int i = 0; i < 3; i++) {
+    q->u[i] = ob.size[0] * u[i];
+    q->v[i] = ob.size[1] * ob.up[i];
+    q->corner[i] = ob.center[i] - 0.5 * (q->u[i] + q->v[i]);
+  }
+  return VR_OK;
+}
+
 vr_status scn_object(scn_stmt *t, vr_shape_kind kind) {
   scn_parser *p = t->p;
   vr_scene *s = p->s;

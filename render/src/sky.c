@@ -11,6 +11,7 @@
 #include "vr/sky.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "vr/photometry.h"
@@ -40,7 +41,7 @@ static const vr_sky_params TABLE[15] = {
 enum { NU = VR_SKY_SAMPLER_NU, NPHI = VR_SKY_SAMPLER_NPHI };
 
 struct vr_sky {
-  int type;
+  int type;            /* 0..15, or VR_SKY_PEREZ */
   vr_sky_params p;
   double sun[3];       /* unit, towards the sun */
   double sun_zenith;   /* Zs, radians */
@@ -75,12 +76,36 @@ double vr_sky_indicatrix(const vr_sky_params *p, double chi) {
   return 1.0 + p->c * (exp(p->d * chi) - exp(p->d * PI / 2.0)) + p->e * cc * cc;
 }
 
+/* The Perez (1993) gradation and indicatrix.  The fitted b can be > 0 at
+ * high brightness, which would make exp(b / cos zeta) explode at the
+ * horizon: cos zeta is held at 0.01 or more there, as Radiance's
+ * perezlum.cal does.  Where the fitted factors go negative (some bins at
+ * extreme brightness), the luminance is 0, not negative. */
+static double perez_gradation(const vr_sky_params *p, double cos_z) {
+  double g = 1.0 + p->a * exp(p->b / fmax(cos_z, 0.01));
+  return g > 0.0 ? g : 0.0;
+}
+static double perez_indicatrix(const vr_sky_params *p, double chi) {
+  double cc = cos(chi);
+  double f = 1.0 + p->c * exp(p->d * chi) + p->e * cc * cc;
+  return f > 0.0 ? f : 0.0;
+}
+
+static double gradation_of(const vr_sky *s, double cos_z) {
+  return s->type == VR_SKY_PEREZ ? perez_gradation(&s->p, cos_z) : vr_sky_gradation(&s->p, cos_z);
+}
+
+static double indicatrix_of(const vr_sky *s, double chi) {
+  if (s->type == 0) return 1.0;
+  return s->type == VR_SKY_PEREZ ? perez_indicatrix(&s->p, chi) : vr_sky_indicatrix(&s->p, chi);
+}
+
 /* Relative luminance (before normalisation) from cos Z and cos chi. */
 static double shape(const vr_sky *s, double cos_z, double cos_chi) {
   if (s->type == 0) return (1.0 + 2.0 * cos_z) / 3.0; /* Moon & Spencer 1942 */
   if (cos_chi > 1.0) cos_chi = 1.0;
   if (cos_chi < -1.0) cos_chi = -1.0;
-  return vr_sky_indicatrix(&s->p, acos(cos_chi)) * vr_sky_gradation(&s->p, cos_z);
+  return indicatrix_of(s, acos(cos_chi)) * gradation_of(s, cos_z);
 }
 
 double vr_sky_relative_luminance(const vr_sky *s, const double d[3]) {
@@ -129,7 +154,7 @@ typedef struct quad {
 static double radial(const vr_sky *s, double u) {
   if (u <= 0.0) return 0.0;
   if (s->type == 0) return (1.0 + 2.0 * u) / 3.0 * u;
-  return vr_sky_gradation(&s->p, u) * u;
+  return gradation_of(s, u) * u;
 }
 
 /* Over the ring at angular distance chi from the sun: the integral of
@@ -159,10 +184,6 @@ static double ring(const vr_sky *s, const quad *q, double chi) {
     }
   }
   return 2.0 * sum * 0.5 * h; /* both halves of the ring */
-}
-
-static double indicatrix_of(const vr_sky *s, double chi) {
-  return s->type == 0 ? 1.0 : vr_sky_indicatrix(&s->p, chi);
 }
 
 /* E_h / Lz = norm * int_0^pi f(chi) sin chi ring(chi) dchi.  The ring is
@@ -316,45 +337,49 @@ double vr_sky_pdf(const vr_sky *s, const double d[3]) {
 
 /* ---- creation and level --------------------------------------------------- */
 
-vr_status vr_sky_create(int cie_type, const double sun_dir[3], vr_sky **out, vr_error *err) {
-  *out = NULL;
-  if (cie_type < 0 || cie_type > 15)
-    return vr_error_set(err, VR_E_ARG,
-                        "sky type %d does not exist (0 = traditional CIE overcast, 1..15 = CIE "
-                        "standard general sky)",
-                        cie_type);
-  double sun[3] = {0.0, 0.0, 1.0};
-  if (cie_type != 0) {
-    if (!sun_dir)
-      return vr_error_set(err, VR_E_ARG, "CIE sky type %d needs a sun direction", cie_type);
-    double len = sqrt(sun_dir[0] * sun_dir[0] + sun_dir[1] * sun_dir[1] + sun_dir[2] * sun_dir[2]);
-    if (!(len > 0.0) || !isfinite(len))
-      return vr_error_set(err, VR_E_ARG, "CIE sky type %d: the sun direction is not a direction",
-                          cie_type);
-    for (int k = 0; k < 3; k++) sun[k] = sun_dir[k] / len;
-    /* A sun a rounding error below the horizon is taken as on it. */
-    if (sun[2] < -1e-9)
-      return vr_error_set(err, VR_E_RANGE,
-                          "CIE sky type %d: the sun is %.3f deg below the horizon; the CIE "
-                          "standard general sky is defined for a sun on or above it",
-                          cie_type, -asin(sun[2]) * 180.0 / PI);
-    if (sun[2] < 0.0) {
-      sun[2] = 0.0;
-      double h = hypot(sun[0], sun[1]);
-      sun[0] /= h;
-      sun[1] /= h;
-    }
+/* A unit sun direction on or above the horizon (a rounding error below it
+ * is taken as on it); what names the sky in messages. */
+static vr_status sun_of(const double sun_dir[3], const char *what, double sun[3], vr_error *err) {
+  if (!sun_dir) return vr_error_set(err, VR_E_ARG, "%s needs a sun direction", what);
+  double len = sqrt(sun_dir[0] * sun_dir[0] + sun_dir[1] * sun_dir[1] + sun_dir[2] * sun_dir[2]);
+  if (!(len > 0.0) || !isfinite(len))
+    return vr_error_set(err, VR_E_ARG, "%s: the sun direction is not a direction", what);
+  for (int k = 0; k < 3; k++) sun[k] = sun_dir[k] / len;
+  if (sun[2] < -1e-9)
+    return vr_error_set(err, VR_E_RANGE,
+                        "%s: the sun is %.3f deg below the horizon; the sky is defined for a sun "
+                        "on or above it",
+                        what, -asin(sun[2]) * 180.0 / PI);
+  if (sun[2] < 0.0) {
+    sun[2] = 0.0;
+    double h = hypot(sun[0], sun[1]);
+    sun[0] /= h;
+    sun[1] /= h;
   }
-  vr_sky *s = calloc(1, sizeof *s);
-  if (!s) return vr_error_set(err, VR_E_NOMEM, "out of memory for a sky");
-  s->type = cie_type;
-  for (int k = 0; k < 3; k++) s->sun[k] = sun[k];
-  s->sun_zenith = acos(fmin(1.0, fmax(-1.0, sun[2])));
-  if (cie_type == 0) {
+  return VR_OK;
+}
+
+/* Normalisation, E_h / Lz and the sampler of a sky whose type, parameters
+ * and sun are set. */
+static vr_status finish_sky(vr_sky *s, vr_sky **out, vr_error *err) {
+  s->sun_zenith = acos(fmin(1.0, fmax(-1.0, s->sun[2])));
+  if (s->type == 0) {
     s->inv_norm = 1.0;
   } else {
-    s->p = TABLE[cie_type - 1];
-    s->inv_norm = 1.0 / (vr_sky_indicatrix(&s->p, s->sun_zenith) * vr_sky_gradation(&s->p, 1.0));
+    double zen = indicatrix_of(s, s->sun_zenith) * gradation_of(s, 1.0);
+    if (!(zen > 0.0) || !isfinite(zen)) {
+      vr_status st = vr_error_set(err, VR_E_NUMERIC,
+                                  "sky: the luminance is %g at the zenith (a=%g b=%g c=%g d=%g "
+                                  "e=%g): it cannot be normalised%s",
+                                  zen, s->p.a, s->p.b, s->p.c, s->p.d, s->p.e,
+                                  s->type == VR_SKY_PEREZ
+                                      ? " (the Perez model is outside the brightness and "
+                                        "clearness it was fitted on)"
+                                      : "");
+      free(s);
+      return st;
+    }
+    s->inv_norm = 1.0 / zen;
   }
   s->ratio = horizontal_ratio(s);
   vr_status st = build_sampler(s, err);
@@ -364,6 +389,44 @@ vr_status vr_sky_create(int cie_type, const double sun_dir[3], vr_sky **out, vr_
   }
   *out = s;
   return VR_OK;
+}
+
+vr_status vr_sky_create(int cie_type, const double sun_dir[3], vr_sky **out, vr_error *err) {
+  *out = NULL;
+  if (cie_type < 0 || cie_type > 15)
+    return vr_error_set(err, VR_E_ARG,
+                        "sky type %d does not exist (0 = traditional CIE overcast, 1..15 = CIE "
+                        "standard general sky)",
+                        cie_type);
+  double sun[3] = {0.0, 0.0, 1.0};
+  if (cie_type != 0) {
+    char what[48];
+    snprintf(what, sizeof what, "CIE sky type %d", cie_type);
+    vr_status st = sun_of(sun_dir, what, sun, err);
+    if (st) return st;
+  }
+  vr_sky *s = calloc(1, sizeof *s);
+  if (!s) return vr_error_set(err, VR_E_NOMEM, "out of memory for a sky");
+  s->type = cie_type;
+  for (int k = 0; k < 3; k++) s->sun[k] = sun[k];
+  if (cie_type != 0) s->p = TABLE[cie_type - 1];
+  return finish_sky(s, out, err);
+}
+
+vr_status vr_sky_create_perez(const vr_sky_params *p, const double sun_dir[3], vr_sky **out,
+                              vr_error *err) {
+  *out = NULL;
+  double sun[3];
+  vr_status st = sun_of(sun_dir, "Perez sky", sun, err);
+  if (st) return st;
+  if (!isfinite(p->a) || !isfinite(p->b) || !isfinite(p->c) || !isfinite(p->d) || !isfinite(p->e))
+    return vr_error_set(err, VR_E_ARG, "Perez sky: a coefficient is not finite");
+  vr_sky *s = calloc(1, sizeof *s);
+  if (!s) return vr_error_set(err, VR_E_NOMEM, "out of memory for a sky");
+  s->type = VR_SKY_PEREZ;
+  s->p = *p;
+  for (int k = 0; k < 3; k++) s->sun[k] = sun[k];
+  return finish_sky(s, out, err);
 }
 
 void vr_sky_destroy(vr_sky *s) { free(s); }

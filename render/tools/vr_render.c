@@ -24,6 +24,7 @@
 #include "vr/fisheye.h"
 #include "vr/render.h"
 #include "vr/scene.h"
+#include "vr/sky.h"
 
 static const vr_option OPTIONS[] = {
     {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv (default: the scene's name without .scn, here)"},
@@ -202,6 +203,32 @@ static vr_status open_db(const char *path, const vr_scene *s, ui *u, vr_matdb **
   return st;
 }
 
+/* What a Perez sky made of its irradiances, and any limit of the model's
+ * domain that acted (a stderr decision line each). */
+static void log_perez(ui *u, const vr_scene *s) {
+  const vr_scene_sky *k = &s->sky;
+  if (!k->present || k->cie_type != VR_SKY_PEREZ) return;
+  const vr_perez_sky *m = &k->perez;
+  char line[4400], from[4200] = "";
+  if (k->weather_path) snprintf(from, sizeof from, " (%s, line %ld)", k->weather_path, k->weather_line);
+  snprintf(line, sizeof line,
+           "Perez sky%s: direct normal %g W/m2, diffuse horizontal %g W/m2; clearness %.3f (bin "
+           "%d), brightness %.3f, water %.2f cm; diffuse horizontal %.0f lx (%.1f lm/W), direct "
+           "normal %.0f lx (%.1f lm/W)",
+           from, k->direct_normal_w_m2, k->diffuse_horizontal_w_m2, m->epsilon, m->bin, m->delta,
+           m->water_cm, m->diffuse_horizontal_lx, m->diffuse_efficacy, m->direct_normal_lx,
+           m->direct_efficacy);
+  ui_log(u, line);
+  if (m->limited) {
+    char what[512];
+    snprintf(line, sizeof line,
+             "warning: the Perez model's inputs are outside the range it was fitted on "
+             "(clearness %.3f, brightness %.3f): %s",
+             m->epsilon_raw, m->delta_raw, vr_perez_limits_text(m->limited, what, sizeof what));
+    ui_log(u, line);
+  }
+}
+
 /* ---- the summary on stdout ---- */
 
 /* Bytes for a person: "812.0 KiB", "1.5 GiB". */
@@ -359,6 +386,7 @@ static int run(const vr_args *a, vr_comm *comm) {
     goto ready;
   }
   if (vr_scene_read(path, &scene, &err)) goto ready;
+  if (rank == 0) log_perez(&u, scene);
   if (cache && !*cache) {
     vr_error_set(&err, VR_E_ARG, "--cache '': expected a folder");
     goto ready;

@@ -30,25 +30,31 @@ static void expect_pct(const char *what, double got, double want, double tol) {
   if (!(fabs(got - want) <= tol)) fail_msg("%s: %.4f %%, expected %.4f +- %.3f", what, got, want, tol);
 }
 
+/* The black room 4 x 4 x 3 m with a 2 x 1 m opening in the roof (x 0..2,
+ * y 0..1 at z = 3); a printf format: the first %s takes portal lines, the
+ * second the sensor's position. */
+static const char ROOF_ROOM[] =
+    "material black lambert reflectance=0\n"
+    "rect center=0,0,0 normal=0,0,1 size=4,4 material=black\n"
+    "rect center=-2,0,1.5 normal=1,0,0 size=4,3 material=black\n"
+    "rect center=2,0,1.5 normal=-1,0,0 size=4,3 material=black\n"
+    "rect center=0,-2,1.5 normal=0,1,0 size=4,3 material=black\n"
+    "rect center=0,2,1.5 normal=0,-1,0 size=4,3 material=black\n"
+    "rect center=-1,0,3 normal=0,0,-1 size=2,4 material=black\n"
+    "rect center=1,-1,3 normal=0,0,-1 size=2,2 material=black\n"
+    "rect center=1,1.5,3 normal=0,0,-1 size=2,1 material=black\n"
+    "%s"
+    "sky cie type=5 illuminance=10000lx spectrum=D65\n"
+    "sensor p point position=%s normal=0,0,1\n"
+    "render sensors=path sensor_samples=%s\n";
+
 /* A black room 4 x 4 x 3 m with a 2 x 1 m opening in the roof; the sensor
  * on the floor under the opening's corner: DF = SC = 100 F(2, 1, 3) =
  * 5.2268 %; no ground is seen, so ERC = 0; nothing reflects, IRC = 0. */
 static void roof_opening(void **state) {
   (void)state;
-  const char *scn =
-      "material black lambert reflectance=0\n"
-      "rect center=0,0,0 normal=0,0,1 size=4,4 material=black\n"
-      "rect center=-2,0,1.5 normal=1,0,0 size=4,3 material=black\n"
-      "rect center=2,0,1.5 normal=-1,0,0 size=4,3 material=black\n"
-      "rect center=0,-2,1.5 normal=0,1,0 size=4,3 material=black\n"
-      "rect center=0,2,1.5 normal=0,-1,0 size=4,3 material=black\n"
-      /* the roof around the opening x 0..2, y 0..1 at z = 3 */
-      "rect center=-1,0,3 normal=0,0,-1 size=2,4 material=black\n"
-      "rect center=1,-1,3 normal=0,0,-1 size=2,2 material=black\n"
-      "rect center=1,1.5,3 normal=0,0,-1 size=2,1 material=black\n"
-      "sky cie type=5 illuminance=10000lx spectrum=D65\n"
-      "sensor p point position=0,0,0.0001 normal=0,0,1\n"
-      "render sensors=path sensor_samples=262144\n";
+  char scn[2048];
+  snprintf(scn, sizeof scn, ROOF_ROOM, "", "0,0,0.0001", "262144");
   vr_render_result *r = render_text_with(scn, 2, 2, true);
   const vr_sensor_reading *p = &r->readings[0];
   double want = 100 * corner_factor(2, 1, 3);
@@ -62,6 +68,40 @@ static void roof_opening(void **state) {
   for (int q = 0; q < VR_SENSOR_PARTS; q++) sum += p->part_lx[q];
   assert_near(sum, p->illuminance_lx, 1e-9 * p->illuminance_lx);
   vr_render_result_destroy(r);
+}
+
+/* Sky portals (portals.c) aim the sky's next-event estimation through the
+ * openings; the estimate must keep the analytic daylight factor of
+ * roof_opening whether the portal covers the opening, half of it (the
+ * sky's own share of the samples finds the rest) or a wall where no light
+ * enters, and covering the opening must cut the noise.  Same room, a
+ * sensor in the roof room 1.5 m from the opening, under its middle. */
+static void portals_keep_the_answer(void **state) {
+  (void)state;
+  /* The opening is x 0..2, y 0..1 at z = 3; the sensor at (1, -1.5): F is
+   * the difference of two corner factors along y (1.5 + 1 and 1.5 deep),
+   * twice over (x from 0 to 1 and 1 to 2). */
+  double want = 100 * 2 * (corner_factor(1, 2.5, 3) - corner_factor(1, 1.5, 3));
+  const char *portals[] = {"", "portal center=1,0.5,3 normal=0,0,-1 size=2,1\n",
+                           "portal center=0.5,0.5,3 normal=0,0,1 size=1,1\n",
+                           "portal center=0,2,1.5 normal=0,-1,0 size=2,2\n"};
+  const char *what[] = {"no portal", "portal over the opening", "portal over half of it",
+                        "portal on a wall"};
+  double err[4];
+  for (int i = 0; i < 4; i++) {
+    char scn[2048];
+    snprintf(scn, sizeof scn, ROOF_ROOM, portals[i], "1,-1.5,0.0001", "65536");
+    vr_render_result *r = render_text_with(scn, 1, 2, true);
+    const vr_sensor_reading *p = &r->readings[0];
+    double sd = 100 * p->stderr_lx / r->sky_horizontal_lx;
+    print_message("  %-24s DF %.4f %% +- %.4f (analytic %.4f %%)\n", what[i], p->df_pct, sd, want);
+    if (!(fabs(p->df_pct - want) <= fmax(4 * sd, 0.002 * want)))
+      fail_msg("%s: DF %.4f %%, analytic %.4f %%, stated error %.4f", what[i], p->df_pct, want, sd);
+    err[i] = sd;
+    vr_render_result_destroy(r);
+  }
+  /* Aimed through the opening, 9 samples in 10 find the sky. */
+  assert_true(err[1] < 0.5 * err[0]);
 }
 
 /* A 2 x 2 m window in the wall y = 0, z 0.5 to 2.5; a vertical sensor
@@ -165,6 +205,7 @@ static void outside_surfaces_and_sun(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(roof_opening),
+      cmocka_unit_test(portals_keep_the_answer),
       cmocka_unit_test(facade_window),
       cmocka_unit_test(outside_surfaces_and_sun),
   };

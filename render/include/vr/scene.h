@@ -16,6 +16,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include "vr/error.h"
+#include "vr/perez.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -170,16 +171,32 @@ typedef struct vr_scene_light {
                               the IES file's own candelas */
   vr_spectrum_ref spectrum;/* default: D65 for lamps, ASTM-G173-AM1.5D for the sun */
   double sun_radius_deg;   /* apparent radius, default 0.2665; 0 is a parallel beam */
+  bool from_sky;           /* sun: no place given; a weather sky places it at the end
+                              of parsing (a sun with no illuminance= has amount NAN
+                              until a Perez sky sets it) */
+  int day_of_year;         /* sun placed by date: its day (1..366), else 0 */
   vr_scene_loc loc;
 } vr_scene_light;
 
 /* The sky: one of the 15 CIE standard general skies (ISO 15469:2004 /
- * CIE S 011/E:2003, type 1..15) or the traditional CIE overcast sky
- * (Moon & Spencer 1942; type 0 here).  Its absolute level is given as the
- * diffuse horizontal illuminance (lx) or the zenith luminance (cd/m2). */
+ * CIE S 011/E:2003, type 1..15), the traditional CIE overcast sky
+ * (Moon & Spencer 1942; type 0 here) or a Perez all-weather sky
+ * (VR_SKY_PEREZ, vr/perez.h) made from direct normal and diffuse
+ * horizontal irradiances, given or read from a weather file.  The CIE
+ * skies' absolute level is given as the diffuse horizontal illuminance (lx)
+ * or the zenith luminance (cd/m2); a Perez sky's is computed (lx). */
 typedef struct vr_scene_sky {
   bool present;
-  int cie_type;              /* 0 = traditional overcast, 1..15 = CIE standard general sky */
+  int cie_type;              /* 0 = traditional overcast, 1..15 = CIE standard general sky,
+                                VR_SKY_PEREZ = Perez all-weather */
+  /* Perez: the inputs (from the line or the weather record) and, once the
+   * whole file is read, the model's state (coefficients, illuminances). */
+  double direct_normal_w_m2, diffuse_horizontal_w_m2, dew_point_c; /* dew point NAN: none */
+  int day_of_year;           /* 0: mean Earth-Sun distance */
+  char *weather_path;        /* weather=FILE (resolved), or NULL */
+  long weather_line;         /* the record's line in that file */
+  bool sun_from_weather;     /* sun_direction computed from the file's site, date and time */
+  vr_perez_sky perez;        /* filled by the parser's last pass */
   double sun_direction[3];   /* unit, towards the sun: the sun line's, or the sky's sun= */
   bool sun_given;            /* the sky line gave sun=ALTITUDE,AZIMUTH itself */
   vr_quantity level;         /* lx (diffuse horizontal) or cd/m2 (zenith) */
@@ -187,6 +204,17 @@ typedef struct vr_scene_sky {
   double ground_reflectance; /* below the horizon: a uniform ground, default 0.2 */
   vr_scene_loc loc;
 } vr_scene_sky;
+
+/* A sky portal: a rectangle corner + s u + t v (s, t in [0, 1]) through
+ * which the sky lights the interior (a window).  Only a sampling hint for
+ * the sky's next-event estimation; the estimate stays unbiased for light
+ * that comes another way. */
+#define VR_SCENE_MAX_PORTALS 64
+
+typedef struct vr_scene_portal {
+  double corner[3], u[3], v[3];
+  vr_scene_loc loc;
+} vr_scene_portal;
 
 typedef struct vr_scene_sensor {
   char *name;
@@ -252,6 +280,8 @@ typedef struct vr_scene {
   size_t nlights;
   vr_scene_light *lights;
   vr_scene_sky sky;
+  size_t nportals;
+  vr_scene_portal *portals;
   size_t nsensors;
   vr_scene_sensor *sensors;
   vr_scene_settings settings;

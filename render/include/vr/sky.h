@@ -28,6 +28,7 @@
 
 #include "vr/error.h"
 #include "vr/scene.h"
+#include "vr/sky_params.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -38,10 +39,6 @@ extern "C" {
 #define VR_SKY_SAMPLER_NU 64
 #define VR_SKY_SAMPLER_NPHI 256
 
-/* Gradation (a, b) and indicatrix (c, d, e) parameters of one sky type. */
-typedef struct vr_sky_params {
-  double a, b, c, d, e;
-} vr_sky_params;
 
 /* ISO 15469:2004 Table 1 parameters of types 1..15; VR_E_ARG for any other
  * number (type 0, the traditional overcast sky, has no such parameters). */
@@ -53,15 +50,27 @@ double vr_sky_indicatrix(const vr_sky_params *p, double chi);
 
 typedef struct vr_sky vr_sky;
 
+/* vr_sky_type of a Perez all-weather sky (vr/perez.h). */
+#define VR_SKY_PEREZ 16
+
 /* Builds a sky of type 0..15 for a sun direction (towards the sun; need not
  * be unit length).  Type 0 ignores the sun (sun_dir may be NULL).  The CIE
  * general skies are defined for a sun on or above the horizon: a sun below
  * it is VR_E_RANGE naming its altitude.  Computes E_h/Lz and the sampling
  * table once (about ten milliseconds). */
 vr_status vr_sky_create(int cie_type, const double sun_dir[3], vr_sky **out, vr_error *err);
+/* A Perez (1993) all-weather sky with coefficients a..e (from
+ * vr_perez_luminance_params), relative luminance
+ *   [1 + a exp(b / max(cos zeta, 0.01))] [1 + c exp(d gamma) + e cos^2 gamma]
+ * with each factor held at 0 or more, normalised to 1 at the zenith.
+ * Coefficients that make the zenith dark (the fitted model far outside
+ * its data, e.g. a clear high-sun sky of almost no brightness) are
+ * VR_E_NUMERIC. */
+vr_status vr_sky_create_perez(const vr_sky_params *p, const double sun_dir[3], vr_sky **out,
+                              vr_error *err);
 void vr_sky_destroy(vr_sky *sky);
 
-int vr_sky_type(const vr_sky *sky);
+int vr_sky_type(const vr_sky *sky); /* 0..15 or VR_SKY_PEREZ */
 
 /* L(dir) / Lz; 0 below the horizon. */
 double vr_sky_relative_luminance(const vr_sky *sky, const double dir[3]);

@@ -1,0 +1,143 @@
+/* Sky portals: next-event estimation of the sky aimed through the windows.
+ *
+ * A room lit through its windows sees the sky in a small solid angle; the
+ * sky's own importance sampler (by luminance over the whole hemisphere)
+ * then sends most shadow rays into walls.  With portals declared, a sky
+ * sample is drawn from a mixture: with probability VR_PORTAL_SHARE a point
+ * uniform on one portal's area (the portal chosen in proportion to the
+ * solid angle it roughly subtends from the shading point), otherwise the
+ * sky's sampler.  The sample is weighted by the mixture's density
+ *   p(w) = q sum_j P_j [ray hits portal j] t_j^2 / (A_j |n_j . w|) + (1 - q) p_sky(w),
+ * the one-sample balance heuristic of the two strategies (Veach 1997,
+ * section 9.2.4), so the estimate stays unbiased whatever the portals
+ * cover: light that enters another way is still found by the sky share.
+ * Portals are only a sampling hint, not geometry.
+ *
+ * Photons: the far sources (sun, sky, ground glow) also emit through the
+ * portals (lights.c, vr_light_emit_portal_photon), from points uniform over
+ * their total area, travelling into the room (along the portal's normal),
+ * starting outside the scene on the line through that point and killed if
+ * anything but a straight pane stops them before the portal (an overhang
+ * shades it).  So that no light is counted twice, the far sources' usual
+ * photons are killed where they cross a portal inwards before any
+ * scattering (vr_portal_crossed_inward): their light in the room is the
+ * portal photons', and only what the outside reflected enters with them. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "render_internal.h"
+
+static double dot3(const double a[3], const double b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+vr_status vr_portals_create(rscene *rs, vr_error *err) {
+  const vr_scene *s = rs->s;
+  rs->nportals = 0;
+  if (!s->nportals) return VR_OK;
+  rs->portals = calloc(s->nportals, sizeof *rs->portals);
+  if (!rs->portals) return vr_error_set(err, VR_E_NOMEM, "out of memory for portals");
+  for (size_t i = 0; i < s->nportals; i++) {
+    const vr_scene_portal *p = &s->portals[i];
+    rportal *q = &rs->portals[i];
+    for (int k = 0; k < 3; k++) q->corner[k] = p->corner[k], q->u[k] = p->u[k], q->v[k] = p->v[k];
+    double c[3] = {p->u[1] * p->v[2] - p->u[2] * p->v[1], p->u[2] * p->v[0] - p->u[0] * p->v[2],
+                   p->u[0] * p->v[1] - p->u[1] * p->v[0]};
+    q->area = sqrt(dot3(c, c));
+    for (int k = 0; k < 3; k++) q->n[k] = c[k] / q->area;
+    q->uu = dot3(p->u, p->u), q->vv = dot3(p->v, p->v);
+  }
+  rs->nportals = s->nportals;
+  rs->portal_area_cdf = calloc(s->nportals, sizeof *rs->portal_area_cdf);
+  if (!rs->portal_area_cdf) return vr_error_set(err, VR_E_NOMEM, "out of memory for portals");
+  double acc = 0;
+  for (size_t i = 0; i < s->nportals; i++) rs->portal_area_cdf[i] = (acc += rs->portals[i].area);
+  rs->portal_area = acc;
+  return VR_OK;
+}
+
+void vr_portal_point(const rscene *rs, double u0, double u1, double u2, double y[3], size_t *which) {
+  double t = u0 * rs->portal_area;
+  size_t j = 0;
+  while (j + 1 < rs->nportals && rs->portal_area_cdf[j] <= t) j++;
+  const rportal *q = &rs->portals[j];
+  for (int k = 0; k < 3; k++) y[k] = q->corner[k] + u1 * q->u[k] + u2 * q->v[k];
+  *which = j;
+}
+
+/* Where the segment org + t dir, t in (0, tmax], crosses portal q (its
+ * plane within its rectangle): the t, or -1. */
+static double crossing(const rportal *q, const double org[3], const double dir[3], double tmax) {
+  double cn = dot3(q->n, dir);
+  if (fabs(cn) <= 1e-12) return -1;
+  double t = (dot3(q->n, q->corner) - dot3(q->n, org)) / cn;
+  if (!(t > 0) || t > tmax) return -1;
+  double h[3];
+  for (int k = 0; k < 3; k++) h[k] = org[k] + t * dir[k] - q->corner[k];
+  double s = dot3(h, q->u) / q->uu, r = dot3(h, q->v) / q->vv;
+  return s < 0 || s > 1 || r < 0 || r > 1 ? -1 : t;
+}
+
+bool vr_portal_crossed_inward(const rscene *rs, const double org[3], const double dir[3],
+                              double tmax) {
+  /* A pane in the portal's plane ends the segment at the crossing itself:
+   * count it (the next segment starts just beyond). */
+  tmax = tmax * (1 + 1e-6) + 1e-7;
+  for (size_t j = 0; j < rs->nportals; j++)
+    if (dot3(rs->portals[j].n, dir) > 0 && crossing(&rs->portals[j], org, dir, tmax) > 0) return true;
+  return false;
+}
+
+/* How much portal j is worth sampling from x: its area over the squared
+ * distance to its centre, times the cosine there (a solid-angle estimate,
+ * capped at 2 pi), 0 when x lies in its plane. */
+static double weight(const rportal *q, const double x[3]) {
+  double d[3], h = 0;
+  for (int k = 0; k < 3; k++) d[k] = q->corner[k] + 0.5 * (q->u[k] + q->v[k]) - x[k];
+  double d2 = dot3(d, d);
+  double plane = dot3(q->n, q->corner) - dot3(q->n, x);
+  if (fabs(plane) <= 1e-9 * (1 + sqrt(d2))) return 0;
+  h = fabs(dot3(q->n, d)) / sqrt(d2);
+  double w = q->area * h / d2;
+  return w < 2 * M_PI ? w : 2 * M_PI;
+}
+
+/* The weights of all portals at x and their sum. */
+static double weights(const rscene *rs, const double x[3], double *w) {
+  double sum = 0;
+  for (size_t j = 0; j < rs->nportals; j++) sum += w[j] = weight(&rs->portals[j], x);
+  return sum;
+}
+
+bool vr_portal_sample(const rscene *rs, const double x[3], double u0, double u1, double u2,
+                      double dir[3]) {
+  double w[VR_MAX_PORTALS], sum = weights(rs, x, w);
+  if (!(sum > 0)) return false;
+  double t = u0 * sum;
+  size_t j = 0;
+  while (j + 1 < rs->nportals && t >= w[j]) t -= w[j++];
+  const rportal *q = &rs->portals[j];
+  double y[3], len2 = 0;
+  for (int k = 0; k < 3; k++) {
+    y[k] = q->corner[k] + u1 * q->u[k] + u2 * q->v[k] - x[k];
+    len2 += y[k] * y[k];
+  }
+  if (!(len2 > 0)) return false;
+  double len = sqrt(len2);
+  for (int k = 0; k < 3; k++) dir[k] = y[k] / len;
+  return fabs(dot3(q->n, dir)) > 1e-12;
+}
+
+double vr_portal_pdf(const rscene *rs, const double x[3], const double dir[3]) {
+  double w[VR_MAX_PORTALS], sum = weights(rs, x, w), pdf = 0;
+  if (!(sum > 0)) return 0;
+  for (size_t j = 0; j < rs->nportals; j++) {
+    if (!(w[j] > 0)) continue;
+    const rportal *q = &rs->portals[j];
+    double cn = dot3(q->n, dir);
+    double t = crossing(q, x, dir, INFINITY);
+    if (!(t > 0)) continue;
+    pdf += w[j] / sum * t * t / (q->area * fabs(cn));
+  }
+  return pdf;
+}
