@@ -119,7 +119,9 @@ int main(int argc, char **argv) {
       }
     for (int paths = 4096; paths <= 65536; paths *= 4) {
       snprintf(set, sizeof set,
-               "sensors=photon photons=2000000 sensor_knn=100 sensor_samples=%d seed=7", paths);
+               "sensors=photon photons=2000000 sensor_knn=100 sensor_samples=%d seed=7 "
+               "photon_portals=on",
+               paths);
       double t = run(threads, grounds[g][0], grounds[g][1], true, set, m, &share);
       snprintf(what, sizeof what, "photon + portal, 2000000 photons, %d paths", paths);
       report(what, t, m, ref, share, &best_photon_portal);

@@ -266,3 +266,16 @@ int vr_parse_doubles(const char *s, double *out, size_t max, size_t *n) {
     p = comma + 1;
   }
 }
+
+void vr_csv_write_field(FILE *f, const char *s) {
+  if (!strpbrk(s, ",\"\r\n")) {
+    fputs(s, f);
+    return;
+  }
+  fputc('"', f);
+  for (; *s; s++) {
+    if (*s == '"') fputc('"', f);
+    fputc(*s, f);
+  }
+  fputc('"', f);
+}

@@ -62,9 +62,11 @@ vr_status vr_accum_create(accum *a, int width, int height, size_t nbins, double 
   a->sensor_lx = zeros(npoints * (size_t)groups);
   a->sensor_bins = zeros(npoints * nbins);
   a->sensor_parts = zeros(npoints * VR_SENSOR_PARTS);
+  a->sensor_patches = zeros(npoints * VR_SENSOR_PATCHES);
   a->texel_uv = zeros(ntexels);
+  a->texel_patches = zeros(ntexels * VR_SENSOR_PATCHES);
   if (!a->xyz || !a->bins || !a->sensor_lx || !a->sensor_bins || !a->sensor_parts ||
-      !a->texel_uv) {
+      !a->sensor_patches || !a->texel_uv || !a->texel_patches) {
     vr_accum_destroy(a);
     return vr_error_set(err, VR_E_NOMEM, "film of %d x %d x %zu bins: out of memory", width,
                         height, nbins);
@@ -78,7 +80,9 @@ void vr_accum_destroy(accum *a) {
   free(a->sensor_lx);
   free(a->sensor_bins);
   free(a->sensor_parts);
+  free(a->sensor_patches);
   free(a->texel_uv);
+  free(a->texel_patches);
   free(a->cmf_avg);
   memset(a, 0, sizeof *a);
 }
@@ -150,6 +154,11 @@ static double illuminance(accum *a, int nwl, const double *wl, const double *E, 
 void vr_accum_sensor_part_lx(accum *a, uint32_t point, int part, double lx) {
   if (part >= 0 && part < VR_SENSOR_PARTS)
     vr_atomic_add(&a->sensor_parts[(size_t)point * VR_SENSOR_PARTS + (size_t)part], lx);
+}
+
+void vr_accum_sensor_patch_lx(accum *a, uint32_t point, int patch, double lx) {
+  if (patch >= 0 && patch < VR_SENSOR_PATCHES)
+    vr_atomic_add(&a->sensor_patches[(size_t)point * VR_SENSOR_PATCHES + (size_t)patch], lx);
 }
 
 void vr_accum_sensor_part(accum *a, uint32_t point, int part, int nwl, const double *wl,

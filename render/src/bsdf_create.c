@@ -217,7 +217,7 @@ static vr_status make_chromo(vr_bsdf *b, const vr_scene_material *sm, const vr_m
     return st;
   snprintf(b->desc, sizeof b->desc, "%s glass (state %g%s)",
            b->photochromic ? "photochromic" : "electrochromic", b->default_state,
-           b->photochromic ? " unless the texel says otherwise" : "");
+           b->photochromic && !given(sm->state) ? " until its UV exposure sets it" : "");
   return VR_OK;
 }
 

@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "vr/atomic_file.h"
+#include "vr/csv.h"
 #include "vr/colour.h"
 #include "vr/image.h"
 #include "vr/json.h"
@@ -110,20 +111,6 @@ static vr_status check_result(const vr_render_result *r, vr_error *err) {
 
 /* ---- the sensor table ---- */
 
-/* RFC 4180: a field with a comma, quote or line break goes in quotes. */
-static void csv_field(FILE *f, const char *s) {
-  if (!strpbrk(s, ",\"\r\n")) {
-    fputs(s, f);
-    return;
-  }
-  fputc('"', f);
-  for (; *s; s++) {
-    if (*s == '"') fputc('"', f);
-    fputc(*s, f);
-  }
-  fputc('"', f);
-}
-
 static vr_status write_csv_to(const vr_render_result *r, const char *path, vr_error *err) {
   vr_atomic_file af;
   vr_status st = vr_atomic_file_open(&af, path, err);
@@ -139,7 +126,7 @@ static vr_status write_csv_to(const vr_render_result *r, const char *path, vr_er
         f);
   for (size_t k = 0; k < r->nreadings; k++) {
     const vr_sensor_reading *s = &r->readings[k];
-    csv_field(f, sensor_name(s));
+    vr_csv_write_field(f, sensor_name(s));
     fprintf(f, ",%d,%d,%.9g,%.9g,%.9g,%.9g,%.9g", s->i, s->j, s->position[0], s->position[1],
             s->position[2], s->illuminance_lx, s->stderr_lx);
     for (size_t b = 0; spectral && b < r->nbins; b++)

@@ -72,6 +72,7 @@ static void sensor_parts(pass_ctx *c, const payload *p, const double *v, double 
   case SRC_LAMP: vr_accum_sensor_part_lx(c->acc, p->index, VR_PART_ELECTRIC, lx); break;
   case SRC_SKY:
     vr_accum_sensor_part_lx(c->acc, p->index, reflected ? erc_or_irc : VR_PART_SKY, lx);
+    if (p->patch != NO_PATCH) vr_accum_sensor_patch_lx(c->acc, p->index, p->patch, lx);
     break;
   case SRC_SUN:
     vr_accum_sensor_part_lx(c->acc, p->index, reflected ? erc_or_irc + 1 : VR_PART_SUN, lx);
@@ -85,6 +86,7 @@ static void sensor_parts(pass_ctx *c, const payload *p, const double *v, double 
     }
     vr_accum_sensor_part(c->acc, p->index, erc_or_irc, p->nwl, p->wl, sky, w);
     vr_accum_sensor_part(c->acc, p->index, erc_or_irc + 1, p->nwl, p->wl, sun, w);
+    vr_accum_sensor_patch_lx(c->acc, p->index, VR_SKY_GROUND_PATCH, lx);
     break;
   }
   default: break; /* photon-map radiance: no single source */
@@ -112,6 +114,9 @@ static void deliver(pass_ctx *c, const payload *p, const double *v0) {
     double s = 0;
     for (int k = 0; k < p->nwl; k++) s += v[k];
     vr_atomic_add(&c->acc->texel_uv[p->index], s * 100.0 / p->nwl);
+    if ((p->source == SRC_SKY || p->source == SRC_GROUND) && p->patch != NO_PATCH)
+      vr_atomic_add(&c->acc->texel_patches[(size_t)p->index * VR_SENSOR_PATCHES + p->patch],
+                    s * 100.0 / p->nwl);
     break;
   }
   default: break;
@@ -144,6 +149,7 @@ static void push_shadow(vr_flow_worker *w, const payload *p, const double x[3], 
   payload *q = (payload *)r.payload;
   *q = *p;
   q->source = source;
+  q->patch = source == SRC_SKY ? (uint8_t)vr_sky_patch_of(r.dir) : NO_PATCH;
   memcpy(q->beta, contrib, sizeof q->beta);
   vr_flow_push(w, &r);
 }
@@ -386,6 +392,7 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
     vr_light_environment(rs, r->dir, first && p.target != TARGET_GATHER, p.nwl, p.wl, L);
     for (int k = 0; k < p.nwl; k++) L[k] *= p.beta[k];
     p.source = r->dir[2] >= 0 ? SRC_SKY : SRC_GROUND;
+    p.patch = (uint8_t)vr_sky_patch_of(r->dir);
     deliver(c, &p, L);
     return;
   }

@@ -205,6 +205,12 @@ vr_status vr_light_sky_create(rscene *rs, struct vr_matdb *db, vr_error *err) {
   (void)db;
   const vr_scene_sky *sk = &rs->s->sky;
   if (!sk->present) return VR_OK;
+  if (sk->annual)
+    return vr_error_set(err, VR_E_ARG,
+                        "%s:%ld:%ld: sky: a whole weather file (weather= with no date= and time=) "
+                        "is a year of skies, for an annual study (vr-render runs one for such a "
+                        "scene), not one render",
+                        rs->s->path, sk->loc.line, sk->loc.col);
   vr_status st = sk->cie_type == VR_SKY_PEREZ
                      ? vr_sky_create_perez(&sk->perez.lum, sk->sun_direction, &rs->sky, err)
                      : vr_sky_create(sk->cie_type, sk->sun_direction, &rs->sky, err);

@@ -70,6 +70,24 @@ double vr_perez_extraterrestrial(int day) {
                    0.000077 * sin(2 * g));
 }
 
+double vr_perez_gradation(const vr_sky_params *p, double cos_z) {
+  double g = 1.0 + p->a * exp(p->b / fmax(cos_z, 0.01));
+  return g > 0.0 ? g : 0.0;
+}
+
+double vr_perez_indicatrix(const vr_sky_params *p, double gamma) {
+  double cc = cos(gamma);
+  double f = 1.0 + p->c * exp(p->d * gamma) + p->e * cc * cc;
+  return f > 0.0 ? f : 0.0;
+}
+
+double vr_perez_relative(const vr_sky_params *p, const double sun[3], const double dir[3]) {
+  if (dir[2] < 0) return 0;
+  double cg = sun[0] * dir[0] + sun[1] * dir[1] + sun[2] * dir[2];
+  cg = cg > 1 ? 1 : cg < -1 ? -1 : cg;
+  return vr_perez_gradation(p, dir[2]) * vr_perez_indicatrix(p, acos(cg));
+}
+
 int vr_perez_bin(double eps) {
   int bin = 1;
   while (bin < 8 && eps >= VR_PEREZ_BOUNDS[bin]) bin++;

@@ -55,7 +55,7 @@ static void photon_generate(void *ctx, vr_flow_worker *w, long unit) {
     } else {
       if (!vr_light_emit_photon(rs, s, p.nwl, p.wl, &key, &e)) continue;
       bool far = s == rs->sun_light || (rs->has_sky && s >= rs->nlights + rs->nemitters);
-      if (rs->nportals && far) p.flags |= FLAG_FAR_DIRECT;
+      if (rs->nportal_sources && far) p.flags |= FLAG_FAR_DIRECT;
     }
     /* The ground glow is light the ground reflected (a Lambertian ground
      * under the sky): its photons belong in the global map, as the ground

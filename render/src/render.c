@@ -77,12 +77,22 @@ static vr_status uv_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
   res->photochromic_texels = nt;
   res->photochromic_state = calloc(nt + 1, sizeof *res->photochromic_state);
   if (!st && !res->photochromic_state) st = vr_error_set(err, VR_E_NOMEM, "out of memory");
+  res->photochromic_uv = calloc(nt + 1, sizeof *res->photochromic_uv);
+  res->photochromic_object = calloc(nt + 1, sizeof *res->photochromic_object);
+  res->photochromic_uv_patch = calloc(nt * VR_SENSOR_PATCHES + 1, sizeof *res->photochromic_uv_patch);
+  if (!st && (!res->photochromic_uv || !res->photochromic_uv_patch || !res->photochromic_object))
+    st = vr_error_set(err, VR_E_NOMEM, "out of memory");
   res->photochromic_state_min = INFINITY;
   res->photochromic_state_max = -INFINITY;
   for (size_t t = 0; !st && t < nt; t++) {
     robject *o = &rs->obj[c->texel_object[t]];
     const rmaterial *m = &rs->mat[o->material];
     double E = vr_atomic_get(&acc.texel_uv[t]), s;
+    res->photochromic_uv[t] = E;
+    res->photochromic_object[t] = c->texel_object[t];
+    for (size_t q = 0; q < VR_SENSOR_PATCHES; q++)
+      res->photochromic_uv_patch[t * VR_SENSOR_PATCHES + q] =
+          vr_atomic_get(&acc.texel_patches[t * VR_SENSOR_PATCHES + q]);
     st = vr_chromo_steady_state(m->db, E, m->temperature_K, &s, err);
     if (st) break;
     res->photochromic_state[t] = s;
@@ -361,8 +371,12 @@ void vr_render_result_destroy(vr_render_result *r) {
   free(r->spectral);
   free(r->readings);
   free(r->sensor_spectral);
+  free(r->sky_patch_lx);
   free(r->sensor_names);
   free(r->photochromic_state);
+  free(r->photochromic_uv);
+  free(r->photochromic_object);
+  free(r->photochromic_uv_patch);
   free(r->rank_stats);
   free(r->cell_seconds);
   free(r->cell_owner);

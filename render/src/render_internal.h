@@ -14,6 +14,7 @@
 #include "vr/flow.h"
 #include "vr/geometry.h"
 #include "vr/render.h"
+#include "vr/skypatch.h"
 #include "vr/rng.h"
 #include "vr/scene.h"
 #include "vr/photon_map.h"
@@ -223,6 +224,8 @@ enum { FLAG_SPECULAR_LAST = 1, FLAG_HAS_DIFFUSE = 2, FLAG_HAS_SPECULAR = 4,
        FLAG_TERMINATED = 8, FLAG_PHOTON_GATHER = 16 /* a photon sensor's gather path */,
        FLAG_REFLECTED = 32 /* a sensor path met a non-delta vertex */,
        FLAG_OUTSIDE_LAST = 64 /* ... and the last one was an exterior surface */ };
+#define NO_PATCH 0xFF
+#define VR_SENSOR_PATCHES (VR_SKY_PATCHES + 1)
 /* Photon payloads reuse two of the sensor paths' bits: */
 enum { FLAG_FAR_DIRECT = 32 /* a far source's usual photon, not yet scattered (portals) */,
        FLAG_PORTAL_PATH = 64 /* a portal photon that has not yet reached its portal */ };
@@ -237,6 +240,8 @@ typedef struct payload {
   uint32_t index;          /* pixel, sensor point, texel */
   uint8_t depth, target, flags, nwl;
   uint8_t source;          /* sensor paths: SRC_* of the light a shadow ray carries */
+  uint8_t patch;           /* sky light: its Tregenza patch (vr/skypatch.h), the ground
+                              VR_SKY_GROUND_PATCH; NO_PATCH otherwise */
   int32_t medium;          /* object whose inside the path is in, -1 outside */
   double weight;           /* sample weight (1/spp, ...), applied on delivery */
   double wl[VR_MAX_WL];
@@ -258,8 +263,12 @@ typedef struct accum {
   _Atomic uint64_t *sensor_bins;/* npoints*nbins */
   _Atomic uint64_t *sensor_parts;/* npoints*VR_SENSOR_PARTS: illuminance by component (lx, summed
                                     over the groups' samples) */
+  _Atomic uint64_t *sensor_patches;/* npoints*VR_SENSOR_PATCHES: the sky's and the ground glow's
+                                    illuminance by the patch it came from (lx, summed) */
   size_t ntexels;
   _Atomic uint64_t *texel_uv;   /* W/m2 in the UV band, summed */
+  _Atomic uint64_t *texel_patches;/* ntexels*VR_SENSOR_PATCHES: the sky's and the ground glow's
+                                    share of texel_uv by the patch it came from */
   /* Fixed-bins mode: the CMFs averaged over each of the cmf_n bins of
    * [cmf_lo, cmf_lo + cmf_n cmf_step], used for a wavelength in that bin
    * instead of their value at it (NULL in hero mode). */
@@ -282,6 +291,8 @@ double vr_atomic_get(_Atomic uint64_t *cell);
 void vr_accum_pixel(accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,
                     double wl_weight);
 /* Returns the illuminance (lx) it added. */
+/* Adds lx to the illuminance point received from sky patch (or the ground). */
+void vr_accum_sensor_patch_lx(accum *a, uint32_t point, int patch, double lx);
 double vr_accum_sensor(accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
                        const double *E, double wl_weight);
 /* Adds lx, or the illuminance of E, to part `part` (VR_PART_*) of point. */

@@ -132,8 +132,11 @@ vr_status vr_ranks_sum_accum(run *r, accum *a, unsigned parts, vr_error *err) {
     st = sum_cells(r, a->sensor_lx, a->npoints * (size_t)a->groups, err);
     if (!st) st = sum_cells(r, a->sensor_bins, a->npoints * a->nbins, err);
     if (!st) st = sum_cells(r, a->sensor_parts, a->npoints * VR_SENSOR_PARTS, err);
+    if (!st) st = sum_cells(r, a->sensor_patches, a->npoints * VR_SENSOR_PATCHES, err);
   }
   if (!st && (parts & RANKS_TEXELS)) st = sum_cells(r, a->texel_uv, a->ntexels, err);
+  if (!st && (parts & RANKS_TEXELS))
+    st = sum_cells(r, a->texel_patches, a->ntexels * VR_SENSOR_PATCHES, err);
   return st;
 }
 

@@ -88,6 +88,11 @@ static vr_status path_sensors(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
     vr_accum_destroy(&acc);
     return st;
   }
+  res->sky_patch_lx = calloc(c->npoints * VR_SENSOR_PATCHES + 1, sizeof *res->sky_patch_lx);
+  if (!res->sky_patch_lx) {
+    vr_accum_destroy(&acc);
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  }
   c->acc = &acc;
   vr_integrator keep = c->integrator;
   c->integrator = VR_INT_PATH;
@@ -106,6 +111,9 @@ static vr_status path_sensors(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
     res->readings[k].illuminance_lx = mean;
     res->readings[k].stderr_lx = sqrt(var / groups);
     set_parts(res->sky_horizontal_lx, &acc, k, groups, &res->readings[k]);
+    for (int q = 0; q < VR_SENSOR_PATCHES; q++)
+      res->sky_patch_lx[k * VR_SENSOR_PATCHES + (size_t)q] =
+          vr_atomic_get(&acc.sensor_patches[k * VR_SENSOR_PATCHES + (size_t)q]) / groups;
     for (size_t b = 0; b < rs->nbins; b++)
       res->sensor_spectral[k * rs->nbins + b] =
           vr_atomic_get(&acc.sensor_bins[k * rs->nbins + b]) / groups;

@@ -243,7 +243,9 @@ static vr_status resolve_materials(rscene *rs, vr_matdb *db, vr_error *err) {
       return st;
     }
     rm->state = vr_bsdf_default_state(rm->bsdf);
-    rm->photochromic = vr_bsdf_is_photochromic(rm->bsdf);
+    /* state= fixes a photochromic pane's state (a tint study, the annual
+     * study's tint states): no UV pass moves it. */
+    rm->photochromic = vr_bsdf_is_photochromic(rm->bsdf) && isnan(sm->state);
     rm->temperature_K = isnan(sm->temperature_K) ? 298.15 : sm->temperature_K;
   }
   return VR_OK;
@@ -411,7 +413,7 @@ static vr_status resolve_sources(rscene *rs, vr_error *err) {
     if (rs->lights[i].kind == VR_LIGHT_SUN) rs->sun_light = i;
   rs->nportal_sources = 0;
   double pp[3], portal_total = 0;
-  if (rs->nportals) {
+  if (rs->nportals && rs->s->settings.photon_portals) {
     static const int KINDS[3] = {PORTAL_SRC_SUN, PORTAL_SRC_SKY, PORTAL_SRC_GROUND};
     for (int i = 0; i < 3; i++) {
       double w = vr_light_portal_power(rs, KINDS[i]);

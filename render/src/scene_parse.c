@@ -180,9 +180,10 @@ static vr_status statement(scn_parser *p, char **w, size_t nw) {
   if (!strcmp(kw, "portal")) return scn_portal(&t);
   if (!strcmp(kw, "sensor")) return scn_sensor(&t);
   if (!strcmp(kw, "render")) return scn_render(&t);
+  if (!strcmp(kw, "annual")) return scn_annual(&t);
   return scn_fail(p, kw,
                   "unknown statement \"%s\" (camera, material, sphere, rect, box, mesh, light, sky, "
-                  "portal, sensor, render)",
+                  "portal, sensor, render, annual)",
                   kw);
 }
 
@@ -198,6 +199,7 @@ static vr_status finish(scn_parser *p) {
   }
   vr_status st = scn_sky_finish(p);
   if (st) return st;
+  if ((st = scn_annual_finish(p))) return st;
   if (!s->camera.given && s->nsensors == 0)
     return vr_error_at(p->err, VR_E_PARSE, p->file, 0, 0, "no camera and no sensor: nothing to render");
   return VR_OK;
@@ -217,6 +219,10 @@ static void defaults(vr_scene *s) {
   g->final_gather = false, g->gather_rays = 32, g->passes = 16, g->alpha = 2.0 / 3.0;
   g->sensor_samples = 4096, g->seed = 1;
   g->film_min_nm = 400, g->film_max_nm = 700, g->film_step_nm = 10;
+  vr_scene_annual *a = &s->annual;
+  a->from_h = 8, a->to_h = 18, a->da_lx = 300, a->sda_share = 0.5;
+  a->udi_lo = 100, a->udi_hi = 3000, a->ase_lx = 1000, a->ase_hours = 250;
+  a->glass = -1, a->control_sensor = -1, a->max_lx = NAN;
 }
 
 /* Splits a line into words in place; the rest of the line after '#' is a comment. */
@@ -278,6 +284,8 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
   for (size_t i = 0; i < s->nobjects; i++) free(p.alias[i]);
   free(p.alias);
   free(p.alias_loc);
+  free(p.annual_glass);
+  free(p.annual_sensor);
   if (st) {
     vr_scene_destroy(s);
     return st;

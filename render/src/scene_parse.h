@@ -22,6 +22,8 @@ typedef struct scn_parser {
   char **alias;      /* per object: its material= name until resolved */
   vr_scene_loc *alias_loc;
   size_t sun;        /* index + 1 of the sun light, 0 if none */
+  char *annual_glass, *annual_sensor; /* annual glass= and control_sensor= until resolved */
+  vr_scene_loc annual_glass_loc, annual_sensor_loc;
   bool have_render;
 } scn_parser;
 
@@ -65,6 +67,10 @@ vr_status scn_sun_at(scn_parser *p, const char *word, const char *when, double l
                      double tz, int y, int m, int d, double minutes, double dir[3]);
 vr_status scn_sensor(scn_stmt *t);
 vr_status scn_render(scn_stmt *t);
+/* The 'annual' line (scene_parse_annual.c) and its checks once the whole
+ * file is read (the glass, the control sensor, the weather sky). */
+vr_status scn_annual(scn_stmt *t);
+vr_status scn_annual_finish(scn_parser *p);
 
 /* Checks the words from `first` on: key=value, a key in `allowed` (NULL
  * terminated), given once (translate/rotate/scale may repeat: they compose). */

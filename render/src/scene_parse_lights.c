@@ -309,7 +309,7 @@ vr_status scn_render(scn_stmt *t) {
       "integrator", "spp",          "depth",      "spectral",       "wavelengths", "range",
       "photons",    "caustic_photons", "knn",     "radius",         "final_gather", "gather_rays",
       "passes",     "alpha",        "sensor_samples", "seed",       "film",        "sensors",
-      "sensor_knn", NULL};
+      "sensor_knn", "photon_portals", NULL};
   static const char *const INTEGRATORS[] = {"path", "whitted", "photon", "progressive", NULL};
   static const char *const SPECTRAL[] = {"hero", "bins", NULL};
   static const char *const ONOFF[] = {"off", "on", NULL};
@@ -320,13 +320,15 @@ vr_status scn_render(scn_stmt *t) {
   p->have_render = true;
   g->loc = scn_loc(p, t->w[0]);
   int integ = (int)g->integrator, spectral = (int)g->spectral, fg = g->final_gather,
+      pport = g->photon_portals,
       sensors = (int)g->sensors;
   long long spp = g->spp, depth = g->max_depth, wl = g->wavelengths, photons = g->photons,
             caustic = g->caustic_photons, knn = g->knn, gather = g->gather_rays, passes = g->passes,
             samples = g->sensor_samples, sensor_knn = g->sensor_knn;
   const scn_opt *o;
   if ((st = scn_choice(t, "integrator", INTEGRATORS, &integ)) || (st = scn_choice(t, "spectral", SPECTRAL, &spectral)) ||
-      (st = scn_choice(t, "final_gather", ONOFF, &fg)) || (st = scn_choice(t, "sensors", SENSORS, &sensors)) || (st = scn_int_opt(t, "spp", 1, 1 << 20, &spp)) ||
+      (st = scn_choice(t, "final_gather", ONOFF, &fg)) ||
+      (st = scn_choice(t, "photon_portals", ONOFF, &pport)) || (st = scn_choice(t, "sensors", SENSORS, &sensors)) || (st = scn_int_opt(t, "spp", 1, 1 << 20, &spp)) ||
       (st = scn_int_opt(t, "depth", 0, 1024, &depth)) || (st = scn_int_opt(t, "wavelengths", 1, VR_SCENE_MAX_WAVELENGTHS, &wl)) ||
       (st = scn_int_opt(t, "photons", 0, 1000000000000LL, &photons)) ||
       (st = scn_int_opt(t, "caustic_photons", 0, 1000000000000LL, &caustic)) ||
@@ -343,6 +345,7 @@ vr_status scn_render(scn_stmt *t) {
   /* Fixed bins default to the most wavelengths a path carries: 4 bins of
    * 117 nm cannot follow a lamp's spectrum. */
   if (spectral == VR_SPECTRAL_BINS && !scn_get(t, "wavelengths")) wl = VR_SCENE_MAX_WAVELENGTHS;
+  g->photon_portals = pport;
   g->integrator = (vr_integrator)integ, g->spectral = (vr_spectral_mode)spectral, g->final_gather = fg;
   g->sensors = (vr_sensor_estimator)sensors;
   g->spp = (int)spp, g->max_depth = (int)depth, g->wavelengths = (int)wl, g->photons = (long)photons;

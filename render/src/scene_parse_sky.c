@@ -54,6 +54,17 @@ static vr_status weather_sky(scn_stmt *t, vr_scene_sky *k) {
   scn_parser *p = t->p;
   const scn_opt *wo = scn_get(t, "weather"), *d, *tm;
   vr_status st;
+  if (!scn_get(t, "date") && !scn_get(t, "time")) {
+    /* The whole file: an annual study (vr/annual.h).  Read it now so a bad
+     * file fails here, naming its line. */
+    if (!(k->weather_path = scn_resolve(p->s, wo->val))) return scn_nomem(p);
+    vr_weather *w = NULL;
+    vr_error e = {0};
+    if (vr_weather_read(k->weather_path, &w, &e) != VR_OK) return scn_fail(p, wo->word, "%s", e.message);
+    vr_weather_free(w);
+    k->annual = true;
+    return VR_OK;
+  }
   if ((st = scn_need(t, "date", &d)) || (st = scn_need(t, "time", &tm))) return st;
   long long md[2];
   if ((st = scn_ints(p, d->word, d->val, '-', 2, 1, 31, md))) return st;
@@ -200,12 +211,12 @@ vr_status scn_sky_finish(scn_parser *p) {
   vr_scene_sky *k = &s->sky;
   bool perez = k->present && k->cie_type == VR_SKY_PEREZ;
   vr_scene_light *sun = p->sun ? &s->lights[p->sun - 1] : NULL;
-  if (sun && sun->from_sky && !k->sun_from_weather)
+  if (sun && sun->from_sky && !k->sun_from_weather && !k->annual)
     return vr_error_at(p->err, VR_E_PARSE, p->file, sun->loc.line, sun->loc.col,
                        "a sun needs direction=, altitude= and azimuth=, or latitude=, longitude=, "
                        "date= and time= (only a weather sky, 'sky perez weather=...', places it "
                        "itself)");
-  if (sun && !sun->from_sky && k->sun_from_weather)
+  if (sun && !sun->from_sky && (k->sun_from_weather || k->annual))
     return vr_error_at(p->err, VR_E_PARSE, p->file, sun->loc.line, sun->loc.col,
                        "the weather sky on line %ld places the sun from its file's site, date "
                        "and time: drop this sun's direction or site",
@@ -220,6 +231,18 @@ vr_status scn_sky_finish(scn_parser *p) {
                        sun->loc.line);
   if (sun && k->sun_from_weather) memcpy(sun->direction, k->sun_direction, sizeof sun->direction);
   else if (sun) memcpy(k->sun_direction, sun->direction, sizeof k->sun_direction);
+  if (k->annual) {
+    if (!sun)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, k->loc.line, k->loc.col,
+                         "a year of weather needs a 'light sun' line for the hours of direct sun "
+                         "(the file places it and gives its illuminance hour by hour)");
+    if (!isnan(sun->amount.value))
+      return vr_error_at(p->err, VR_E_PARSE, p->file, sun->loc.line, sun->loc.col,
+                         "the sun's illuminance comes from the weather file on line %ld, hour by "
+                         "hour: drop illuminance=",
+                         k->loc.line);
+    return VR_OK;
+  }
   if (k->present && k->cie_type > 0 && !sun && !k->sun_given && !k->sun_from_weather) {
     /* A sky whose luminance follows the sun (an indicatrix that is not
      * flat) must be told where the sun is, not given the zenith. */

@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "vr/perez.h"
 #include "vr/photometry.h"
 
 #define PI 3.14159265358979323846
@@ -76,28 +77,13 @@ double vr_sky_indicatrix(const vr_sky_params *p, double chi) {
   return 1.0 + p->c * (exp(p->d * chi) - exp(p->d * PI / 2.0)) + p->e * cc * cc;
 }
 
-/* The Perez (1993) gradation and indicatrix.  The fitted b can be > 0 at
- * high brightness, which would make exp(b / cos zeta) explode at the
- * horizon: cos zeta is held at 0.01 or more there, as Radiance's
- * perezlum.cal does.  Where the fitted factors go negative (some bins at
- * extreme brightness), the luminance is 0, not negative. */
-static double perez_gradation(const vr_sky_params *p, double cos_z) {
-  double g = 1.0 + p->a * exp(p->b / fmax(cos_z, 0.01));
-  return g > 0.0 ? g : 0.0;
-}
-static double perez_indicatrix(const vr_sky_params *p, double chi) {
-  double cc = cos(chi);
-  double f = 1.0 + p->c * exp(p->d * chi) + p->e * cc * cc;
-  return f > 0.0 ? f : 0.0;
-}
-
 static double gradation_of(const vr_sky *s, double cos_z) {
-  return s->type == VR_SKY_PEREZ ? perez_gradation(&s->p, cos_z) : vr_sky_gradation(&s->p, cos_z);
+  return s->type == VR_SKY_PEREZ ? vr_perez_gradation(&s->p, cos_z) : vr_sky_gradation(&s->p, cos_z);
 }
 
 static double indicatrix_of(const vr_sky *s, double chi) {
   if (s->type == 0) return 1.0;
-  return s->type == VR_SKY_PEREZ ? perez_indicatrix(&s->p, chi) : vr_sky_indicatrix(&s->p, chi);
+  return s->type == VR_SKY_PEREZ ? vr_perez_indicatrix(&s->p, chi) : vr_sky_indicatrix(&s->p, chi);
 }
 
 /* Relative luminance (before normalisation) from cos Z and cos chi. */

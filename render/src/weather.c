@@ -276,3 +276,11 @@ vr_status vr_weather_find(const vr_weather *w, int month, int day, double hour,
   return vr_error_set(err, VR_E_RANGE, "%s: no record on %02d-%02d covers %02d:%02d", w->path,
                       month, day, (int)hour, (int)round(fmod(hour, 1.0) * 60));
 }
+
+int vr_weather_day_of_year(const vr_weather_record *r) {
+  static const int D[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  int y = r->year, n = r->day;
+  bool leap = y > 0 && ((y % 4 == 0 && y % 100 != 0) || y % 400 == 0);
+  for (int m = 1; m < r->month && m <= 12; m++) n += D[m - 1] + (m == 2 && leap);
+  return n;
+}

@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "vr/annual.h"
 #include "vr/args.h"
 #include "vr/comm.h"
 #include "vr/file.h"
@@ -57,6 +58,9 @@ static const char ABOUT[] =
     "is white at EV 0, times 2^exposure of the scene's camera), and PREFIX.sensors.csv\n"
     "(illuminance in lx and spectral irradiance in W/(m2 nm)) when the scene has sensors.\n"
     "The outputs appear together or not at all.\n"
+    "A scene whose sky is a whole weather file (sky perez weather=FILE, no date) is an annual\n"
+    "study instead: PREFIX.annual.csv (DA, UDI, direct-sun hours per point) and\n"
+    "PREFIX.annual-hourly.csv (every occupied hour), sDA and ASE on stdout.\n"
     "Under mpirun (mpirun -np N vr-render ...) the ranks share the sub-domains and pass rays\n"
     "to each other; rank 0 prints and writes the outputs.";
 
@@ -209,7 +213,7 @@ static void log_perez(ui *u, const vr_scene *s) {
   const vr_scene_sky *k = &s->sky;
   if (!k->present || k->cie_type != VR_SKY_PEREZ) return;
   const vr_perez_sky *m = &k->perez;
-  char line[4400], from[4200] = "";
+  char line[8192], from[4200] = "";
   if (k->weather_path) snprintf(from, sizeof from, " (%s, line %ld)", k->weather_path, k->weather_line);
   snprintf(line, sizeof line,
            "Perez sky%s: direct normal %g W/m2, diffuse horizontal %g W/m2; clearness %.3f (bin "
@@ -227,6 +231,55 @@ static void log_perez(ui *u, const vr_scene *s) {
              m->epsilon_raw, m->delta_raw, vr_perez_limits_text(m->limited, what, sizeof what));
     ui_log(u, line);
   }
+}
+
+/* A scene whose sky is a whole weather file: the annual study
+ * (vr/annual.h), its two CSV files and a summary. */
+static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_options *opt,
+                        const char *prefix, int rank, ui *u, vr_error *err) {
+  const vr_scene_annual *sa = &scene->annual;
+  char line[8192];
+  snprintf(line, sizeof line,
+           "annual study: every record of %s, occupied hours %g-%g h local standard time, by "
+           "daylight coefficients (145 sky patches and the ground, one render per sun patch%s)",
+           scene->sky.weather_path, sa->from_h, sa->to_h,
+           sa->glass >= 0 ? ", for each tint state of the glass" : "");
+  ui_log(u, line);
+  vr_annual_result *res = NULL;
+  vr_status st = vr_annual_run(scene, db, opt, &res, err);
+  ui_end(u);
+  if (!st && rank == 0) st = vr_annual_write(res, prefix, err);
+  if (!st && rank == 0 && !u->quiet) {
+    const vr_scene_annual *a = &res->spec;
+    printf("annual   %zu records, %zu occupied hours (%zu with daylight), %zu sun patches, %zu "
+           "renders, %.1f s\n",
+           res->records, res->occupied_hours, res->daylit_hours, res->sun_patches, res->renders,
+           res->seconds);
+    if (res->glass) {
+      static const char *const RULE[] = {"fixed", "illuminance", "sun", "its own UV exposure"};
+      printf("glass    %s, %s, control: %s", res->glass_name,
+             res->glass == VR_ANNUAL_PHOTOCHROMIC ? "photochromic" : "electrochromic",
+             RULE[a->control]);
+      if (a->control == VR_CONTROL_ILLUMINANCE || a->control == VR_CONTROL_SUN)
+        printf(" (max %g lx%s%s)", a->max_lx, a->control_sensor >= 0 ? " at " : "",
+               a->control_sensor >= 0 ? scene->sensors[a->control_sensor].name : "");
+      printf(", mean state %.3f; daylit hours by state:", res->mean_state);
+      for (int k = 0; k < a->nstates; k++) printf(" %g: %.0f", a->states[k], res->state_hours[k]);
+      printf("\n");
+    }
+    printf("annual   sDA%g/%g%% %.1f %% of points, ASE%g,%gh %.1f %% of points\n", a->da_lx,
+           100 * a->sda_share, 100 * res->sda, a->ase_lx, a->ase_hours, 100 * res->ase);
+    for (size_t p = 0; p < res->npoints; p++) {
+      const vr_annual_point *pt = &res->points[p];
+      printf("point    %s (%d, %d)  DA %.1f %%  UDI %.1f / %.1f / %.1f %%  direct sun %.0f h  "
+             "mean %.0f lx\n",
+             pt->sensor ? pt->sensor : "", pt->i, pt->j, 100 * pt->da, 100 * pt->udi_below,
+             100 * pt->udi_useful, 100 * pt->udi_above, pt->direct_hours, pt->mean_lx);
+    }
+    printf("wrote    %s.annual.csv %s.annual-hourly.csv\n", prefix, prefix);
+  }
+  vr_annual_result_destroy(res);
+  return st;
 }
 
 /* ---- the summary on stdout ---- */
@@ -409,6 +462,11 @@ ready:
   if (vr_comm_agree(comm, err.status, &err)) goto fail;
   opt.has_digest = true;
   digest_of(path, &opt, opt.scene_digest);
+  if (scene->sky.annual) {
+    rc = annual(scene, db, &opt, prefix, rank, &u, &err) ? 1 : 0;
+    agreed = rc != 0;
+    goto out;
+  }
   if (vr_render_scene(scene, db, &opt, &r, &err)) goto fail;
   ui_end(&u);
   double t0 = now_s();

@@ -248,4 +248,26 @@ chmod 755 "$tmp/ro"
 "$bin" "$tmp/point.scn" --cache '' > /dev/null 2> "$tmp/err"; rc=$?
 check "--cache '' is refused" test $rc -eq 1
 
+# A year of weather: the annual study writes its two tables and prints sDA
+# and ASE (the metrics themselves are tested in tests/render/test_annual.c).
+cat > "$tmp/year.scn" <<EOF
+material ground lambert reflectance=0.2
+rect center=0,0,0 normal=0,0,1 size=10,10 material=ground
+light sun spectrum=D65
+sky perez weather=$src/tests/data/weather/chicago.wea
+sensor top point position=0,0,0.001 normal=0,0,1
+annual hours=9,15 ase=1000,250
+render sensor_samples=256
+EOF
+"$bin" "$tmp/year.scn" -o "$tmp/year" > "$tmp/year.out" 2> "$tmp/year.err"; rc=$?
+check "an annual study exits 0" test $rc -eq 0
+check "it prints sDA and ASE" grep -q "^annual   sDA300/50% 100.0 % of points, ASE1000,250h 100.0 % of points" "$tmp/year.out"
+check "it writes the point table" grep -q "^top,0,0," "$tmp/year.annual.csv"
+check "the hourly table has a line per occupied hour" test "$(wc -l < "$tmp/year.annual-hourly.csv")" -eq $((365 * 6 + 1))
+check "no images for a year" test ! -e "$tmp/year.png"
+printf 'light sun\nsky perez weather=%s/tests/data/weather/chicago.wea\nsensor s point position=0,0,1 normal=0,0,1\nannual glass=g\n' "$src" > "$tmp/noglass.scn"
+"$bin" "$tmp/noglass.scn" -o "$tmp/ng" > /dev/null 2> "$tmp/err"; rc=$?
+check "an unknown glass exits 1" test $rc -eq 1
+check "an unknown glass is named with its line" grep -q "noglass.scn:4:.*glass=g: no material of that name" "$tmp/err"
+
 finish

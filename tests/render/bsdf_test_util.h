@@ -6,6 +6,7 @@
 #define BSDF_TEST_UTIL_H
 
 #include "vr_test.h"
+#include "temp_db.h"
 
 #include <complex.h>
 
@@ -49,15 +50,6 @@ static inline vr_material *flat_nk(const char *name, vr_material_kind kind, doub
   return m;
 }
 
-/* Spectrum from a function of wavelength on 300..900 nm, 5 nm steps. */
-static inline vr_spectrum *spectrum_of(double (*f)(double nm)) {
-  double nm[121], v[121];
-  for (int i = 0; i < 121; i++) {
-    nm[i] = 300.0 + 5.0 * i;
-    v[i] = f(nm[i]);
-  }
-  return vr_spectrum_create(121, nm, v, NULL);
-}
 
 static inline vr_bsdf *make_bsdf(const vr_scene_material *sm, const vr_material *m,
                                  const vr_material *coating) {
@@ -68,18 +60,6 @@ static inline vr_bsdf *make_bsdf(const vr_scene_material *sm, const vr_material 
   return b;
 }
 
-/* A temporary seeded database (the caller closes it and removes path). */
-static inline vr_matdb *temp_db(char *path, size_t size) {
-  snprintf(path, size, "/tmp/vr_bsdf_test_XXXXXX");
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
-  unlink(path);
-  vr_matdb *db = NULL;
-  vr_error err = {0};
-  if (vr_matdb_open(path, 0, &db, &err)) fail_msg("vr_matdb_open: %s", err.message);
-  return db;
-}
 
 static inline vr_material *db_load(vr_matdb *db, const char *name) {
   vr_material *m = NULL;
@@ -88,15 +68,6 @@ static inline vr_material *db_load(vr_matdb *db, const char *name) {
   return m;
 }
 
-static inline void temp_db_close(vr_matdb *db, const char *path) {
-  vr_matdb_close(db);
-  char side[300];
-  unlink(path);
-  snprintf(side, sizeof side, "%s-wal", path);
-  unlink(side);
-  snprintf(side, sizeof side, "%s-shm", path);
-  unlink(side);
-}
 
 /* A counter-based uniform number: SplitMix64's finaliser of (seed, index,
  * dimension), so every sample is reproducible and independent of order. */

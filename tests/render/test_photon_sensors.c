@@ -95,7 +95,7 @@ static void daylit_room_portal(void **state) {
   char text[4096], ground[512];
   snprintf(ground, sizeof ground, "%sportal center=2,0,1.5 normal=0,1,0 size=2,1.2\n", GROUND);
   snprintf(text, sizeof text, DAYLIT_ROOM, ground,
-           "sensors=photon photons=2000000 knn=200 sensor_samples=4096");
+           "sensors=photon photons=2000000 knn=200 sensor_samples=4096 photon_portals=on");
   vr_render_result *ph = render_text(text);
   snprintf(text, sizeof text, DAYLIT_ROOM, ground, "sensors=path sensor_samples=4096");
   vr_render_result *pa = render_text(text);

@@ -9,6 +9,7 @@
 #define VR_CSV_H
 
 #include <stddef.h>
+#include <stdio.h>
 #include "vr/error.h"
 
 #ifdef __cplusplus
@@ -50,6 +51,10 @@ int vr_parse_double(const char *s, double *out);
  * them; *n receives the count.  Returns 0 on success, non-zero for an empty
  * list, a bad number or more than max. */
 int vr_parse_doubles(const char *s, double *out, size_t max, size_t *n);
+
+/* Writes one field as RFC 4180 wants it: in double quotes, its own quotes
+ * doubled, when it holds a comma, a quote or a line break; as is otherwise. */
+void vr_csv_write_field(FILE *f, const char *s);
 
 #ifdef __cplusplus
 }

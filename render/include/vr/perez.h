@@ -100,6 +100,16 @@ double vr_perez_extraterrestrial(int day_of_year);
 /* The clearness bin (1..8) of an epsilon already in [1, 12.01]. */
 int vr_perez_bin(double epsilon);
 
+/* The 1993 distribution's factors, each held at 0 or more: the gradation
+ * 1 + a exp(b / max(cos zeta, 0.01)) (the floor keeps a positive b from
+ * exploding at the horizon, as Radiance's perezlum.cal does), the
+ * indicatrix 1 + c exp(d gamma) + e cos^2 gamma, and their product for a
+ * unit direction and a unit sun direction (0 below the horizon); not
+ * normalised. */
+double vr_perez_gradation(const vr_sky_params *p, double cos_zeta);
+double vr_perez_indicatrix(const vr_sky_params *p, double gamma);
+double vr_perez_relative(const vr_sky_params *p, const double sun[3], const double dir[3]);
+
 /* The 1993 luminance coefficients a..e for a solar zenith angle (radians),
  * a clearness and a brightness already inside the model's domain. */
 void vr_perez_luminance_params(double sun_zenith_rad, double epsilon, double delta,

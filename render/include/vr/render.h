@@ -130,6 +130,11 @@ typedef struct vr_render_result {
    * read the photon maps (the rest went on as paths); 0 otherwise. */
   double sensor_map_share;
   double sky_horizontal_lx; /* the unobstructed sky's horizontal illuminance, 0 without a sky */
+  /* Path sensors: each reading's sky light by the Tregenza patch it came
+   * from (vr/skypatch.h; VR_SKY_PATCHES + 1 values per reading, the last
+   * the ground glow), lx; they sum to the sky and ground parts.  The
+   * daylight coefficients of vr/annual.h.  NULL for photon sensors. */
+  double *sky_patch_lx;
   /* A fisheye camera: the illuminance at the lens on the plane facing the
    * view (vr_fisheye_vertical_illuminance of the image's luminance); NaN
    * for other cameras or without a camera pass. */
@@ -142,6 +147,12 @@ typedef struct vr_render_result {
   size_t photochromic_texels;
   double *photochromic_state; /* per texel, in object order then v then u */
   double photochromic_state_min, photochromic_state_max;
+  /* Per texel (same order): the UV irradiance (300-400 nm, W/m2, both
+   * faces) the state came from, and the part of it each Tregenza patch of
+   * the sky and the ground glow gave (VR_SKY_PATCHES + 1 values a texel,
+   * vr/skypatch.h): the UV daylight coefficients of vr/annual.h. */
+  double *photochromic_uv, *photochromic_uv_patch;
+  uint32_t *photochromic_object; /* per texel: the scene object it lies on */
   size_t degenerate_triangles;
   /* Sub-domains and memory (docs/ddm.md). */
   int subdomains;

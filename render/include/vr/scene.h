@@ -196,6 +196,8 @@ typedef struct vr_scene_sky {
   char *weather_path;        /* weather=FILE (resolved), or NULL */
   long weather_line;         /* the record's line in that file */
   bool sun_from_weather;     /* sun_direction computed from the file's site, date and time */
+  bool annual;               /* weather= with no date and time: a year of skies
+                                (vr/annual.h), not one render */
   vr_perez_sky perez;        /* filled by the parser's last pass */
   double sun_direction[3];   /* unit, towards the sun: the sun line's, or the sky's sun= */
   bool sun_given;            /* the sky line gave sun=ALTITUDE,AZIMUTH itself */
@@ -257,6 +259,8 @@ typedef struct vr_scene_settings {
   int sensor_knn;             /* photons per estimate at photon sensors' gather vertices
                                  (sensor_knn=, default knn): gathering averages many
                                  estimates, so fewer than an image's direct view needs */
+  bool photon_portals;        /* photon_portals=on: the far sources also emit photons
+                                 through the portals (portals.c); default off */
   double radius_m;            /* fixed radius; NAN -> k-nearest */
   bool final_gather;          /* default false */
   int gather_rays;            /* default 32 */
@@ -269,6 +273,31 @@ typedef struct vr_scene_settings {
   double film_min_nm, film_max_nm, film_step_nm; /* default 400, 700, 10 */
   vr_scene_loc loc;
 } vr_scene_settings;
+
+/* The annual study of a scene whose sky is a whole weather file (vr/annual.h):
+ * the 'annual' line, or its defaults when the scene has none. */
+#define VR_ANNUAL_MAX_STATES 16
+typedef enum vr_annual_control {
+  VR_CONTROL_FIXED = 0,   /* the glass keeps the scene's state all year */
+  VR_CONTROL_ILLUMINANCE, /* the lightest state keeping every control point <= max_lx */
+  VR_CONTROL_SUN,         /* the lightest state keeping direct sun at every control point <= max_lx */
+  VR_CONTROL_UV           /* photochromic glass: the state its own UV exposure gives */
+} vr_annual_control;
+
+typedef struct vr_scene_annual {
+  bool given;                /* an 'annual' line */
+  double from_h, to_h;       /* occupied hours, local standard time: 8, 18 */
+  double da_lx, sda_share;   /* 300 lx, 0.5 */
+  double udi_lo, udi_hi;     /* 100, 3000 lx */
+  double ase_lx, ase_hours;  /* 1000 lx, 250 h */
+  int glass;                 /* material index of the switchable glass (glass=), -1 */
+  int nstates;               /* tint states rendered (states=); 0 before the defaults */
+  double states[VR_ANNUAL_MAX_STATES]; /* ascending, in [0, 1] */
+  vr_annual_control control;
+  double max_lx;             /* the control's threshold; NAN: 3000 (illuminance), 1000 (sun) */
+  int control_sensor;        /* sensor index, -1: every sensor */
+  vr_scene_loc loc;
+} vr_scene_annual;
 
 typedef struct vr_scene {
   char *path, *dir;           /* the file and its folder ("." when the name has none) */
@@ -285,6 +314,7 @@ typedef struct vr_scene {
   size_t nsensors;
   vr_scene_sensor *sensors;
   vr_scene_settings settings;
+  vr_scene_annual annual;
 } vr_scene;
 
 /* Parses a scene from text (name is used in messages and to resolve

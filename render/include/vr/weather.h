@@ -61,6 +61,9 @@ typedef struct vr_weather {
 vr_status vr_weather_read(const char *path, vr_weather **out, vr_error *err);
 void vr_weather_free(vr_weather *w);
 
+/* Day of the year (1..366) of a record (its year's, or a 365-day year's). */
+int vr_weather_day_of_year(const vr_weather_record *r);
+
 /* The record whose interval holds a local standard time (hours, [0, 24))
  * on a month and day.  VR_E_RANGE when the file has no such record (a
  * 29 February in a 365-day year, a partial file). */

@@ -1,0 +1,122 @@
+/* Climate-based daylight metrics over a weather file's year, by daylight
+ * coefficients: a year of skies for the price of a few renders, with
+ * switchable glazing that follows a control rule or its own UV exposure.
+ *
+ * The scene's sky is `sky perez weather=FILE` with no date: every record of
+ * the file is one sky; the scene's `annual` line (vr/scene.h,
+ * docs/scene-format.md) sets the hours, thresholds and glass.  Instead of
+ * rendering each hour, the illuminance at every sensor point is written as
+ *   E(t) = sum_k DC_k L_k(t) + DC_g L_g(t) + E_dn(t) S_k(sun(t))
+ *   - DC_k: the illuminance per cd/m2 of each of the 145 Tregenza patches
+ *     (vr/skypatch.h), interreflections included, from one path-traced
+ *     sensor render under a uniform sky whose light is binned by the patch
+ *     it came from; DC_g the same for the ground glow below the horizon;
+ *   - L_k(t): the Perez sky of that hour (vr/perez.h) averaged over each
+ *     patch and scaled so that the patches give its diffuse horizontal
+ *     illuminance; L_g(t) = rho (E_dh + E_dn sin h) / pi;
+ *   - S_k: the illuminance per lx of direct normal sunlight with the sun at
+ *     the centre of the Tregenza patch that holds the hour's sun (one
+ *     render per patch the sun visits in occupied hours, typically 40-70),
+ *     its direct part (the sun seen from the point) kept apart for the
+ *     annual sunlight exposure.  The direct part is scaled by the ratio of
+ *     the cosines at the point of the true sun and the patch centre, exact
+ *     for an unobstructed point; the reflected part keeps the patch centre,
+ *     up to about 6 degrees from the true sun.
+ *
+ * Switchable glass (annual glass=NAME): the coefficients are rendered once
+ * per tint state (states=).
+ *   - Electrochromic: each hour takes one of those states: the scene's
+ *     (control=fixed), or the lightest that keeps every control point at
+ *     or below max lx (control=illuminance, default 3000 lx) or keeps the
+ *     direct sun there at or below max lx (control=sun, default 1000 lx),
+ *     the darkest when none does.
+ *   - Photochromic: the pane's UV irradiance each hour, per texel of its
+ *     state map and both faces, from UV daylight coefficients (the
+ *     renderer's own UV pass under the same unit sky and sun patches,
+ *     binned by patch), sets each texel's state by the glass's kinetics
+ *     (vr/chromogenic.h: from the last hour's state over the record's
+ *     interval when a and b are known, the steady state otherwise) at the
+ *     glass's temperature= (298.15 K by default); the pane's mean state
+ *     then picks the coefficients, interpolated between the two nearest
+ *     rendered states (geometrically: the transmittance is exponential in
+ *     the state).  One state for the whole pane is the approximation.
+ *
+ * Metrics (IES LM-83-12 for sDA and ASE; Nabil & Mardaljevic 2005 for UDI;
+ * Reinhart & Walkenhorst 2001 for DA), over the occupied hours (records
+ * whose interval centre lies in [from, to) local standard time, every day):
+ *   DA       share of occupied hours with E >= da_lx (300 lx);
+ *   sDA      share of points whose DA >= sda_share (50 %);
+ *   UDI      shares of occupied hours below udi_lo (100 lx), between
+ *            udi_lo and udi_hi (3000 lx) and above;
+ *   ASE      share of points whose direct sunlight reaches ase_lx
+ *            (1000 lx) in more than ase_hours (250) occupied hours, through
+ *            the glass in the state it has that hour. */
+#ifndef VR_ANNUAL_H
+#define VR_ANNUAL_H
+
+#include <stddef.h>
+
+#include "vr/render.h"
+#include "vr/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct vr_matdb;
+
+typedef struct vr_annual_point {
+  const char *sensor;        /* the sensor's name (the result's storage) */
+  int i, j;
+  double position[3], normal[3];
+  double da;                 /* shares in [0, 1] */
+  double udi_below, udi_useful, udi_above;
+  double direct_hours;       /* occupied hours with direct sunlight >= ase_lx */
+  double mean_lx;            /* over the occupied hours */
+} vr_annual_point;
+
+typedef enum vr_annual_glass {
+  VR_ANNUAL_NO_GLASS = 0, VR_ANNUAL_ELECTROCHROMIC, VR_ANNUAL_PHOTOCHROMIC
+} vr_annual_glass;
+
+typedef struct vr_annual_result {
+  vr_scene_annual spec;      /* the study as run: the scene's line, defaults filled */
+  vr_annual_glass glass;
+  const char *glass_name;    /* the scene's alias, or NULL */
+  size_t npoints;
+  vr_annual_point *points;
+  double sda, ase;           /* shares of points in [0, 1] */
+  size_t records, occupied_hours, daylit_hours; /* of the file; occupied; of those with daylight */
+  size_t sun_patches;        /* sun positions rendered */
+  size_t renders;            /* every render made */
+  double state_hours[VR_ANNUAL_MAX_STATES]; /* occupied daylit hours in each rendered state
+                                               (electrochromic), or nearest to it (photochromic) */
+  double mean_state;         /* over the occupied daylit hours */
+  double seconds;            /* all renders and the year's sums */
+  /* Hour by hour (occupied hours, in file order): the illuminance of every
+   * point, occupied_hours x npoints, lx; the weather file's line; the
+   * glass's state (NAN without one); its mean UV irradiance (W/m2,
+   * photochromic glass, NAN otherwise). */
+  double *hourly_lx;
+  long *hourly_line;
+  double *hourly_state, *hourly_uv;
+  char *names;               /* storage */
+} vr_annual_result;
+
+/* Runs the study of a scene whose sky is a whole weather file (see above),
+ * with the render options o (sensors only).  A scene without such a sky,
+ * without sensors or without a sun line, a glass that is not chromogenic,
+ * or a control that does not suit its glass, is VR_E_ARG naming the line. */
+vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_options *o,
+                        vr_annual_result **out, vr_error *err);
+void vr_annual_result_destroy(vr_annual_result *r);
+/* PREFIX.annual.csv (one line per point: its metrics) and
+ * PREFIX.annual-hourly.csv (one line per occupied hour: the weather file's
+ * line, the glass's state and UV, every point's lx), each written whole or
+ * not at all. */
+vr_status vr_annual_write(const vr_annual_result *r, const char *prefix, vr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

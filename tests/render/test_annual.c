@@ -1,0 +1,374 @@
+/* Annual daylight coefficients (vr/annual.h, vr/skypatch.h), on the real
+ * Chicago weather file of tests/data/weather:
+ *  - the Tregenza subdivision against its definition (Tregenza 1987: 145
+ *    patches in bands of 30, 30, 24, 24, 18, 12, 6, 1; they tile the
+ *    hemisphere, 2 pi sr, and their projected solid angles sum to pi);
+ *  - an unobstructed horizontal point: every occupied hour's illuminance
+ *    equals the global horizontal illuminance of the Perez (1990) efficacy
+ *    model for that record, E_dh + E_dn sin(altitude);
+ *  - a room with a window: the coefficients' hour against a direct render
+ *    of the same record (sky perez weather= date= time=);
+ *  - electrochromic glass under control=illuminance: each hour the lightest
+ *    state keeping the points within the threshold, checked against the
+ *    same room with the glass clear all year;
+ *  - photochromic glass: each hour's state is the steady state
+ *    s = E / (E + b/a) of DESIGN §4 for the hour's UV (the kinetics' time
+ *    constant is seconds), and that UV agrees with the renderer's own UV
+ *    pass of a direct render of the record;
+ *  - the 'annual' line's errors. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "render_test_util.h"
+#include "vr_test.h"
+#include "temp_db.h"
+#include "vr/annual.h"
+#include "vr/chromogenic.h"
+#include "vr/material.h"
+#include "vr/matdb.h"
+#include "vr/spectrum.h"
+#include "vr/perez.h"
+#include "vr/skypatch.h"
+#include "vr/sun.h"
+#include "vr/weather.h"
+
+#define DEG (M_PI / 180)
+#define WEA VR_TEST_DATA "/weather/chicago.wea"
+
+static void tregenza(void **state) {
+  (void)state;
+  static const int BANDS[8] = {30, 30, 24, 24, 18, 12, 6, 1}; /* Tregenza 1987 */
+  int k = 0;
+  double omega = 0, projected = 0;
+  for (int b = 0; b < 8; b++)
+    for (int i = 0; i < BANDS[b]; i++, k++) {
+      double a0, a1, z0, z1, d[3];
+      vr_sky_patch_bounds(k, &a0, &a1, &z0, &z1);
+      assert_near(a0, 12.0 * b, 1e-12);
+      vr_sky_patch_centre(k, d);
+      assert_int_equal(vr_sky_patch_of(d), k);
+      omega += vr_sky_patch_solid_angle(k);
+      projected += (z1 - z0) * DEG * (pow(sin(a1 * DEG), 2) - pow(sin(a0 * DEG), 2)) / 2;
+    }
+  assert_int_equal(k, VR_SKY_PATCHES);
+  assert_near(omega, 2 * M_PI, 1e-12);
+  assert_near(projected, M_PI, 1e-12);
+  assert_int_equal(vr_sky_patch_of((double[]){0, 1, -0.1}), VR_SKY_GROUND_PATCH);
+  /* Azimuth from north towards east, the first patch centred on north:
+   * 80 degrees at 5 degrees of altitude lies in the first band's patch
+   * centred on 84 degrees (7 x 12). */
+  double e80[3] = {cos(5 * DEG) * sin(80 * DEG), cos(5 * DEG) * cos(80 * DEG), sin(5 * DEG)};
+  assert_int_equal(vr_sky_patch_of(e80), 7);
+}
+
+static vr_annual_result *run_annual(const char *text, vr_matdb *db) {
+  vr_scene *s = parse_text(text, VR_TEST_DATA "/annual.scn");
+  vr_render_options o;
+  vr_render_options_default(&o);
+  o.threads = 2;
+  o.no_camera = true;
+  vr_annual_result *r = NULL;
+  vr_error err = {0};
+  vr_status st = vr_annual_run(s, db, &o, &r, &err);
+  if (st) fprintf(stderr, "annual: %s\n", err.message);
+  assert_int_equal(st, VR_OK);
+  vr_scene_destroy(s);
+  return r;
+}
+
+static vr_render_result *run_hour(const char *text, vr_matdb *db) {
+  vr_scene *s = parse_text(text, VR_TEST_DATA "/hour.scn");
+  vr_render_result *r = render_scene_with(s, db, 1, 2, true, false);
+  vr_scene_destroy(s);
+  return r;
+}
+
+/* The sun of a .wea record (centre of its hour, local standard time),
+ * within one UTC day. */
+static double altitude_of(const vr_weather *w, const vr_weather_record *r) {
+  double utc = 0.5 * (r->start_h + r->end_h) - w->timezone_h;
+  assert_true(utc > 0 && utc < 24);
+  vr_datetime t = {2021, r->month, r->day, (int)utc, (int)(fmod(utc, 1) * 60), 0};
+  vr_sun_site site;
+  vr_sun_site_default(&site, w->latitude_deg, w->longitude_deg);
+  vr_sun_position p;
+  assert_int_equal(vr_sun_position_at(&site, &t, &p, NULL), VR_OK);
+  return p.altitude_deg;
+}
+
+static void unobstructed_point(void **state) {
+  (void)state;
+  vr_annual_result *r = run_annual("material ground lambert reflectance=0.2\n"
+                                   "rect center=0,0,0 normal=0,0,1 size=10,10 material=ground\n"
+                                   "light sun spectrum=D65\n"
+                                   "sky perez weather=" WEA "\n"
+                                   "sensor top point position=0,0,0.001 normal=0,0,1\n"
+                                   "annual hours=8,17\n"
+                                   "render sensor_samples=16384 seed=3\n",
+                                   NULL);
+  vr_weather *w = NULL;
+  assert_int_equal(vr_weather_read(WEA, &w, NULL), VR_OK);
+  assert_int_equal(r->records, 8760);
+  assert_int_equal(r->occupied_hours, 365 * 9);
+  size_t h = 0, checked = 0;
+  double worst = 0;
+  for (size_t i = 0; i < w->nrecords; i++) {
+    const vr_weather_record *rec = &w->records[i];
+    double c = 0.5 * (rec->start_h + rec->end_h);
+    if (c < 8 || c >= 17) continue;
+    assert_int_equal(r->hourly_line[h], rec->line);
+    double alt = altitude_of(w, rec), E = r->hourly_lx[h++];
+    if (alt <= 0.5 || !(rec->diffuse_horizontal_w_m2 > 0)) continue;
+    vr_perez_input in = {90 - alt, rec->direct_normal_w_m2, rec->diffuse_horizontal_w_m2, NAN,
+                         vr_weather_day_of_year(rec)};
+    vr_perez_sky m;
+    assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
+    double ref = m.diffuse_horizontal_lx + m.direct_normal_lx * sin(alt * DEG);
+    double rel = fabs(E - ref) / ref;
+    if (rel > worst) worst = rel;
+    if (rel > 0.03) fail_msg("line %ld: %.1f lx, expected %.1f", rec->line, E, ref);
+    checked++;
+  }
+  printf("unobstructed point: %zu hours, worst %.2f %%\n", checked, 100 * worst);
+  assert_true(checked > 3000);
+  vr_weather_free(w);
+  vr_annual_result_destroy(r);
+}
+
+/* The daylit room of tests/render/daylit_room.h with a sky line and an
+ * extra line (the glass, the annual line). */
+static void room(char *buf, size_t n, const char *sky, const char *glass, const char *extra) {
+  snprintf(buf, n,
+           "material wall lambert reflectance=0.5\n"
+           "material floor lambert reflectance=0.3\n"
+           "rect center=2,2,0   normal=0,0,1  size=4,4 material=floor\n"
+           "rect center=2,2,3   normal=0,0,-1 size=4,4 material=wall\n"
+           "rect center=2,4,1.5 normal=0,-1,0 size=4,3 material=wall\n"
+           "rect center=0,2,1.5 normal=1,0,0  size=4,3 material=wall\n"
+           "rect center=4,2,1.5 normal=-1,0,0 size=4,3 material=wall\n"
+           "rect center=2,0,0.45 normal=0,1,0 size=4,0.9 material=wall\n"
+           "rect center=2,0,2.55 normal=0,1,0 size=4,0.9 material=wall\n"
+           "rect center=0.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"
+           "rect center=3.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"
+           "%s"
+           "light sun spectrum=D65\n"
+           "sky perez weather=" WEA "%s\n"
+           "sensor floor grid origin=0.25,0.25,0.8 u=3.5,0,0 v=0,3.5,0 n=3,3 normal=0,0,1\n"
+           "sensor wall grid origin=0.5,3.999,0.5 u=3,0,0 v=0,0,2 n=3,2 normal=0,-1,0\n"
+           "%s"
+           "render sensor_samples=8192 seed=5\n",
+           glass, sky, extra);
+}
+
+/* The row of the hourly table for a record. */
+static size_t row_of(const vr_annual_result *r, int month, int day, double hour) {
+  vr_weather *w = NULL;
+  assert_int_equal(vr_weather_read(WEA, &w, NULL), VR_OK);
+  const vr_weather_record *rec = NULL;
+  assert_int_equal(vr_weather_find(w, month, day, hour, &rec, NULL), VR_OK);
+  long line = rec->line;
+  vr_weather_free(w);
+  for (size_t h = 0; h < r->occupied_hours; h++)
+    if (r->hourly_line[h] == line) return h;
+  fail_msg("no row for line %ld", line);
+  return 0;
+}
+
+static void room_against_direct_renders(void **state) {
+  (void)state;
+  char text[4096];
+  room(text, sizeof text, "", "", "annual hours=10,14\n");
+  vr_annual_result *r = run_annual(text, NULL);
+  /* 11 March 13:30, overcast (no direct sun; 281 W/m2 diffuse): every
+   * point; 21 June 12:30, sunny (734 W/m2 direct): the north wall, where
+   * the high sun does not reach, so the sun's place within its patch
+   * matters only through reflections. */
+  struct { int m, d; const char *time; double hour; size_t from; double tol; } cases[] = {
+      {3, 11, "13:30", 13.5, 0, 0.02}, {6, 21, "12:30", 12.5, 9, 0.04}};
+  for (size_t c = 0; c < 2; c++) {
+    char sky[64];
+    snprintf(sky, sizeof sky, " date=%02d-%02d time=%s", cases[c].m, cases[c].d, cases[c].time);
+    room(text, sizeof text, sky, "", "");
+    vr_render_result *d = run_hour(text, NULL);
+    size_t h = row_of(r, cases[c].m, cases[c].d, cases[c].hour);
+    for (size_t p = cases[c].from; p < r->npoints; p++) {
+      double got = r->hourly_lx[h * r->npoints + p], want = d->readings[p].illuminance_lx;
+      /* Both estimates carry path-tracing noise of about the direct
+       * render's standard error: allow 4 combined sigmas on top. */
+      double sigma = sqrt(2.0) * d->readings[p].stderr_lx;
+      printf("%02d-%02d point %zu: coefficients %.1f lx, direct render %.1f +- %.1f lx\n",
+             cases[c].m, cases[c].d, p, got, want, d->readings[p].stderr_lx);
+      assert_true(fabs(got - want) <= cases[c].tol * want + 4 * sigma);
+    }
+    vr_render_result_destroy(d);
+  }
+  vr_annual_result_destroy(r);
+}
+
+/* A chromogenic glass as vr-spectro stores one (vr/chromogenic.h). */
+static double T0_fn(double nm) { return 0.75 + 0.0 * nm; }
+static double dOD_fn(double nm) { return 0.2 + 0.8 * exp(-pow((nm - 650.0) / 250.0, 2)); }
+
+static vr_matdb *glass_db(char *path, size_t n) {
+  vr_matdb *db = temp_db(path, n);
+  const char *names[2] = {"ec", "pc"};
+  for (int i = 0; i < 2; i++) {
+    vr_material *m = vr_material_create(names[i], VR_KIND_CHROMOGENIC, NULL);
+    vr_material_add_spectrum(m, "T0", spectrum_of(T0_fn), NULL);
+    vr_material_add_spectrum(m, "dOD", spectrum_of(dOD_fn), NULL);
+    vr_material_add_property(m, "chromogenic_type", i ? "photochromic" : "electrochromic", NAN,
+                             NULL, NULL);
+    vr_material_add_property(m, "thickness", NULL, 6.0, "mm", NULL);
+    if (!i) vr_material_add_parameter(m, "Q_full", 32.0, NAN, "mC/cm2", NULL);
+    if (i) {
+      /* The sample photochromic glass's fitted kinetics (samples/glazing). */
+      vr_material_add_parameter(m, "a", 0.002, NAN, "m2/(W s)", NULL);
+      vr_material_add_parameter(m, "b_ref", 0.0124, NAN, "1/s", NULL);
+      vr_material_add_parameter(m, "Ea", 42446, NAN, "J/mol", NULL);
+      vr_material_add_parameter(m, "T_ref", 298.15, NAN, "K", NULL);
+    }
+    vr_error err = {0};
+    if (vr_matdb_save(db, m, &err)) fail_msg("save: %s", err.message);
+    vr_material_destroy(m);
+  }
+  return db;
+}
+
+/* The window's glass; one texel of state map, so that the pane's state is
+ * the state of its one UV reading. */
+#define GLASS(db)                                                                                  \
+  "material glass db:" db "\nrect center=2,0,1.5 normal=0,1,0 size=2,1.2 material=glass "          \
+  "texels=1,1\n"
+
+static void electrochromic_control(void **state) {
+  (void)state;
+  char path[256], text[4096];
+  vr_matdb *db = glass_db(path, sizeof path);
+  room(text, sizeof text, "", GLASS("ec"), "annual hours=10,14 glass=glass control=illuminance max=1000 control_sensor=wall\n");
+  vr_annual_result *ctl = run_annual(text, db);
+  room(text, sizeof text, "", GLASS("ec"), "annual hours=10,14 glass=glass\n");
+  vr_annual_result *clear = run_annual(text, db);
+  assert_int_equal(ctl->spec.nstates, 4);
+  assert_int_equal(clear->spec.nstates, 1);
+  assert_true(ctl->glass == VR_ANNUAL_ELECTROCHROMIC);
+  size_t np = ctl->npoints, tinted = 0, kept = 0;
+  for (size_t h = 0; h < ctl->occupied_hours; h++) {
+    const double *c = ctl->hourly_lx + h * np, *f = clear->hourly_lx + h * np;
+    double max_clear = 0, max_ctl = 0;
+    /* The control points: the north wall's (the 9 floor points come first). */
+    for (size_t p = 9; p < np; p++) max_clear = fmax(max_clear, f[p]), max_ctl = fmax(max_ctl, c[p]);
+    double s = ctl->hourly_state[h];
+    if (max_clear <= 1000) {
+      kept++;
+      /* Clear is within the threshold: the glass stays clear, the same
+       * coefficients give the same light. */
+      assert_near(s, 0.0, 0);
+      for (size_t p = 0; p < np; p++) assert_near(c[p], f[p], 1e-9 * f[p]);
+    } else {
+      tinted++;
+      assert_true(s > 0);
+      assert_true(max_ctl <= 1000 || s == 1.0);
+      for (size_t p = 0; p < np; p++) assert_true(c[p] < f[p]);
+    }
+  }
+  printf("electrochromic: %zu of %zu hours tinted, mean state %.3f\n", tinted, ctl->occupied_hours,
+         ctl->mean_state);
+  assert_true(tinted > 100 && kept > 100);
+  vr_annual_result_destroy(ctl);
+  vr_annual_result_destroy(clear);
+  temp_db_close(db, path);
+}
+
+static void photochromic_follows_uv(void **state) {
+  (void)state;
+  char path[256], text[4096];
+  vr_matdb *db = glass_db(path, sizeof path);
+  room(text, sizeof text, "", GLASS("pc"), "annual hours=10,14 glass=glass\n");
+  vr_annual_result *r = run_annual(text, db);
+  assert_true(r->glass == VR_ANNUAL_PHOTOCHROMIC);
+  double K = 0.0124 / 0.002; /* b/a at T_ref, W/m2 */
+  size_t lit = 0;
+  for (size_t h = 0; h < r->occupied_hours; h++) {
+    double E = r->hourly_uv[h], s = r->hourly_state[h];
+    assert_true(E >= 0);
+    /* The steady state, E / (E + K) (DESIGN §4), reached within seconds. */
+    assert_near(s, E / (E + K), 1e-6);
+    lit += E > 1;
+  }
+  assert_true(lit > 1000);
+  /* The hour's UV against the UV pass of a direct render of the record. */
+  struct { int m, d; const char *time; double hour; } cases[] = {{3, 11, "13:30", 13.5},
+                                                                  {6, 21, "12:30", 12.5}};
+  for (size_t c = 0; c < 2; c++) {
+    char sky[64];
+    snprintf(sky, sizeof sky, " date=%02d-%02d time=%s", cases[c].m, cases[c].d, cases[c].time);
+    room(text, sizeof text, sky, GLASS("pc"), "");
+    vr_render_result *d = run_hour(text, db);
+    double uv = 0;
+    for (size_t t = 0; t < d->photochromic_texels; t++) uv += d->photochromic_uv[t];
+    uv /= (double)d->photochromic_texels;
+    size_t h = row_of(r, cases[c].m, cases[c].d, cases[c].hour);
+    printf("%02d-%02d: UV %.3f W/m2 from coefficients, %.3f from the direct render\n", cases[c].m,
+           cases[c].d, r->hourly_uv[h], uv);
+    assert_true(fabs(r->hourly_uv[h] - uv) <= 0.05 * uv);
+    vr_render_result_destroy(d);
+  }
+  vr_annual_result_destroy(r);
+  temp_db_close(db, path);
+}
+
+static void refused(const char *text, const char *needle) {
+  vr_scene *s = NULL;
+  vr_error err = {0};
+  vr_status st = vr_scene_parse(text, strlen(text), "a.scn", &s, &err);
+  assert_int_not_equal(st, VR_OK);
+  if (!strstr(err.message, needle)) fail_msg("'%s' lacks '%s'", err.message, needle);
+}
+
+static void annual_line_errors(void **state) {
+  (void)state;
+  const char *base = "light sun\nsky perez weather=" WEA "\nsensor s point position=0,0,1 normal=0,0,1\n"
+                     "material g db:x\n";
+  char t[1024];
+  struct { const char *line, *needle; } bad[] = {
+      {"annual hours=18,8\n", "below the second"},
+      {"annual states=0,1\n", "glass=MATERIAL"},
+      {"annual glass=nope\n", "no material of that name"},
+      {"annual glass=g states=0,0.5,0.4 control=sun\n", "must increase"},
+      {"annual glass=g states=0,1.5 control=sun\n", "outside [0, 1]"},
+      {"annual glass=g control=dim\n", "expected fixed, illuminance, sun"},
+      {"annual glass=g control_sensor=s\n", "fixed glass has no control sensor"},
+      {"annual glass=g control=sun control_sensor=t\n", "no sensor of that name"},
+      {"annual\nannual\n", "second 'annual' line"},
+      {"annual sda=0\n", "sda"},
+      {"annual ase=0,250\n", "above 0"},
+  };
+  for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+    snprintf(t, sizeof t, "%s%s", base, bad[i].line);
+    refused(t, bad[i].needle);
+  }
+  refused("light sun altitude=30 azimuth=180 illuminance=50000lx\nsky cie type=5 illuminance=10000lx\n"
+          "sensor s point position=0,0,1 normal=0,0,1\nannual\n",
+          "needs a year of skies");
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(tregenza),
+      cmocka_unit_test(annual_line_errors),
+      cmocka_unit_test(unobstructed_point),
+      cmocka_unit_test(room_against_direct_renders),
+      cmocka_unit_test(electrochromic_control),
+      cmocka_unit_test(photochromic_follows_uv),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
