@@ -198,6 +198,16 @@ typedef struct hour {
   double L[NPATCH];         /* patch and ground luminances, cd/m2 */
 } hour;
 
+/* The ratio of the cosines of the hour's true sun and its patch centre on
+ * a surface of normal n (absolute values when either face counts), held in
+ * [0, 4]; 1 where the centre grazes the surface. */
+static double sun_ratio(const hour *h, const double n[3], bool either_face) {
+  double ct = n[0] * h->sun[0] + n[1] * h->sun[1] + n[2] * h->sun[2];
+  double cc = n[0] * h->centre[0] + n[1] * h->centre[1] + n[2] * h->centre[2];
+  if (either_face) ct = fabs(ct), cc = fabs(cc);
+  return cc > 1e-3 ? fmin(fmax(ct, 0) / cc, 4.0) : 1.0;
+}
+
 /* The hour's illuminance at every point with the coefficients d: total
  * and direct sun, the direct part scaled by the cosine ratio. */
 static void hour_lx(const hour *h, const dc_set *d, const vr_annual_point *pts, size_t np,
@@ -210,11 +220,7 @@ static void hour_lx(const hour *h, const dc_set *d, const vr_annual_point *pts, 
     for (int k = 0; k < NPATCH; k++) e += dc[k] * h->L[k];
     if (h->ks >= 0) {
       size_t i = p * VR_SKY_PATCHES + (size_t)h->ks;
-      const double *n = pts[p].normal;
-      double ct = n[0] * h->sun[0] + n[1] * h->sun[1] + n[2] * h->sun[2];
-      double cc = n[0] * h->centre[0] + n[1] * h->centre[1] + n[2] * h->centre[2];
-      double ratio = cc > 1e-3 ? fmin(fmax(ct, 0) / cc, 4.0) : 1.0;
-      double direct = h->Edn * d->sun_direct[i] * ratio;
+      double direct = h->Edn * d->sun_direct[i] * sun_ratio(h, pts[p].normal, false);
       e += h->Edn * (d->sun_total[i] - d->sun_direct[i]) + direct;
       D[p] = direct;
     }
@@ -239,13 +245,9 @@ static vr_status pc_state(const hour *h, const uv_set *u, const vr_material *m, 
     if (h->daylit) {
       for (int k = 0; k < NPATCH; k++) E += u->sky[t * NPATCH + (size_t)k] * h->L[k];
       if (h->ks >= 0) {
-        /* The sun reaches one face or the other: the ratio of the cosines
-         * of the true sun and the patch centre on the pane. */
-        const double *n = u->normal + 3 * t;
-        double ct = fabs(n[0] * h->sun[0] + n[1] * h->sun[1] + n[2] * h->sun[2]);
-        double cc = fabs(n[0] * h->centre[0] + n[1] * h->centre[1] + n[2] * h->centre[2]);
-        double ratio = cc > 1e-3 ? fmin(ct / cc, 4.0) : 1.0;
-        E += h->Edn * u->sun[t * VR_SKY_PATCHES + (size_t)h->ks] * ratio;
+        /* The sun reaches one face of the pane or the other. */
+        E += h->Edn * u->sun[t * VR_SKY_PATCHES + (size_t)h->ks] *
+             sun_ratio(h, u->normal + 3 * t, true);
       }
     }
     double s;
