@@ -64,36 +64,16 @@ static void hour_sky(const vr_perez_sky *m, const double sun[3], double ground_r
       ground_rho * (m->diffuse_horizontal_lx + m->direct_normal_lx * fmax(0, sin_alt)) / PI;
 }
 
-/* The sun's direction at the centre of a record's interval. */
+/* The sun's direction at the centre of a record's interval (a .wea has no
+ * year: 2021, as the single-record sky takes it). */
 static bool sun_at(const vr_weather *w, const vr_weather_record *r, double dir[3], double *alt) {
-  double hour = 0.5 * (r->start_h + r->end_h) - w->timezone_h; /* UTC */
-  int y = r->year >= 1800 && r->year <= 2200 ? r->year : 2021, m = r->month, d = r->day;
-  double minutes = hour * 60;
-  /* Days do not matter to the sun's position to better than 0.02 deg over
-   * a day: carry the hour within the same date by the Julian day. */
-  vr_datetime utc = {y, m, d, 0, 0, 0};
+  int y = r->year >= 1800 && r->year <= 2200 ? r->year : 2021;
   vr_sun_site site;
   vr_sun_site_default(&site, w->latitude_deg, w->longitude_deg);
   vr_sun_position pos;
-  vr_error e = {0};
-  double jd0 = vr_sun_julian_day(&utc) + minutes / 1440.0;
-  /* Back to a calendar date and time from the Julian day (Meeus ch. 7). */
-  double z = floor(jd0 + 0.5), f = jd0 + 0.5 - z, a = z;
-  if (z >= 2299161) {
-    double al = floor((z - 1867216.25) / 36524.25);
-    a = z + 1 + al - floor(al / 4);
-  }
-  double b = a + 1524, c = floor((b - 122.1) / 365.25), dd = floor(365.25 * c);
-  double e2 = floor((b - dd) / 30.6001);
-  double day = b - dd - floor(30.6001 * e2) + f;
-  utc.month = (int)(e2 < 14 ? e2 - 1 : e2 - 13);
-  utc.year = (int)(utc.month > 2 ? c - 4716 : c - 4715);
-  utc.day = (int)floor(day);
-  double secs = (day - floor(day)) * 86400;
-  utc.hour = (int)(secs / 3600);
-  utc.minute = (int)(fmod(secs, 3600) / 60);
-  utc.second = fmod(secs, 60);
-  if (vr_sun_position_at(&site, &utc, &pos, &e) != VR_OK) return false;
+  if (vr_sun_position_local(&site, y, r->month, r->day, 30.0 * (r->start_h + r->end_h),
+                            w->timezone_h, &pos, NULL, NULL) != VR_OK)
+    return false;
   memcpy(dir, pos.direction, 3 * sizeof *dir);
   *alt = pos.altitude_deg;
   return true;

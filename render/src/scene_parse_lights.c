@@ -79,34 +79,18 @@ int scn_day_of_year(int y, int m, int d) {
  * fault: there is no daylight to render at that time. */
 vr_status scn_sun_at(scn_parser *p, const char *word, const char *when, double lat, double lon,
                         double tz, int y, int m, int d, double minutes, double dir[3]) {
-  minutes -= tz * 60.0;
-  while (minutes < 0) {
-    minutes += 1440;
-    if (--d < 1) {
-      if (--m < 1) m = 12, y--;
-      d = scn_month_days(y, m);
-    }
-  }
-  while (minutes >= 1440) {
-    minutes -= 1440;
-    if (++d > scn_month_days(y, m)) {
-      d = 1;
-      if (++m > 12) m = 1, y++;
-    }
-  }
-  vr_datetime utc = {y, m, d, (int)(minutes / 60), (int)fmod(minutes, 60.0), 0.0};
-  utc.second = (minutes - floor(minutes)) * 60.0;
   vr_sun_site site;
   vr_sun_site_default(&site, lat, lon > 180 ? lon - 360 : lon);
   vr_sun_position pos;
+  vr_datetime utc;
   vr_error e = {0};
-  if (vr_sun_position_at(&site, &utc, &pos, &e) != VR_OK)
+  if (vr_sun_position_local(&site, y, m, d, minutes, tz, &pos, &utc, &e) != VR_OK)
     return scn_fail(p, word, "sun position: %s", e.message);
   if (pos.altitude_deg <= 0)
     return scn_fail(p, word,
                     "the sun is below the horizon at %s (altitude %.2f deg, UTC %04d-%02d-%02d "
                     "%02d:%02d): no daylight to render",
-                    when, pos.altitude_deg, y, m, d, utc.hour, utc.minute);
+                    when, pos.altitude_deg, utc.year, utc.month, utc.day, utc.hour, utc.minute);
   memcpy(dir, pos.direction, 3 * sizeof *dir);
   return VR_OK;
 }

@@ -7,6 +7,7 @@
 #include "vr/sun.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stddef.h>
 
 #define PI 3.14159265358979323846
@@ -187,4 +188,37 @@ bool vr_sun_angles_of(const double dir[3], double *altitude_deg, double *azimuth
   if (altitude_deg) *altitude_deg = atan2(dir[2], horiz) / DEG;
   if (azimuth_deg) *azimuth_deg = horiz > 0.0 ? wrap360(atan2(dir[0], dir[1]) / DEG) : 0.0;
   return true;
+}
+
+static int month_days(int y, int m) {
+  static const int D[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+  return m == 2 && leap ? 29 : D[m - 1];
+}
+
+vr_status vr_sun_position_local(const vr_sun_site *site, int y, int m, int d, double minutes,
+                                double tz_h, vr_sun_position *out, vr_datetime *utc,
+                                vr_error *err) {
+  if (m < 1 || m > 12 || d < 1 || d > month_days(y, m) || !isfinite(minutes) || !isfinite(tz_h))
+    return vr_error_set(err, VR_E_ARG, "local time %04d-%02d-%02d %g min (zone %+g h) is not a date",
+                        y, m, d, minutes, tz_h);
+  minutes -= tz_h * 60.0;
+  while (minutes < 0) {
+    minutes += 1440;
+    if (--d < 1) {
+      if (--m < 1) m = 12, y--;
+      d = month_days(y, m);
+    }
+  }
+  while (minutes >= 1440) {
+    minutes -= 1440;
+    if (++d > month_days(y, m)) {
+      d = 1;
+      if (++m > 12) m = 1, y++;
+    }
+  }
+  vr_datetime t = {y, m, d, (int)(minutes / 60), (int)fmod(minutes, 60.0), 0.0};
+  t.second = (minutes - floor(minutes)) * 60.0;
+  if (utc) *utc = t;
+  return vr_sun_position_at(site, &t, out, err);
 }

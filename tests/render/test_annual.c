@@ -92,16 +92,16 @@ static vr_render_result *run_hour(const char *text, vr_matdb *db) {
   return r;
 }
 
-/* The sun of a .wea record (centre of its hour, local standard time),
- * within one UTC day. */
+/* The sun's altitude at the centre of a .wea record's hour (local
+ * standard time, the year 2021 as the renderer takes it). */
 static double altitude_of(const vr_weather *w, const vr_weather_record *r) {
-  double utc = 0.5 * (r->start_h + r->end_h) - w->timezone_h;
-  assert_true(utc > 0 && utc < 24);
-  vr_datetime t = {2021, r->month, r->day, (int)utc, (int)(fmod(utc, 1) * 60), 0};
   vr_sun_site site;
   vr_sun_site_default(&site, w->latitude_deg, w->longitude_deg);
   vr_sun_position p;
-  assert_int_equal(vr_sun_position_at(&site, &t, &p, NULL), VR_OK);
+  assert_int_equal(vr_sun_position_local(&site, 2021, r->month, r->day,
+                                         30.0 * (r->start_h + r->end_h), w->timezone_h, &p, NULL,
+                                         NULL),
+                   VR_OK);
   return p.altitude_deg;
 }
 

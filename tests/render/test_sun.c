@@ -81,6 +81,36 @@ static void spa_test_case(void **state) {
   assert_near(p.altitude_deg - q.altitude_deg, 39.888378 - 39.872046, 0.001);
 }
 
+static void local_time(void **state) {
+  (void)state;
+  /* SPA's test case given as its local time, 2003-10-17 12:30:30 at
+   * UTC-7 (Reda & Andreas 2008, Table A5.2: zenith 50.11162 deg), and the
+   * same instant written across a day, a month and a year boundary. */
+  vr_sun_site site;
+  vr_sun_site_default(&site, 39.742476, -105.1786);
+  site.pressure_hpa = 820.0, site.temperature_c = 11.0, site.delta_t_s = 67.0;
+  vr_sun_position p, q;
+  vr_datetime utc;
+  assert_int_equal(vr_sun_position_local(&site, 2003, 10, 17, 12 * 60 + 30.5, -7, &p, &utc, NULL),
+                   VR_OK);
+  assert_near(p.zenith_deg, 50.11162, 0.002);
+  assert_int_equal(utc.day, 17);
+  assert_int_equal(utc.hour, 19);
+  assert_int_equal(utc.minute, 30);
+  /* 2003-12-31 20:00 at UTC-7 is 2004-01-01 03:00 UTC; 2004-01-01 01:00
+   * at UTC+9 is 2003-12-31 16:00 UTC. */
+  assert_int_equal(vr_sun_position_local(&site, 2003, 12, 31, 20 * 60, -7, &p, &utc, NULL), VR_OK);
+  assert_true(utc.year == 2004 && utc.month == 1 && utc.day == 1 && utc.hour == 3);
+  vr_datetime t = {2004, 1, 1, 3, 0, 0.0};
+  assert_int_equal(vr_sun_position_at(&site, &t, &q, NULL), VR_OK);
+  assert_near(p.zenith_deg, q.zenith_deg, 1e-12);
+  assert_int_equal(vr_sun_position_local(&site, 2004, 1, 1, 60, 9, &p, &utc, NULL), VR_OK);
+  assert_true(utc.year == 2003 && utc.month == 12 && utc.day == 31 && utc.hour == 16);
+  /* 29 February exists in 2004, not in 2003. */
+  assert_int_equal(vr_sun_position_local(&site, 2004, 2, 29, 720, 0, &p, NULL, NULL), VR_OK);
+  assert_int_not_equal(vr_sun_position_local(&site, 2003, 2, 29, 720, 0, &p, NULL, NULL), VR_OK);
+}
+
 static void directions(void **state) {
   (void)state;
   double d[3];
@@ -130,6 +160,7 @@ int main(void) {
       cmocka_unit_test(julian_day),
       cmocka_unit_test(meeus_example_25a),
       cmocka_unit_test(spa_test_case),
+      cmocka_unit_test(local_time),
       cmocka_unit_test(directions),
       cmocka_unit_test(arguments),
   };

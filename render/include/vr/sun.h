@@ -69,6 +69,13 @@ double vr_sun_julian_day(const vr_datetime *utc);
 vr_status vr_sun_position_at(const vr_sun_site *site, const vr_datetime *utc,
                              vr_sun_position *out, vr_error *err);
 
+/* The same for a local civil time: `minutes` after midnight of y-m-d in
+ * a zone tz_h hours east of UTC (any value; the date rolls over as
+ * needed).  *utc (may be NULL) receives the UTC instant. */
+vr_status vr_sun_position_local(const vr_sun_site *site, int y, int m, int d, double minutes,
+                                double tz_h, vr_sun_position *out, vr_datetime *utc,
+                                vr_error *err);
+
 /* Unit vector of a direction given as altitude and azimuth (degrees, azimuth
  * from +y towards +x): (cos h sin A, cos h cos A, sin h). */
 void vr_sun_direction_of(double altitude_deg, double azimuth_deg, double dir[3]);
