@@ -9,19 +9,23 @@
 
 #define DAYLIT_ROOM_POINTS 23
 
+/* The room's shell alone: its materials and its nine rects. */
+#define DAYLIT_ROOM_SHELL                                                                          \
+  "material wall lambert reflectance=0.5\n"                                                        \
+  "material floor lambert reflectance=0.3\n"                                                       \
+  "rect center=2,2,0   normal=0,0,1  size=4,4 material=floor\n"                                    \
+  "rect center=2,2,3   normal=0,0,-1 size=4,4 material=wall\n"                                     \
+  "rect center=2,4,1.5 normal=0,-1,0 size=4,3 material=wall\n"                                     \
+  "rect center=0,2,1.5 normal=1,0,0  size=4,3 material=wall\n"                                     \
+  "rect center=4,2,1.5 normal=-1,0,0 size=4,3 material=wall\n"                                     \
+  "rect center=2,0,0.45 normal=0,1,0 size=4,0.9 material=wall\n"                                   \
+  "rect center=2,0,2.55 normal=0,1,0 size=4,0.9 material=wall\n"                                   \
+  "rect center=0.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"                                  \
+  "rect center=3.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"
+
 static const char DAYLIT_ROOM[] =
-    "material wall lambert reflectance=0.5\n"
-    "material floor lambert reflectance=0.3\n"
+    DAYLIT_ROOM_SHELL
     "material ground lambert reflectance=0.2\n"
-    "rect center=2,2,0   normal=0,0,1  size=4,4 material=floor\n"
-    "rect center=2,2,3   normal=0,0,-1 size=4,4 material=wall\n"
-    "rect center=2,4,1.5 normal=0,-1,0 size=4,3 material=wall\n"
-    "rect center=0,2,1.5 normal=1,0,0  size=4,3 material=wall\n"
-    "rect center=4,2,1.5 normal=-1,0,0 size=4,3 material=wall\n"
-    "rect center=2,0,0.45 normal=0,1,0 size=4,0.9 material=wall\n"
-    "rect center=2,0,2.55 normal=0,1,0 size=4,0.9 material=wall\n"
-    "rect center=0.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"
-    "rect center=3.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"
     "%s"
     "light sun altitude=35 azimuth=180 illuminance=80000lx spectrum=D65\n"
     "sky cie type=12 illuminance=15000lx spectrum=D65\n"

@@ -30,6 +30,7 @@
 
 #include "render_test_util.h"
 #include "vr_test.h"
+#include "daylit_room.h"
 #include "temp_db.h"
 #include "vr/annual.h"
 #include "vr/chromogenic.h"
@@ -144,21 +145,11 @@ static void unobstructed_point(void **state) {
   vr_annual_result_destroy(r);
 }
 
-/* The daylit room of tests/render/daylit_room.h with a sky line and an
- * extra line (the glass, the annual line). */
+/* The shell of the daylit room (tests/render/daylit_room.h) with a
+ * glass, a weather sky line and an extra line (the annual line). */
 static void room(char *buf, size_t n, const char *sky, const char *glass, const char *extra) {
   snprintf(buf, n,
-           "material wall lambert reflectance=0.5\n"
-           "material floor lambert reflectance=0.3\n"
-           "rect center=2,2,0   normal=0,0,1  size=4,4 material=floor\n"
-           "rect center=2,2,3   normal=0,0,-1 size=4,4 material=wall\n"
-           "rect center=2,4,1.5 normal=0,-1,0 size=4,3 material=wall\n"
-           "rect center=0,2,1.5 normal=1,0,0  size=4,3 material=wall\n"
-           "rect center=4,2,1.5 normal=-1,0,0 size=4,3 material=wall\n"
-           "rect center=2,0,0.45 normal=0,1,0 size=4,0.9 material=wall\n"
-           "rect center=2,0,2.55 normal=0,1,0 size=4,0.9 material=wall\n"
-           "rect center=0.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"
-           "rect center=3.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall\n"
+           DAYLIT_ROOM_SHELL
            "%s"
            "light sun spectrum=D65\n"
            "sky perez weather=" WEA "%s\n"
