@@ -104,6 +104,37 @@ static vr_status fill_points(annual_job *j, const vr_render_result *r, vr_error 
   return VR_OK;
 }
 
+/* One render per sun patch the year visits (the variant's sky taken
+ * out), each result handed to take with its patch. */
+typedef void (*sun_take)(void *ctx, int k, const vr_render_result *r);
+
+static vr_status each_sun(annual_job *j, variant *v, sun_take take, void *ctx, vr_error *err) {
+  memset(&v->s.sky, 0, sizeof v->s.sky);
+  for (int k = 0; k < VR_SKY_PATCHES; k++) {
+    if (!j->need[k]) continue;
+    sun_of(j, k, v);
+    vr_render_result *r = NULL;
+    vr_status st = render(j, v, &r, err);
+    if (st) return st;
+    take(ctx, k, r);
+    vr_render_result_destroy(r);
+  }
+  return VR_OK;
+}
+
+typedef struct dc_take_ctx {
+  dc_set *d;
+  size_t np;
+} dc_take_ctx;
+
+static void dc_take(void *ctx, int k, const vr_render_result *r) {
+  const dc_take_ctx *c = ctx;
+  for (size_t p = 0; p < c->np; p++) {
+    c->d->sun_total[p * VR_SKY_PATCHES + (size_t)k] = r->readings[p].illuminance_lx / SUN_LX;
+    c->d->sun_direct[p * VR_SKY_PATCHES + (size_t)k] = r->readings[p].part_lx[VR_PART_SUN] / SUN_LX;
+  }
+}
+
 vr_status annual_dc(annual_job *j, double state, dc_set *d, vr_error *err) {
   size_t np = j->npoints;
   memset(d, 0, sizeof *d);
@@ -122,17 +153,8 @@ vr_status annual_dc(annual_job *j, double state, dc_set *d, vr_error *err) {
     if (!j->res->names) st = fill_points(j, r, err);
     vr_render_result_destroy(r);
   }
-  memset(&v.s.sky, 0, sizeof v.s.sky);
-  for (int k = 0; k < VR_SKY_PATCHES && !st; k++) {
-    if (!j->need[k]) continue;
-    sun_of(j, k, &v);
-    if ((st = render(j, &v, &r, err))) break;
-    for (size_t p = 0; p < np; p++) {
-      d->sun_total[p * VR_SKY_PATCHES + (size_t)k] = r->readings[p].illuminance_lx / SUN_LX;
-      d->sun_direct[p * VR_SKY_PATCHES + (size_t)k] = r->readings[p].part_lx[VR_PART_SUN] / SUN_LX;
-    }
-    vr_render_result_destroy(r);
-  }
+  dc_take_ctx c = {d, np};
+  if (!st) st = each_sun(j, &v, dc_take, &c, err);
   free(v.mats);
   return st;
 }
@@ -146,6 +168,17 @@ static size_t glass_texels(const annual_job *j, const vr_render_result *r, size_
       n++;
     }
   return n;
+}
+
+typedef struct uv_take_ctx {
+  uv_set *u;
+  const size_t *idx;
+} uv_take_ctx;
+
+static void uv_take(void *ctx, int k, const vr_render_result *r) {
+  const uv_take_ctx *c = ctx;
+  for (size_t t = 0; t < c->u->ntexels; t++)
+    c->u->sun[t * VR_SKY_PATCHES + (size_t)k] = r->photochromic_uv[c->idx[t]] / SUN_LX;
 }
 
 vr_status annual_uv(annual_job *j, uv_set *u, vr_error *err) {
@@ -177,15 +210,8 @@ vr_status annual_uv(annual_job *j, uv_set *u, vr_error *err) {
       memcpy(u->normal + 3 * t, ob->normal, sizeof ob->normal);
   }
   vr_render_result_destroy(r);
-  memset(&v.s.sky, 0, sizeof v.s.sky);
-  for (int k = 0; k < VR_SKY_PATCHES && !st; k++) {
-    if (!j->need[k]) continue;
-    sun_of(j, k, &v);
-    if ((st = render(j, &v, &r, err))) break;
-    for (size_t t = 0; t < u->ntexels; t++)
-      u->sun[t * VR_SKY_PATCHES + (size_t)k] = r->photochromic_uv[idx[t]] / SUN_LX;
-    vr_render_result_destroy(r);
-  }
+  uv_take_ctx c = {u, idx};
+  st = each_sun(j, &v, uv_take, &c, err);
 done:
   free(idx);
   free(v.mats);
