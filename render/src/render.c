@@ -143,7 +143,7 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   *out = NULL;
   double t_start = vr_run_now();
   vr_render_result *res = calloc(1, sizeof *res);
-  if (res) res->eye_illuminance_lx = NAN; /* set by a fisheye camera pass */
+  if (res) res->eye_illuminance_lx = res->glare.dgp = NAN; /* set by a fisheye camera pass */
   if (!res) return vr_error_set(err, VR_E_NOMEM, "out of memory");
   run r = {.opt = opt, .res = res, .comm = opt->comm, .rank = vr_comm_rank(opt->comm),
            .nranks = vr_comm_size(opt->comm)};
@@ -319,14 +319,16 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   for (size_t i = 0; i < px * 3; i++) res->xyz[i] = vr_atomic_get(&acc.xyz[i]) / passes;
   for (size_t i = 0; i < px * rs->nbins; i++) res->spectral[i] = vr_atomic_get(&acc.bins[i]) / passes;
   if (s->camera.model == VR_CAM_FISHEYE) {
-    /* The vertical illuminance at the lens from the image's luminance. */
+    /* The vertical illuminance at the lens and the glare probability from
+     * the image's luminance. */
     double *Y = malloc(px * sizeof *Y);
     if (!Y) {
       st = vr_error_set(err, VR_E_NOMEM, "out of memory");
       goto done;
     }
     for (size_t i = 0; i < px; i++) Y[i] = res->xyz[3 * i + 1];
-    res->eye_illuminance_lx = vr_fisheye_vertical_illuminance(&s->camera, Y);
+    vr_fisheye_dgp(&s->camera, Y, 0.0, &res->glare);
+    res->eye_illuminance_lx = res->glare.vertical_lx;
     free(Y);
   }
 

@@ -323,10 +323,13 @@ static void summary(const vr_render_result *r, const char *prefix, const char *s
              s->df_pct, s->df_sc_pct, s->df_erc_pct, s->df_irc_pct);
     putchar('\n');
   }
-  if (!isnan(r->eye_illuminance_lx))
-    printf("glare    vertical illuminance at the lens %.6g lx, DGPs %.3f (Wienold 2009: "
-           "6.22e-5 E_v + 0.184, no contrast term)\n",
-           r->eye_illuminance_lx, vr_dgps(r->eye_illuminance_lx));
+  if (!isnan(r->eye_illuminance_lx)) {
+    const vr_dgp_result *g = &r->glare;
+    printf("glare    vertical illuminance at the lens %.6g lx, DGP %.3f (Wienold & Christoffersen "
+           "2006%s; glare sources: %.4g sr above %.4g cd/m2, mean %.4g cd/m2), DGPs %.3f\n",
+           r->eye_illuminance_lx, g->dgp, g->vertical_lx < 1000 ? ", low-light corrected" : "",
+           g->source_omega_sr, g->threshold_cd_m2, g->source_cd_m2, vr_dgps(r->eye_illuminance_lx));
+  }
   if (r->photochromic_texels)
     printf("photochromic  %zu texels, state %.4g to %.4g\n", r->photochromic_texels,
            r->photochromic_state_min, r->photochromic_state_max);

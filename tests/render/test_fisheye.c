@@ -11,7 +11,11 @@
  *   a fisheye image of an enclosure of emitting black walls must give it,
  *   whatever the projection;
  * - DGPs = 6.22e-5 E_v + 0.184 (Wienold, "Dynamic daylight glare
- *   evaluation", Building Simulation 2009). */
+ *   evaluation", Building Simulation 2009), and its low-light factor;
+ * - DGP = 5.87e-5 E_v + 9.18e-2 log10(1 + sum L^2 w / (E_v^1.87 P^2)) +
+ *   0.16 (Wienold & Christoffersen, Energy and Buildings 38, 2006), with
+ *   Guth's position index (IES Lighting Handbook) and Iwata's below the
+ *   line of sight, worked by hand in the comments. */
 #include "vr_test.h"
 
 #include "render_test_util.h"
@@ -70,10 +74,91 @@ static void uniform_surround(void **state) {
   assert_near(vr_dgps(1000), 0.2462, 1e-12); /* 6.22e-5 x 1000 + 0.184 */
 }
 
+static void position_index(void **state) {
+  (void)state;
+  /* On the line of sight P = 1.  30 deg straight above it (tau = 0):
+   * ln P = (35.2 - 1.22) 1e-3 * 30 + 21e-5 * 900 = 1.20840, P = 3.34812
+   * (Guth's formula, IES Lighting Handbook).  20 deg straight below it
+   * (Iwata): R = tan 20 deg = 0.36397, P = 1 + 0.8 R = 1.29118; 40 deg
+   * below: R = 0.83910 > 0.6, P = 1 + 1.2 R = 2.00692.  89 deg to the
+   * side (tau = 90): ln P = (35.2 - 28.7001) 1e-3 * 89 + (21 + 24.0003 -
+   * 24.0003) 1e-5 * 7921 = 2.24194, P = 9.4112.  Behind the eye: 16. */
+  double ahead[3] = {0, 0, 1};
+  assert_near(vr_guth_position_index(ahead), 1.0, 1e-12);
+  double up30[3] = {0, sin(30 * M_PI / 180), cos(30 * M_PI / 180)};
+  assert_near(vr_guth_position_index(up30), 3.34812, 1e-4);
+  double down20[3] = {0, -sin(20 * M_PI / 180), cos(20 * M_PI / 180)};
+  assert_near(vr_guth_position_index(down20), 1.29118, 1e-4);
+  double down40[3] = {0, -sin(40 * M_PI / 180), cos(40 * M_PI / 180)};
+  assert_near(vr_guth_position_index(down40), 2.00692, 1e-4);
+  double side89[3] = {sin(89 * M_PI / 180), 0, cos(89 * M_PI / 180)};
+  assert_near(vr_guth_position_index(side89), 9.4112, 1e-3);
+  double behind[3] = {0, 0, -1};
+  assert_near(vr_guth_position_index(behind), 16.0, 0);
+}
+
+/* A 512 x 512 equisolid 180-degree image: a background of luminance Lb and
+ * a disc of luminance Ls and angular radius rs (deg) on the line of sight. */
+static double *disc_image(const vr_scene_camera *c, double Lb, double Ls, double rs) {
+  double *L = malloc((size_t)c->width * (size_t)c->height * sizeof *L);
+  assert_non_null(L);
+  for (int y = 0; y < c->height; y++)
+    for (int x = 0; x < c->width; x++) {
+      double d[3];
+      bool in = vr_fisheye_direction(c, x + 0.5, y + 0.5, d);
+      L[(size_t)y * (size_t)c->width + (size_t)x] =
+          !in ? 0 : acos(d[2]) < rs * M_PI / 180 ? Ls : Lb;
+    }
+  return L;
+}
+
+static void glare_probability(void **state) {
+  (void)state;
+  vr_scene_camera c = {.model = VR_CAM_FISHEYE, .fov_deg = 180, .width = 512, .height = 512,
+                       .projection = VR_FISHEYE_EQUISOLID};
+  vr_dgp_result g;
+  /* A uniform field: E_v = pi L and no glare source, so DGP = 5.87e-5 pi L
+   * + 0.16 (Wienold & Christoffersen 2006); at L = 2000 cd/m2, 0.52883. */
+  double *L = disc_image(&c, 2000, 2000, 0);
+  vr_fisheye_dgp(&c, L, 0, &g);
+  assert_near(g.vertical_lx, M_PI * 2000, 0.002 * M_PI * 2000);
+  assert_near(g.source_omega_sr, 0.0, 0);
+  assert_near(g.dgp, 0.52883, 0.0005);
+  free(L);
+  /* Dim: L = 100 cd/m2, E_v = 314.16 lx, DGP 0.17844 before Wienold's
+   * (2009) low-light factor exp(0.024 E_v - 4) / (1 + exp(...)) = 0.97180:
+   * 0.17341. */
+  L = disc_image(&c, 100, 100, 0);
+  vr_fisheye_dgp(&c, L, 0, &g);
+  assert_near(g.dgp, 0.17341, 0.0005);
+  free(L);
+  /* A bright disc of 5 deg radius, 30 000 cd/m2, ahead, on 500 cd/m2: its
+   * solid angle 2 pi (1 - cos 5 deg) = 0.023909 sr, E_v = pi 500 + 29500
+   * pi sin^2 5 deg = 2274.8 lx; with P = 1 the contrast term would be
+   * 30000^2 0.023909 / 2274.8^1.87 = 11.359 and DGP = 5.87e-5 E_v + 0.0918
+   * log10(1 + 11.359) + 0.16 = 0.39377.  The position index of the disc's
+   * pixels is 1 at its centre and at most exp(0.175) = 1.19 at its upper
+   * edge (Guth at 5 deg), so the term lies in [11.359 / 1.42, 11.359]. */
+  L = disc_image(&c, 500, 30000, 5);
+  vr_fisheye_dgp(&c, L, 0, &g);
+  printf("disc: E_v %.1f lx, source %.5f sr at %.0f cd/m2 (threshold %.0f), contrast %.3f, DGP "
+         "%.4f\n",
+         g.vertical_lx, g.source_omega_sr, g.source_cd_m2, g.threshold_cd_m2, g.contrast, g.dgp);
+  assert_near(g.vertical_lx, 2274.8, 0.005 * 2274.8);
+  assert_near(g.source_omega_sr, 0.023909, 0.02 * 0.023909);
+  assert_near(g.source_cd_m2, 30000, 1e-9 * 30000);
+  assert_true(g.contrast <= 11.359 * 1.02 && g.contrast >= 11.359 / 1.42);
+  assert_near(g.dgp, 5.87e-5 * g.vertical_lx + 0.0918 * log10(1 + g.contrast) + 0.16, 1e-12);
+  assert_true(g.dgp <= 0.39377 + 0.002 && g.dgp >= 0.39377 - 0.0918 * log10(1.42) - 0.002);
+  free(L);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(projections),
       cmocka_unit_test(uniform_surround),
+      cmocka_unit_test(position_index),
+      cmocka_unit_test(glare_probability),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -17,6 +17,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "vr/error.h"
+#include "vr/fisheye.h"
 #include "vr/scene.h"
 
 #ifdef __cplusplus
@@ -139,6 +140,9 @@ typedef struct vr_render_result {
    * view (vr_fisheye_vertical_illuminance of the image's luminance); NaN
    * for other cameras or without a camera pass. */
   double eye_illuminance_lx;
+  /* The same camera: the daylight glare probability and its glare sources
+   * (vr_fisheye_dgp, evalglare's default threshold); NaN likewise. */
+  vr_dgp_result glare;
   size_t npasses;
   vr_pass_record passes[VR_MAX_PASSES];
   uint64_t rays_camera, rays_shadow, rays_photon, rays_other, crossings;
