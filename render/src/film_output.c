@@ -22,6 +22,7 @@
 
 #include "vr/atomic_file.h"
 #include "vr/csv.h"
+#include "vr/falsecolour.h"
 #include "vr/colour.h"
 #include "vr/image.h"
 #include "vr/json.h"
@@ -155,7 +156,7 @@ vr_status vr_sensors_write_csv(const vr_render_result *r, const char *path, vr_e
 
 /* ---- staging ---- */
 
-#define MAX_OUTPUTS 4
+#define MAX_OUTPUTS 5
 
 typedef struct staged {
   char *target, *stage;
@@ -263,18 +264,40 @@ static vr_status make_spectral(const vr_render_result *r, vr_spectral_image *sp,
   return VR_OK;
 }
 
+/* The luminance map on the options' scale, the film's Y. */
+static vr_status make_falsecolour(const vr_render_result *r, const vr_film_options *o,
+                                  vr_image *fc, vr_error *err) {
+  size_t npix = (size_t)r->width * (size_t)r->height;
+  double *Y = malloc((npix + 1) * sizeof *Y);
+  if (!Y) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t p = 0; p < npix; p++) Y[p] = r->xyz[3 * p + 1];
+  vr_status st = vr_falsecolour_image(Y, r->width, r->height, o->falsecolour_lo_cd_m2,
+                                      o->falsecolour_hi_cd_m2, fc, err);
+  free(Y);
+  return st;
+}
+
 vr_status vr_film_write(const vr_render_result *r, const char *prefix, const char *tonemap,
                         vr_error *err) {
+  vr_film_options o = {.tonemap = tonemap};
+  return vr_film_write_with(r, prefix, &o, err);
+}
+
+vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
+                             const vr_film_options *o, vr_error *err) {
   vr_tonemap tm = VR_TONEMAP_CLIP;
-  vr_status st = vr_tonemap_parse(tonemap, &tm, err);
+  vr_status st = vr_tonemap_parse(o->tonemap, &tm, err);
   if (st) return st;
+  bool falsecolour = o->falsecolour_lo_cd_m2 != 0 || o->falsecolour_hi_cd_m2 != 0;
   if (!prefix || !*prefix) return vr_error_set(err, VR_E_ARG, "film: no output prefix");
   if ((st = check_result(r, err)) || (st = check_sensors(r, err))) return st;
   bool image = r->width > 0 && r->height > 0;
   bool spectral = image && r->nbins > 0 && r->spectral;
   if (image && (st = check_film(r, err))) return st;
+  if (falsecolour && !image)
+    return vr_error_set(err, VR_E_ARG, "false colour: the render has no image (no camera pass)");
 
-  vr_image rgb = {0}, png = {0};
+  vr_image rgb = {0}, png = {0}, fc = {0};
   vr_spectral_image sp = {0};
   stage_set set = {.n = 0};
   staged *g;
@@ -289,6 +312,11 @@ vr_status vr_film_write(const vr_render_result *r, const char *prefix, const cha
     }
     if ((st = stage_add(&set, prefix, ".png", &g, err))) goto out;
     if ((st = vr_image_write_png(g->stage, &png, 8, err))) goto fail;
+    if (falsecolour) {
+      if ((st = make_falsecolour(r, o, &fc, err))) goto out;
+      if ((st = stage_add(&set, prefix, ".falsecolour.png", &g, err))) goto out;
+      if ((st = vr_image_write_png(g->stage, &fc, 8, err))) goto fail;
+    }
   }
   if (r->nreadings) {
     if ((st = stage_add(&set, prefix, ".sensors.csv", &g, err))) goto out;
@@ -302,6 +330,7 @@ out:
   if (st) stage_abort(&set);
   vr_image_free(&rgb);
   vr_image_free(&png);
+  vr_image_free(&fc);
   vr_spectral_image_free(&sp);
   return st;
 }

@@ -40,6 +40,7 @@ static const vr_option OPTIONS[] = {
     {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
     {"stats", 0, "FILE.json", "write statistics (passes, rays, photons, sensors, memory, time) as JSON"},
     {"tonemap", 0, "NAME", "PNG tone mapping: clip (default) or reinhard"},
+    {"falsecolour", 0, "LO,HI", "also write PREFIX.falsecolour.png: the luminance map on a log scale from LO to HI cd/m2, with a labelled legend (needs a camera)"},
     {"sensors-only", 0, NULL, "evaluate the sensors only: no camera pass, no images"},
     {"quiet", 'q', NULL, "print errors only: no decisions, progress bar or summary"},
 };
@@ -49,6 +50,7 @@ static const char USAGE[] =
     "SCENE.scn [-o PREFIX] [--db FILE] [--subdomains S] [--memory-budget SIZE] [--cache DIR]\n"
     "                 [--threads P] [--image-space] [--send-batch N]\n"
     "                 [--spp N] [--photons N] [--stats FILE.json] [--tonemap clip|reinhard]\n"
+    "                 [--falsecolour LO,HI]\n"
     "                 [--sensors-only] [--quiet]";
 static const char ABOUT[] =
     "Renders a scene file (docs/scene-format.md) with the materials of the material database.\n"
@@ -295,7 +297,7 @@ static void human(char out[32], size_t bytes) {
 }
 
 static void summary(const vr_render_result *r, const char *prefix, const char *stats,
-                    double film_seconds) {
+                    bool falsecolour, double film_seconds) {
   if (r->width > 0 && r->height > 0) {
     printf("image    %d x %d", r->width, r->height);
     if (r->nbins && r->bin_nm)
@@ -338,6 +340,7 @@ static void summary(const vr_render_result *r, const char *prefix, const char *s
     printf(" %s.exr", prefix);
     if (r->nbins && r->spectral) printf(" %s.spectral.exr", prefix);
     printf(" %s.png", prefix);
+    if (falsecolour) printf(" %s.falsecolour.png", prefix);
   }
   if (r->nreadings) printf(" %s.sensors.csv", prefix);
   if (stats) printf(" %s", stats);
@@ -411,6 +414,16 @@ static int run(const vr_args *a, vr_comm *comm) {
   vr_tonemap tm = VR_TONEMAP_CLIP;
   if (vr_tonemap_parse(tonemap, &tm, NULL))
     return usage_error("--tonemap '%s': expected clip or reinhard", tonemap);
+  vr_film_options fo = {.tonemap = tonemap};
+  const char *fc = vr_args_get(a, "falsecolour");
+  if (fc) {
+    char *end = NULL;
+    fo.falsecolour_lo_cd_m2 = strtod(fc, &end);
+    if (*end == ',') fo.falsecolour_hi_cd_m2 = strtod(end + 1, &end);
+    if (*end || !(fo.falsecolour_lo_cd_m2 > 0) ||
+        !(fo.falsecolour_hi_cd_m2 > fo.falsecolour_lo_cd_m2) || !isfinite(fo.falsecolour_hi_cd_m2))
+      return usage_error("--falsecolour '%s': expected LO,HI in cd/m2 with 0 < LO < HI", fc);
+  }
   int rank = vr_comm_rank(comm);
   /* Only rank 0 speaks (and writes). */
   ui u = {.quiet = vr_args_flag(a, "quiet") || rank != 0};
@@ -455,6 +468,13 @@ static int run(const vr_args *a, vr_comm *comm) {
   opt.cache_dir = cache;
   /* No camera line: the scene exists for its sensors. */
   opt.no_camera = vr_args_flag(a, "sensors-only") || !scene->camera.given;
+  if (fc && (opt.no_camera || scene->sky.annual)) {
+    vr_error_set(&err, VR_E_ARG, "%s: --falsecolour maps a camera's image: %s", path,
+                 !scene->camera.given ? "the scene has no camera"
+                 : scene->sky.annual  ? "an annual study renders no image"
+                                      : "--sensors-only renders none");
+    goto ready;
+  }
   if (opt.no_camera && scene->nsensors == 0) {
     vr_error_set(&err, VR_E_ARG, "%s: --sensors-only, but the scene has no sensor line", path);
     goto ready;
@@ -474,9 +494,9 @@ ready:
   ui_end(&u);
   double t0 = now_s();
   if (rank == 0) {
-    if (vr_film_write(r, prefix, tonemap, &err)) goto out;
+    if (vr_film_write_with(r, prefix, &fo, &err)) goto out;
     if (stats && vr_stats_write_json(r, stats, &err)) goto out;
-    if (!u.quiet) summary(r, prefix, stats, now_s() - t0);
+    if (!u.quiet) summary(r, prefix, stats, fc != NULL, now_s() - t0);
   }
   rc = 0;
   goto out;

@@ -270,4 +270,18 @@ printf 'light sun\nsky perez weather=%s/tests/data/weather/chicago.wea\nsensor s
 check "an unknown glass exits 1" test $rc -eq 1
 check "an unknown glass is named with its line" grep -q "noglass.scn:4:.*glass=g: no material of that name" "$tmp/err"
 
+# A false-colour luminance map beside the images; a bad scale is a usage
+# error, a map without an image an error before any work.
+"$bin" "$tmp/point.scn" -o "$tmp/fc" --falsecolour 1,1000 > "$tmp/fc.out" 2> /dev/null; rc=$?
+check "--falsecolour exits 0" test $rc -eq 0
+check "--falsecolour writes the map" test -s "$tmp/fc.falsecolour.png"
+check "the summary lists the map" grep -q "fc.falsecolour.png" "$tmp/fc.out"
+"$bin" "$tmp/point.scn" -o "$tmp/fc2" --falsecolour 100,10 > /dev/null 2> "$tmp/err"; rc=$?
+check "--falsecolour 100,10 is a usage error (2)" test $rc -eq 2
+check "the bad scale is named" grep -q "0 < LO < HI" "$tmp/err"
+"$bin" "$tmp/point.scn" -o "$tmp/fc3" --falsecolour 1,1000 --sensors-only > /dev/null 2> "$tmp/err"; rc=$?
+check "--falsecolour with --sensors-only exits 1" test $rc -eq 1
+check "it says why" grep -q "sensors-only renders none" "$tmp/err"
+check "and writes nothing" test ! -e "$tmp/fc3.sensors.csv"
+
 finish

@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 
 #include "vr/colour.h"
+#include "vr/falsecolour.h"
 #include "vr/film.h"
 #include "vr/spectral_exr.h"
 
@@ -382,9 +383,77 @@ static void failed_output_removes_the_others(void **state) {
   assert_contains(err.message, "none/x.exr");
 }
 
+static void falsecolour_map(void **state) {
+  (void)state;
+  /* The scale is logarithmic: on 10..10000 cd/m2, 100 sits at 1/3 and
+   * 1000 at 2/3 (log10 steps of one decade in three). */
+  assert_near(vr_falsecolour_position(100, 10, 10000), 1.0 / 3, 1e-12);
+  assert_near(vr_falsecolour_position(1000, 10, 10000), 2.0 / 3, 1e-12);
+  assert_near(vr_falsecolour_position(1, 10, 10000), 0.0, 0);
+  assert_near(vr_falsecolour_position(1e9, 10, 10000), 1.0, 0);
+  /* The film: 4 x 2 pixels of 100 cd/m2, one black. */
+  owned_result o;
+  make_result(&o, 100);
+  for (int c = 0; c < 3; c++) o.xyz[c] = 0;
+  vr_film_options fo = {.falsecolour_lo_cd_m2 = 10, .falsecolour_hi_cd_m2 = 10000};
+  vr_error err = {0};
+  assert_int_equal(vr_film_write_with(&o.r, in_dir("fc"), &fo, &err), VR_OK);
+  vr_image img = {0};
+  assert_int_equal(vr_image_read(in_dir("fc.falsecolour.png"), &img, &err), VR_OK);
+  int LW = vr_falsecolour_legend_width(W);
+  assert_int_equal(img.width, W + LW);
+  assert_int_equal(img.height, 128);
+  float want[3];
+  vr_falsecolour_colour(1.0 / 3, want);
+  for (int p = 1; p < W * H; p++) {
+    int x = p % W, y = p / W;
+    for (int c = 0; c < 3; c++)
+      assert_near(img.data[3 * ((size_t)y * (size_t)img.width + (size_t)x) + c],
+                  want[c], 1.0 / 255 + 1e-6); /* one 8-bit step */
+  }
+  for (int c = 0; c < 3; c++) assert_near(img.data[c], 0.0, 0);
+  /* The legend's bar: the top colour of the scale at the top, the bottom
+   * one at the bottom; white label pixels beside it. */
+  float top[3], bottom[3];
+  vr_falsecolour_colour(1, top);
+  vr_falsecolour_colour(0, bottom);
+  int bx = W + 6, first = -1, last = -1;
+  for (int y = 0; y < img.height; y++) {
+    const float *px = img.data + 3 * ((size_t)y * (size_t)img.width + (size_t)bx);
+    if (px[0] + px[1] + px[2] > 0 && y > 12) { /* below the unit's label */
+      if (first < 0) first = y;
+      last = y;
+    }
+  }
+  for (int c = 0; c < 3; c++) {
+    assert_near(img.data[3 * ((size_t)first * (size_t)img.width + (size_t)bx) + c], top[c],
+                1.0 / 255 + 1e-6);
+    assert_near(img.data[3 * ((size_t)last * (size_t)img.width + (size_t)bx) + c], bottom[c],
+                1.0 / 255 + 1e-6);
+  }
+  int white = 0;
+  for (int y = 0; y < img.height; y++)
+    for (int x = W + LW / 5 + 4; x < img.width; x++)
+      white += img.data[3 * ((size_t)y * (size_t)img.width + (size_t)x)] == 1.0f;
+  assert_true(white > 50);
+  vr_image_free(&img);
+  /* A scale without 0 < lo < hi, or a map of a film without an image,
+   * writes nothing. */
+  fo.falsecolour_lo_cd_m2 = 100, fo.falsecolour_hi_cd_m2 = 10;
+  assert_int_equal(vr_film_write_with(&o.r, in_dir("fc2"), &fo, &err), VR_E_ARG);
+  assert_non_null(strstr(err.message, "0 < low < high"));
+  struct stat sb;
+  assert_int_not_equal(stat(in_dir("fc2.png"), &sb), 0);
+  o.r.width = o.r.height = 0;
+  fo.falsecolour_lo_cd_m2 = 10, fo.falsecolour_hi_cd_m2 = 100;
+  assert_int_equal(vr_film_write_with(&o.r, in_dir("fc3"), &fo, &err), VR_E_ARG);
+  assert_non_null(strstr(err.message, "no image"));
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(png_white_ev0_is_255),
+      cmocka_unit_test(falsecolour_map),
       cmocka_unit_test(png_ev_minus_one_is_half),
       cmocka_unit_test(reinhard_maps_100_cd_to_half),
       cmocka_unit_test(exr_holds_linear_srgb_in_cd_m2),

@@ -13,7 +13,9 @@
  *   out/room.png           8-bit sRGB for the eye: linear sRGB times
  *                          2^exposure_ev / 100 (100 cd/m² of the white maps to
  *                          1 at EV 0), tone mapped, sRGB encoded;
- *   out/room.sensors.csv   one row per sensor point, when there are readings.
+ *   out/room.sensors.csv   one row per sensor point, when there are readings;
+ *   out/room.falsecolour.png  with vr_film_write_with and a false-colour
+ *                          scale: the luminance map of vr/falsecolour.h.
  * The images are left out when the film is empty (width or height 0: a
  * sensors-only render), the spectral EXR when the film has no bins.
  *
@@ -56,6 +58,19 @@ void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonem
  * nothing is written.  Errors on files name the path. */
 vr_status vr_film_write(const vr_render_result *r, const char *prefix, const char *tonemap,
                         vr_error *err);
+
+/* What vr_film_write_with writes besides the defaults. */
+typedef struct vr_film_options {
+  const char *tonemap;         /* "clip" (NULL), "reinhard" */
+  double falsecolour_lo_cd_m2; /* both > 0: PREFIX.falsecolour.png on that log scale; */
+  double falsecolour_hi_cd_m2; /* 0: none */
+} vr_film_options;
+
+/* vr_film_write with options: the same files, all or nothing, and the
+ * false-colour map when asked for (VR_E_ARG for a scale without
+ * 0 < lo < hi, or for a map asked of a film without an image). */
+vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
+                             const vr_film_options *o, vr_error *err);
 
 /* The sensor table alone (what vr_film_write writes as PREFIX.sensors.csv),
  * atomically: header "sensor,i,j,x,y,z,illuminance_lx,stderr_lx,E_<nm>..."
