@@ -11,6 +11,7 @@
 
 #include "annual_internal.h"
 #include "vr/chromogenic.h"
+#include "vr/fisheye.h"
 #include "vr/matdb.h"
 #include "vr/perez.h"
 #include "vr/sky.h"
@@ -162,7 +163,8 @@ static vr_status glass_setup(const vr_scene *s, struct vr_matdb *db, vr_annual_r
       a->nstates = 4;
       for (int i = 0; i < 4; i++) a->states[i] = i / 3.0;
     }
-    if (isnan(a->max_lx)) a->max_lx = a->control == VR_CONTROL_SUN ? 1000 : 3000;
+    if (isnan(a->max))
+      a->max = a->control == VR_CONTROL_SUN ? 1000 : a->control == VR_CONTROL_GLARE ? 0.35 : 3000;
   }
   vr_material_destroy(m);
   return VR_OK;
@@ -337,13 +339,16 @@ static vr_status year(const hour *hours, const dc_set *dcs, const uv_set *uv,
       if (a->control != VR_CONTROL_FIXED) {
         /* The lightest state that keeps every control point within the
          * threshold; the darkest when none does. */
+        /* DGPs = 6.22e-5 E_v + 0.184 (Wienold 2009) at most max is E_v at
+         * most (max - 0.184) / 6.22e-5. */
+        double limit = a->control == VR_CONTROL_GLARE ? vr_dgps_limit_lx(a->max) : a->max;
         for (pick = 0; pick < ns - 1; pick++) {
           const double *v = (a->control == VR_CONTROL_SUN ? D : E) + (size_t)pick * np;
           bool ok = true;
           for (size_t p = 0; p < np && ok; p++) {
             if (control && (!res->points[p].sensor || strcmp(res->points[p].sensor, control)))
               continue;
-            ok = v[p] <= a->max_lx;
+            ok = v[p] <= limit;
           }
           if (ok) break;
         }
@@ -365,6 +370,7 @@ static vr_status year(const hour *hours, const dc_set *dcs, const uv_set *uv,
       pt->udi_useful += e >= a->udi_lo && e <= a->udi_hi;
       pt->udi_above += e > a->udi_hi;
       pt->direct_hours += dir[p] >= a->ase_lx;
+      pt->glare_hours += vr_dgps(e) >= 0.35;
     }
   }
   res->mean_state = res->glass && res->daylit_hours ? state_sum / (double)res->daylit_hours : NAN;

@@ -123,3 +123,5 @@ void vr_fisheye_dgp(const vr_scene_camera *c, const double *luminance, double th
 }
 
 double vr_dgps(double vertical_lx) { return 6.22e-5 * vertical_lx + 0.184; }
+
+double vr_dgps_limit_lx(double dgps) { return (dgps - 0.184) / 6.22e-5; }

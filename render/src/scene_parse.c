@@ -222,7 +222,7 @@ static void defaults(vr_scene *s) {
   vr_scene_annual *a = &s->annual;
   a->from_h = 8, a->to_h = 18, a->da_lx = 300, a->sda_share = 0.5;
   a->udi_lo = 100, a->udi_hi = 3000, a->ase_lx = 1000, a->ase_hours = 250;
-  a->glass = -1, a->control_sensor = -1, a->max_lx = NAN;
+  a->glass = -1, a->control_sensor = -1, a->max = NAN;
 }
 
 /* Splits a line into words in place; the rest of the line after '#' is a comment. */

@@ -68,7 +68,7 @@ vr_status scn_annual(scn_stmt *t) {
   static const char *const KEYS[] = {"hours", "da",      "sda",   "udi",            "ase",
                                      "glass", "states",  "control", "max",          "control_sensor",
                                      NULL};
-  static const char *const CONTROLS[] = {"fixed", "illuminance", "sun", NULL};
+  static const char *const CONTROLS[] = {"fixed", "illuminance", "sun", "glare", NULL};
   scn_parser *p = t->p;
   vr_scene_annual *a = &p->s->annual;
   if (a->given)
@@ -86,8 +86,12 @@ vr_status scn_annual(scn_stmt *t) {
       (st = pair(t, "udi", 0, INFINITY, true, &a->udi_lo, &a->udi_hi)) ||
       (st = ase(t, a)) || (st = states(t, a)) ||
       (st = scn_choice(t, "control", CONTROLS, &control)) ||
-      (st = scn_range(t, "max", 0, INFINITY, true, true, &a->max_lx)))
+      (st = scn_range(t, "max", 0, INFINITY, true, true, &a->max)))
     return st;
+  if (control == VR_CONTROL_GLARE && scn_get(t, "max") && !(a->max > 0.184 && a->max <= 1))
+    return scn_fail(p, scn_get(t, "max")->word,
+                    "\"%s\": a DGPs threshold lies in (0.184, 1] (0.184 is DGPs in the dark)",
+                    scn_get(t, "max")->word);
   a->sda_share = sda_pct / 100;
   if (control >= 0) a->control = (vr_annual_control)control;
   const scn_opt *g = scn_get(t, "glass"), *cs = scn_get(t, "control_sensor");

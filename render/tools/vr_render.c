@@ -258,12 +258,14 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
            res->records, res->occupied_hours, res->daylit_hours, res->sun_patches, res->renders,
            res->seconds);
     if (res->glass) {
-      static const char *const RULE[] = {"fixed", "illuminance", "sun", "its own UV exposure"};
+      static const char *const RULE[] = {"fixed", "illuminance", "sun", "glare (DGPs)",
+                                         "its own UV exposure"};
       printf("glass    %s, %s, control: %s", res->glass_name,
              res->glass == VR_ANNUAL_PHOTOCHROMIC ? "photochromic" : "electrochromic",
              RULE[a->control]);
-      if (a->control == VR_CONTROL_ILLUMINANCE || a->control == VR_CONTROL_SUN)
-        printf(" (max %g lx%s%s)", a->max_lx, a->control_sensor >= 0 ? " at " : "",
+      if (a->control == VR_CONTROL_ILLUMINANCE || a->control == VR_CONTROL_SUN ||
+          a->control == VR_CONTROL_GLARE)
+        printf(" (max %g%s%s%s)", a->max, a->control == VR_CONTROL_GLARE ? "" : " lx", a->control_sensor >= 0 ? " at " : "",
                a->control_sensor >= 0 ? scene->sensors[a->control_sensor].name : "");
       printf(", mean state %.3f; daylit hours by state:", res->mean_state);
       for (int k = 0; k < a->nstates; k++) printf(" %g: %.0f", a->states[k], res->state_hours[k]);
@@ -274,9 +276,10 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
     for (size_t p = 0; p < res->npoints; p++) {
       const vr_annual_point *pt = &res->points[p];
       printf("point    %s (%d, %d)  DA %.1f %%  UDI %.1f / %.1f / %.1f %%  direct sun %.0f h  "
-             "mean %.0f lx\n",
+             "DGPs>=0.35 %.0f h  mean %.0f lx\n",
              pt->sensor ? pt->sensor : "", pt->i, pt->j, 100 * pt->da, 100 * pt->udi_below,
-             100 * pt->udi_useful, 100 * pt->udi_above, pt->direct_hours, pt->mean_lx);
+             100 * pt->udi_useful, 100 * pt->udi_above, pt->direct_hours, pt->glare_hours,
+             pt->mean_lx);
     }
     printf("wrote    %s.annual.csv %s.annual-hourly.csv\n", prefix, prefix);
   }

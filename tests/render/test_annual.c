@@ -120,7 +120,7 @@ static void unobstructed_point(void **state) {
   assert_int_equal(vr_weather_read(WEA, &w, NULL), VR_OK);
   assert_int_equal(r->records, 8760);
   assert_int_equal(r->occupied_hours, 365 * 9);
-  size_t h = 0, checked = 0;
+  size_t h = 0, checked = 0, glare_ref = 0;
   double worst = 0;
   for (size_t i = 0; i < w->nrecords; i++) {
     const vr_weather_record *rec = &w->records[i];
@@ -134,6 +134,7 @@ static void unobstructed_point(void **state) {
     vr_perez_sky m;
     assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
     double ref = m.diffuse_horizontal_lx + m.direct_normal_lx * sin(alt * DEG);
+    glare_ref += 6.22e-5 * ref + 0.184 >= 0.35; /* DGPs, Wienold 2009 */
     double rel = fabs(E - ref) / ref;
     if (rel > worst) worst = rel;
     if (rel > 0.03) fail_msg("line %ld: %.1f lx, expected %.1f", rec->line, E, ref);
@@ -141,6 +142,10 @@ static void unobstructed_point(void **state) {
   }
   printf("unobstructed point: %zu hours, worst %.2f %%\n", checked, 100 * worst);
   assert_true(checked > 3000);
+  /* Hours of DGPs >= 0.35 (E >= 2668.8 lx) from the reference illuminance;
+   * a few hours close to the threshold may fall either side. */
+  printf("DGPs >= 0.35: %.0f hours, %zu from the reference\n", r->points[0].glare_hours, glare_ref);
+  assert_true(fabs(r->points[0].glare_hours - (double)glare_ref) <= 0.01 * (double)glare_ref);
   vr_weather_free(w);
   vr_annual_result_destroy(r);
 }
@@ -279,6 +284,36 @@ static void electrochromic_control(void **state) {
   temp_db_close(db, path);
 }
 
+static void electrochromic_glare_control(void **state) {
+  (void)state;
+  char path[256], text[4096];
+  vr_matdb *db = glass_db(path, sizeof path);
+  /* The north wall's points face the window at eye height: their
+   * illuminance is the vertical illuminance of a view.  DGPs = 6.22e-5 E_v
+   * + 0.184 (Wienold 2009) stays at or below 0.30 while E_v <= (0.30 -
+   * 0.184) / 6.22e-5 = 1864.95 lx. */
+  room(text, sizeof text, "", GLASS("ec"),
+       "annual hours=12,13 glass=glass control=glare max=0.30 states=0,1 control_sensor=wall\n");
+  vr_annual_result *ctl = run_annual(text, db);
+  room(text, sizeof text, "", GLASS("ec"), "annual hours=12,13 glass=glass\n");
+  vr_annual_result *clear = run_annual(text, db);
+  assert_int_equal(ctl->spec.control, VR_CONTROL_GLARE);
+  size_t np = ctl->npoints, tinted = 0, kept = 0;
+  for (size_t h = 0; h < ctl->occupied_hours; h++) {
+    const double *f = clear->hourly_lx + h * np;
+    double max_clear = 0;
+    for (size_t p = 9; p < np; p++) max_clear = fmax(max_clear, f[p]);
+    bool glare = max_clear > 1864.95;
+    assert_near(ctl->hourly_state[h], glare ? 1.0 : 0.0, 0);
+    tinted += glare, kept += !glare;
+  }
+  printf("glare control: %zu of %zu hours tinted\n", tinted, ctl->occupied_hours);
+  assert_true(tinted > 20 && kept > 20);
+  vr_annual_result_destroy(ctl);
+  vr_annual_result_destroy(clear);
+  temp_db_close(db, path);
+}
+
 static void photochromic_follows_uv(void **state) {
   (void)state;
   char path[256], text[4096];
@@ -336,12 +371,13 @@ static void annual_line_errors(void **state) {
       {"annual glass=nope\n", "no material of that name"},
       {"annual glass=g states=0,0.5,0.4 control=sun\n", "must increase"},
       {"annual glass=g states=0,1.5 control=sun\n", "outside [0, 1]"},
-      {"annual glass=g control=dim\n", "expected fixed, illuminance, sun"},
+      {"annual glass=g control=dim\n", "expected fixed, illuminance, sun, glare"},
       {"annual glass=g control_sensor=s\n", "fixed glass has no control sensor"},
       {"annual glass=g control=sun control_sensor=t\n", "no sensor of that name"},
       {"annual\nannual\n", "second 'annual' line"},
       {"annual sda=0\n", "sda"},
       {"annual ase=0,250\n", "above 0"},
+      {"annual glass=g control=glare max=0.1\n", "(0.184, 1]"},
   };
   for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
     snprintf(t, sizeof t, "%s%s", base, bad[i].line);
@@ -359,6 +395,7 @@ int main(void) {
       cmocka_unit_test(unobstructed_point),
       cmocka_unit_test(room_against_direct_renders),
       cmocka_unit_test(electrochromic_control),
+      cmocka_unit_test(electrochromic_glare_control),
       cmocka_unit_test(photochromic_follows_uv),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

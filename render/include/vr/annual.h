@@ -27,9 +27,11 @@
  * per tint state (states=).
  *   - Electrochromic: each hour takes one of those states: the scene's
  *     (control=fixed), or the lightest that keeps every control point at
- *     or below max lx (control=illuminance, default 3000 lx) or keeps the
- *     direct sun there at or below max lx (control=sun, default 1000 lx),
- *     the darkest when none does.
+ *     or below max lx (control=illuminance, default 3000 lx), keeps the
+ *     direct sun there at or below max lx (control=sun, default 1000 lx) or
+ *     keeps DGPs of their illuminance at or below max (control=glare,
+ *     default 0.35; control points facing a view at eye height), the
+ *     darkest when none does.
  *   - Photochromic: the pane's UV irradiance each hour, per texel of its
  *     state map and both faces, from UV daylight coefficients (the
  *     renderer's own UV pass under the same unit sky and sun patches,
@@ -50,7 +52,11 @@
  *            udi_lo and udi_hi (3000 lx) and above;
  *   ASE      share of points whose direct sunlight reaches ase_lx
  *            (1000 lx) in more than ase_hours (250) occupied hours, through
- *            the glass in the state it has that hour. */
+ *            the glass in the state it has that hour;
+ *   glare    occupied hours in which DGPs = 6.22e-5 E + 0.184 (Wienold
+ *            2009) of a point's illuminance reaches 0.35, the threshold of
+ *            perceptible glare: meaningful where the sensor faces a view
+ *            at eye height (E is then the vertical illuminance at the eye). */
 #ifndef VR_ANNUAL_H
 #define VR_ANNUAL_H
 
@@ -72,6 +78,8 @@ typedef struct vr_annual_point {
   double da;                 /* shares in [0, 1] */
   double udi_below, udi_useful, udi_above;
   double direct_hours;       /* occupied hours with direct sunlight >= ase_lx */
+  double glare_hours;        /* occupied hours with DGPs >= 0.35 (Wienold 2009's perceptible
+                                glare) of the point's illuminance: for points facing a view */
   double mean_lx;            /* over the occupied hours */
 } vr_annual_point;
 

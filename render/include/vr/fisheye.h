@@ -32,6 +32,8 @@ double vr_fisheye_vertical_illuminance(const vr_scene_camera *c, const double *l
  * has no contrast term: with the sun or a specular reflection of it in
  * view it reads too low. */
 double vr_dgps(double vertical_lx);
+/* The vertical illuminance at which DGPs reaches dgps: (dgps - 0.184) / 6.22e-5. */
+double vr_dgps_limit_lx(double dgps);
 
 /* The Guth position index (IES Lighting Handbook; Luckiesh & Guth 1949)
  * of a direction d in the camera's frame (d[0] right, d[1] up, d[2]

@@ -279,8 +279,10 @@ typedef struct vr_scene_settings {
 #define VR_ANNUAL_MAX_STATES 16
 typedef enum vr_annual_control {
   VR_CONTROL_FIXED = 0,   /* the glass keeps the scene's state all year */
-  VR_CONTROL_ILLUMINANCE, /* the lightest state keeping every control point <= max_lx */
-  VR_CONTROL_SUN,         /* the lightest state keeping direct sun at every control point <= max_lx */
+  VR_CONTROL_ILLUMINANCE, /* the lightest state keeping every control point <= max (lx) */
+  VR_CONTROL_SUN,         /* the lightest state keeping direct sun at every control point <= max (lx) */
+  VR_CONTROL_GLARE,       /* the lightest state keeping DGPs (Wienold 2009) of the vertical
+                             illuminance at every control point <= max */
   VR_CONTROL_UV           /* photochromic glass: the state its own UV exposure gives */
 } vr_annual_control;
 
@@ -294,7 +296,8 @@ typedef struct vr_scene_annual {
   int nstates;               /* tint states rendered (states=); 0 before the defaults */
   double states[VR_ANNUAL_MAX_STATES]; /* ascending, in [0, 1] */
   vr_annual_control control;
-  double max_lx;             /* the control's threshold; NAN: 3000 (illuminance), 1000 (sun) */
+  double max;                /* the control's threshold; NAN: 3000 lx (illuminance), 1000 lx
+                                (sun), DGPs 0.35 (glare) */
   int control_sensor;        /* sensor index, -1: every sensor */
   vr_scene_loc loc;
 } vr_scene_annual;
