@@ -47,6 +47,11 @@ echo "== colour of the ColorChecker under D65 and under A (vr-colour)"
 build/core/vr-colour samples/spectra/colorchecker_babelcolor.csv | tee out/colorchecker_D65.txt
 build/core/vr-colour --illuminant A --json samples/spectra/colorchecker_babelcolor.csv > out/colorchecker_A.json
 
+echo "== a year of Chicago daylight through the fitted electrochromic (glare control) and photochromic (its own UV) glass: DA, sDA, UDI, ASE (vr-render, annual study)"
+for g in ec pc; do
+  build/render/vr-render samples/annual/office_$g.scn -o out/office_$g --threads 2 > out/office_$g.txt
+  head -3 out/office_$g.txt
+done
 echo "== the measured Cornell box: photon-mapped illuminance on five patches (vr-matdb, vr-render)"
 for c in white red green; do
   build/matdb/vr-matdb import "samples/cornell/cornell_$c.csv" --name "cornell-$c" --kind reflectance
@@ -61,4 +66,4 @@ echo "== the same room's sensors on 2 MPI ranks that share its 8 sub-domains (mp
 mpi=(mpirun --oversubscribe -np 2)
 [ "$(id -u)" -eq 0 ] && mpi=(mpirun --oversubscribe --allow-run-as-root -np 2)
 "${mpi[@]}" build/render/vr-render samples/room.scn -o out/room_ranks --threads 1 --subdomains 8 --sensors-only --stats out/room_ranks_stats.json
-echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room), out/room_budget.sensors.csv and out/room_budget_stats.json (its sensors under a memory budget), out/room_ranks.sensors.csv and out/room_ranks_stats.json (on 2 MPI ranks)"
+echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room), out/room_budget.sensors.csv and out/room_budget_stats.json (its sensors under a memory budget), out/room_ranks.sensors.csv and out/room_ranks_stats.json (on 2 MPI ranks), out/office_ec.annual*.csv and out/office_pc.annual*.csv (a year of daylight through switchable glazing)"
