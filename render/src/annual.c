@@ -4,6 +4,7 @@
 #include "vr/annual.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,6 +36,18 @@ static double now_s(void) {
   struct timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
   return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+/* A line for the options' log, if any. */
+static void say(const vr_render_options *o, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void say(const vr_render_options *o, const char *fmt, ...) {
+  if (!o->log) return;
+  char line[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(line, sizeof line, fmt, ap);
+  va_end(ap);
+  o->log(o->user, line);
 }
 
 /* The hour's Perez sky as patch luminances (cd/m2) and the ground's. */
@@ -426,8 +439,17 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
   j.res = res;
   if ((st = read_hours(s, w, res, hours, &j, err))) goto done;
   for (int k = 0; k < VR_SKY_PATCHES; k++) res->sun_patches += j.need[k];
-  for (int k = 0; k < res->spec.nstates && !st; k++) st = annual_dc(&j, res->spec.states[k], &dcs[k], err);
-  if (!st && res->spec.control == VR_CONTROL_UV) st = annual_uv(&j, &uv, err);
+  for (int k = 0; k < res->spec.nstates && !st; k++) {
+    st = annual_dc(&j, res->spec.states[k], &dcs[k], err);
+    if (!st) say(o, "annual: %s: 1 sky and %zu sun renders (%zu in all, %.1f s)",
+                 res->glass ? "a tint state rendered" : "the coefficients rendered", res->sun_patches,
+                 res->renders, now_s() - t0);
+  }
+  if (!st && res->spec.control == VR_CONTROL_UV) {
+    st = annual_uv(&j, &uv, err);
+    if (!st) say(o, "annual: the glass's UV coefficients rendered (%zu renders in all, %.1f s)",
+                 res->renders, now_s() - t0);
+  }
   if (st) goto done;
   const char *control =
       res->spec.control_sensor >= 0 ? s->sensors[res->spec.control_sensor].name : NULL;

@@ -64,7 +64,9 @@ static void sun_of(const annual_job *j, int k, variant *v) {
 static vr_status render(annual_job *j, const variant *v, vr_render_result **res, vr_error *err) {
   vr_render_options ro = *j->o;
   ro.no_camera = true;
-  j->res->renders++;
+  /* The first render says what the passes decide; the others decide the
+   * same, and annual.c reports them a state at a time. */
+  if (j->res->renders++ > 0) ro.log = NULL, ro.progress = NULL;
   vr_status st = vr_render_scene(&v->s, j->db, &ro, res, err);
   if (!st && (*res)->nreadings != j->npoints) {
     st = vr_error_set(err, VR_E_NUMERIC, "annual: a render gave %zu readings, not %zu",

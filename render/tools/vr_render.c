@@ -213,7 +213,7 @@ static vr_status open_db(const char *path, const vr_scene *s, ui *u, vr_matdb **
  * domain that acted (a stderr decision line each). */
 static void log_perez(ui *u, const vr_scene *s) {
   const vr_scene_sky *k = &s->sky;
-  if (!k->present || k->cie_type != VR_SKY_PEREZ) return;
+  if (!k->present || k->cie_type != VR_SKY_PEREZ || k->annual) return;
   const vr_perez_sky *m = &k->perez;
   char line[8192], from[4200] = "";
   if (k->weather_path) snprintf(from, sizeof from, " (%s, line %ld)", k->weather_path, k->weather_line);
