@@ -3,6 +3,7 @@
 #include "vr_test.h"
 #include "vr/args.h"
 #include "vr/atomic_file.h"
+#include "vr/out_guard.h"
 #include "vr/error.h"
 #include "vr/progress.h"
 #include "vr/hash64.h"
@@ -180,10 +181,68 @@ static void xxh64_reference_vectors(void **state) {
   }
 }
 
+/* An output that is an input of the same run is refused whatever name
+ * reaches it (the same name, ./name, a hard link, a symbolic link); a new
+ * file beside it is allowed; an empty name, a folder and a missing folder
+ * are refused with the option named. */
+static void outputs_never_replace_inputs(void **state) {
+  (void)state;
+  char dir[] = "/tmp/vr_guard_XXXXXX";
+  assert_non_null(mkdtemp(dir));
+  char data[128], hard[128], sym[128], fresh[128], db[128], wal[128], dotted[160];
+  snprintf(data, sizeof data, "%s/data.csv", dir);
+  snprintf(hard, sizeof hard, "%s/hard.csv", dir);
+  snprintf(sym, sizeof sym, "%s/sym.csv", dir);
+  snprintf(fresh, sizeof fresh, "%s/report.txt", dir);
+  snprintf(db, sizeof db, "%s/m.db", dir);
+  snprintf(wal, sizeof wal, "%s/m.db-wal", dir);
+  snprintf(dotted, sizeof dotted, "%s/./data.csv", dir);
+  FILE *f = fopen(data, "w");
+  assert_non_null(f);
+  fputs("x\n", f);
+  fclose(f);
+  f = fopen(db, "w");
+  fclose(f);
+  f = fopen(wal, "w");
+  fclose(f);
+  assert_int_equal(link(data, hard), 0);
+  assert_int_equal(symlink(data, sym), 0);
+  vr_out_guard g;
+  vr_out_guard_init(&g);
+  vr_out_guard_input(&g, data, "the measurement");
+  vr_out_guard_database(&g, db);
+  vr_error err = {0};
+  const char *same[] = {data, dotted, hard, sym};
+  for (int i = 0; i < 4; i++) {
+    assert_int_equal(vr_out_guard_check(&g, same[i], "--report", &err), VR_E_ARG);
+    assert_non_null(strstr(err.message, "--report"));
+    assert_non_null(strstr(err.message, "the measurement"));
+  }
+  assert_int_equal(vr_out_guard_check(&g, db, "-o", &err), VR_E_ARG);
+  assert_non_null(strstr(err.message, "the material database"));
+  assert_int_equal(vr_out_guard_check(&g, wal, "-o", &err), VR_E_ARG);
+  assert_int_equal(vr_out_guard_check(&g, fresh, "--report", &err), VR_OK);
+  assert_int_equal(vr_out_guard_check(&g, "-", "-o", &err), VR_OK);
+  assert_int_equal(vr_out_guard_check(&g, "", "--db", &err), VR_E_ARG);
+  assert_non_null(strstr(err.message, "--db"));
+  assert_int_equal(vr_out_guard_check(&g, dir, "-o", &err), VR_E_ARG);
+  assert_non_null(strstr(err.message, "is a folder"));
+  char missing[160];
+  snprintf(missing, sizeof missing, "%s/no/such/out.csv", dir);
+  assert_int_equal(vr_out_guard_check(&g, missing, "-o", &err), VR_E_IO);
+  assert_non_null(strstr(err.message, "does not exist"));
+  assert_int_equal(vr_out_guard_distinct(fresh, "--csv", fresh, "--json", &err), VR_E_ARG);
+  assert_int_equal(vr_out_guard_distinct(data, "--csv", hard, "--json", &err), VR_E_ARG);
+  assert_int_equal(vr_out_guard_distinct(data, "--csv", fresh, "--json", &err), VR_OK);
+  unlink(data), unlink(hard), unlink(sym), unlink(db), unlink(wal);
+  rmdir(dir);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(error_messages),
       cmocka_unit_test(atomic_files_appear_whole_or_not_at_all),
+      cmocka_unit_test(outputs_never_replace_inputs),
       cmocka_unit_test(progress_line),
       cmocka_unit_test(arguments),
       cmocka_unit_test(sha256_fips_vectors),

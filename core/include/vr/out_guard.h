@@ -1,0 +1,55 @@
+/* Output paths checked before any work: an output never replaces a file the
+ * same run reads (its measurement, photo, scene or material database), and
+ * an output whose folder is missing or not writable is refused at once, not
+ * after an hour of rendering.
+ *
+ * Inputs are compared by device and inode (stat, following symbolic links),
+ * so "./data.csv", a hard link to it and a symbolic link to it are all the
+ * same file.  An output that does not exist yet cannot be an input. */
+#ifndef VR_OUT_GUARD_H
+#define VR_OUT_GUARD_H
+
+#include "vr/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VR_OUT_GUARD_MAX 64
+
+typedef struct vr_out_guard {
+  int n;
+  struct {
+    unsigned long long dev, ino;
+    char role[48];     /* "the measurement", "the material database", ... */
+    char path[512];
+  } in[VR_OUT_GUARD_MAX];
+} vr_out_guard;
+
+void vr_out_guard_init(vr_out_guard *g);
+
+/* Records an input (role: what it is, for the message).  A path that does
+ * not exist is skipped (a database that will be created).  Beyond
+ * VR_OUT_GUARD_MAX inputs the rest are not recorded. */
+void vr_out_guard_input(vr_out_guard *g, const char *path, const char *role);
+
+/* Records the material database: the file itself and its SQLite companions
+ * (PATH-wal, PATH-shm, PATH-journal) when they exist. */
+void vr_out_guard_database(vr_out_guard *g, const char *db_path);
+
+/* VR_E_ARG when `path` (given by `option`, e.g. "--report") is empty, is a
+ * recorded input, or is an existing folder; VR_E_IO when its folder does
+ * not exist or cannot be written.  The message names the option, the path
+ * and, for an input, what it is. */
+vr_status vr_out_guard_check(const vr_out_guard *g, const char *path, const char *option,
+                             vr_error *err);
+
+/* Two outputs of one run must differ too (--csv and --json given the same
+ * file): VR_E_ARG naming both options when they are the same file or name. */
+vr_status vr_out_guard_distinct(const char *a, const char *option_a, const char *b,
+                                const char *option_b, vr_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
