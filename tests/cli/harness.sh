@@ -13,3 +13,30 @@ finish() {
   echo "$pass passed, $fails failed"
   test $fails -eq 0
 }
+
+# "refuse ID command..." runs a command that must be refused as the row ID
+# of docs/bad-input.md says: the exit status of the row's "exit" column and
+# a message containing the row's "message" text (backticks stripped).  The
+# table in the docs is thus the expected behaviour, kept true here; a row
+# whose ID no test uses is caught by tests/cli/test_bad_input_table.sh.
+# The command's standard error is left in $tmp/refused.err.
+refuse() {
+  local id=$1; shift
+  local doc="$VR_SOURCE_DIR/docs/bad-input.md"
+  local row
+  row=$(awk -F'|' -v id="$id" '{ g=$2; gsub(/[ `]/, "", g); if (g == id) { print; exit } }' "$doc")
+  if [ -z "$row" ]; then
+    echo "not ok - $id: no row '$id' in docs/bad-input.md"; fails=$((fails+1)); return
+  fi
+  local want_rc want_msg
+  want_rc=$(printf '%s' "$row" | awk -F'|' '{ gsub(/[ `]/, "", $5); print $5 }')
+  want_msg=$(printf '%s' "$row" | awk -F'|' '{ m=$6; gsub(/`/, "", m); sub(/^ +/, "", m); sub(/ +$/, "", m); print m }')
+  "$@" > "$tmp/refused.out" 2> "$tmp/refused.err"
+  local rc=$?
+  if [ "$rc" = "$want_rc" ] && grep -qF -- "$want_msg" "$tmp/refused.err"; then
+    echo "ok - $id (exit $rc)"; pass=$((pass+1))
+  else
+    echo "not ok - $id: exit $rc (want $want_rc), message: $(head -c 400 "$tmp/refused.err") (want: $want_msg)"
+    fails=$((fails+1))
+  fi
+}
