@@ -14,6 +14,12 @@ void vr_args_print_version(FILE *f, const char *tool) {
   fprintf(f, "%s (Virtuelium-C) %s\n", tool, VR_VERSION_STRING);
 }
 
+static bool declares(const vr_option *opts, size_t nopts, const char *name) {
+  for (size_t i = 0; i < nopts; i++)
+    if (!strcmp(opts[i].name, name)) return true;
+  return false;
+}
+
 void vr_args_print_help(FILE *f, const char *tool, const char *usage, const char *about,
                         const vr_option *opts, size_t nopts) {
   fprintf(f, "Usage: %s %s\n", tool, usage);
@@ -30,7 +36,9 @@ void vr_args_print_help(FILE *f, const char *tool, const char *usage, const char
     fprintf(f, "  %-30s %s\n", left, opts[i].help);
   }
   fprintf(f, "  %-30s %s\n", "-h, --help", "show this help and exit");
-  fprintf(f, "  %-30s %s\n", "    --version", "show the version and exit");
+  fprintf(f, "  %-30s %s\n", "    --version",
+          declares(opts, nopts, "version") ? "alone: show the program version and exit"
+                                           : "show the version and exit");
 }
 
 static vr_args_outcome usage_error(vr_args *a, const char *fmt, const char *what) {
@@ -70,7 +78,9 @@ vr_args_outcome vr_args_parse(vr_args *a, const char *tool, const char *usage, c
       vr_args_free(a);
       return VR_ARGS_EXIT_OK;
     }
-    if (!strcmp(s, "--version")) {
+    /* A tool with its own --version option (vr-matdb: a material's version)
+     * gets it; --version alone still prints the program's version. */
+    if (!strcmp(s, "--version") && !(argc > 2 && declares(opts, nopts, "version"))) {
       vr_args_print_version(stdout, tool);
       vr_args_free(a);
       return VR_ARGS_EXIT_OK;

@@ -63,7 +63,14 @@ vr_status vr_chromo_state_of_charge(const vr_material *m, double q, double *s, v
     return vr_error_set(err, VR_E_NOT_FOUND,
                         "material %s has no charge scale (electrochromic parameter Q_full)", m->name);
   if (!isfinite(q)) return vr_error_set(err, VR_E_ARG, "charge density must be finite");
-  *s = fmin(fmax(q / qf->value, 0.0), 1.0);
+  /* The model is fitted between the bleached state (no charge) and Q_full;
+   * a charge outside that range is not extrapolated, nor clamped. */
+  if (q < 0.0 || q > qf->value * (1.0 + 1e-9))
+    return vr_error_set(err, VR_E_RANGE,
+                        "charge %g mC/cm2: outside the calibrated range of %s, 0 to %g mC/cm2 "
+                        "(the charges its states were fitted on); the model is not extrapolated",
+                        q, m->name, qf->value);
+  *s = fmin(q / qf->value, 1.0);
   return VR_OK;
 }
 

@@ -1,8 +1,10 @@
 /* LBNL Optics / IGDB ".DAT" glazing files (the format of the International
  * Glazing Database and LBNL Optics exports).  A header of brace lines, then
  * rows of wavelength (micrometres unless the units line says otherwise), T,
- * front R, back R at normal incidence. */
+ * front R, back R at normal incidence.  Text in Windows-1252 (as IGDB
+ * writes it) is converted to UTF-8. */
 #include "import.h"
+#include "utf8.h"
 #include "vr/csv.h"
 
 #include <ctype.h>
@@ -118,20 +120,29 @@ static vr_status header_line(vr_material *m, const char *file, long line, char *
 
 vr_status vr_igdb_parse(const char *text, size_t len, const char *file, vr_material *m,
                         vr_error *err) {
-  char *buf = malloc(len + 1);
+  if (memchr(text, '\0', len))
+    return vr_error_at(err, VR_E_PARSE, file, 0, 0, "binary data (NUL byte) in a text file");
+  /* IGDB and LBNL Optics write Windows-1252 ("Glass(R)" as 0xAE, accents
+   * as 0xE9 ...): text that is not UTF-8 is taken as that code page, so
+   * product names reach the database, and JSON, as valid UTF-8.  A UTF-8
+   * file (with or without a byte-order mark) is kept as it is. */
+  if (len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3)) text += 3, len -= 3;
+  char *buf;
+  if (vr_utf8_valid(text, len, NULL)) {
+    if ((buf = malloc(len + 1))) {
+      memcpy(buf, text, len);
+      buf[len] = '\0';
+    }
+  } else {
+    buf = vr_cp1252_to_utf8(text, len, NULL);
+  }
   if (!buf) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  memcpy(buf, text, len);
-  buf[len] = '\0';
   vr_status st = VR_OK;
   double scale = 1000.0; /* micrometres unless the file says otherwise */
   int have_thickness = 0;
   size_t n = 0, cap = 0;
   double *rows = NULL; /* n x 4 */
-  long line = 0;
-  if (memchr(text, '\0', len)) {
-    st = vr_error_at(err, VR_E_PARSE, file, 0, 0, "binary data (NUL byte) in a text file");
-    goto done;
-  }
+  long line = 0, first_row = 0;
   for (char *p = buf, *next; p && *p; p = next) {
     line++;
     next = strchr(p, '\n');
@@ -196,6 +207,7 @@ vr_status vr_igdb_parse(const char *text, size_t len, const char *file, vr_mater
       }
       rows = r;
     }
+    if (!n) first_row = line;
     rows[n * 4] = nm;
     for (int c = 1; c < 4; c++) rows[n * 4 + c] = v[c];
     n++;
@@ -206,6 +218,12 @@ vr_status vr_igdb_parse(const char *text, size_t len, const char *file, vr_mater
   }
   if (!have_thickness) {
     st = vr_error_at(err, VR_E_PARSE, file, 0, 0, "no '{ Thickness }' header line");
+    goto done;
+  }
+  if (n < 3) { /* one row would make a flat, grey pane */
+    st = vr_error_at(err, VR_E_PARSE, file, first_row, 0,
+                     "the spectrum has %zu row(s); a spectrum needs at least 3 wavelengths "
+                     "(one row cannot say how the pane varies with wavelength)", n);
     goto done;
   }
   {

@@ -6,6 +6,7 @@
  * keep every bit of a double.  SQLite stores NaN as NULL, which is how
  * "unknown" (a residual, an uncertainty, a text-only property) is kept. */
 #include "matdb_internal.h"
+#include "utf8.h"
 #include "vr/chromogenic.h"
 
 #include <errno.h>
@@ -15,6 +16,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #define APPLICATION_ID 0x5652444d /* "VRDM" */
 
@@ -129,73 +131,262 @@ static vr_status create_or_migrate(vr_matdb *db, vr_error *err) {
   return st;
 }
 
+/* The folder part of path ("." when it has none). */
+static void folder_of(const char *path, char *dir, size_t cap) {
+  const char *slash = strrchr(path, '/');
+  if (!slash) snprintf(dir, cap, ".");
+  else if (slash == path) snprintf(dir, cap, "/");
+  else snprintf(dir, cap, "%.*s", (int)(slash - path), path);
+}
+
+/* "file:" URI of a path for sqlite3_open_v2 with SQLITE_OPEN_URI, every
+ * byte outside [A-Za-z0-9/._~-] percent-encoded. */
+static char *uri_of(const char *path, const char *query) {
+  size_t n = strlen(path), cap = 8 + 3 * n + strlen(query) + 1;
+  char *u = malloc(cap);
+  if (!u) return NULL;
+  size_t j = (size_t)snprintf(u, cap, "file:");
+  for (size_t i = 0; i < n; i++) {
+    unsigned char c = (unsigned char)path[i];
+    if ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
+        strchr("/._~-", c))
+      u[j++] = (char)c;
+    else
+      j += (size_t)snprintf(u + j, cap - j, "%%%02X", c);
+  }
+  snprintf(u + j, cap - j, "?%s", query);
+  return u;
+}
+
+static void close_handle(vr_matdb *db) {
+  if (db->db) sqlite3_close_v2(db->db);
+  db->db = NULL;
+}
+
+/* Reads what the file says it is, without writing anything. */
+typedef struct identity { int version, app, tables; } identity;
+static int identify(vr_matdb *db, identity *id) {
+  int rc = pragma_int(db, "PRAGMA user_version", &id->version);
+  if (rc == SQLITE_OK) rc = pragma_int(db, "PRAGMA application_id", &id->app);
+  if (rc == SQLITE_OK) rc = pragma_int(db, "SELECT count(*) FROM sqlite_master", &id->tables);
+  return rc;
+}
+
+static int open_handle(vr_matdb *db, const char *name, int oflags) {
+  int rc = sqlite3_open_v2(name, &db->db, oflags | SQLITE_OPEN_NOMUTEX, NULL);
+  if (db->db) {
+    sqlite3_busy_timeout(db->db, 15000);
+    sqlite3_extended_result_codes(db->db, 1);
+  }
+  return rc;
+}
+
+/* Opens an existing file for reading only and reads its identity.  A WAL
+ * database in a folder this process cannot write has no -shm to share with
+ * writers and SQLite cannot create one; when no -wal file exists either (no
+ * writer has it open, every change is in the main file) the file is read as
+ * immutable. */
+static vr_status open_reader(vr_matdb *db, bool folder_writable, bool wal_mode, identity *id,
+                             int *sqlite_rc, vr_error *err) {
+  char wal[4200];
+  snprintf(wal, sizeof wal, "%s-wal", db->path);
+  struct stat ws;
+  bool has_wal = stat(wal, &ws) == 0;
+  if (wal_mode && !has_wal) {
+    /* Nobody has it open and all of it is in the main file: a first look
+     * as immutable creates no -shm or -wal beside a file that may turn out
+     * not to be ours.  Ours is then opened the normal way, so that a writer
+     * starting meanwhile is seen. */
+    char *uri = uri_of(db->path, "immutable=1");
+    if (!uri) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+    int rc = open_handle(db, uri, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI);
+    free(uri);
+    if (rc == SQLITE_OK) rc = identify(db, id);
+    if (rc == SQLITE_OK && id->app != APPLICATION_ID) return VR_OK;
+    close_handle(db);
+  }
+  int rc = open_handle(db, db->path, SQLITE_OPEN_READONLY);
+  if (rc == SQLITE_OK) rc = identify(db, id);
+  int base = rc & 0xff;
+  if ((base == SQLITE_READONLY || base == SQLITE_CANTOPEN) && !folder_writable) {
+    if (!has_wal) {
+      close_handle(db);
+      char *uri = uri_of(db->path, "immutable=1");
+      if (!uri) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+      rc = open_handle(db, uri, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI);
+      free(uri);
+      if (rc == SQLITE_OK) rc = identify(db, id);
+      base = rc & 0xff;
+    } else if (base != SQLITE_OK) {
+      return vr_error_set(err, VR_E_DB,
+                          "%s: cannot read the material database: it is in WAL mode with a "
+                          "-wal file, and its folder is not writable for the -shm file (%s)",
+                          db->path, db->db ? sqlite3_errmsg(db->db) : "out of memory");
+    }
+  }
+  *sqlite_rc = rc;
+  if (base == SQLITE_NOTADB || base == SQLITE_CORRUPT)
+    return refuse(db, err, "not a SQLite database (corrupted, or some other kind of file); left untouched");
+  if (rc != SQLITE_OK)
+    return vr_error_set(err, VR_E_DB, "%s: cannot read the file: %s", db->path,
+                        db->db ? sqlite3_errmsg(db->db) : "out of memory");
+  return VR_OK;
+}
+
+/* Opens for writing (creating the file when missing), switches to WAL and
+ * brings the schema up to date.  Only called once the file is known to be
+ * new, empty or a material database. */
+static vr_status open_writer(vr_matdb *db, vr_error *err) {
+  if (open_handle(db, db->path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE) != SQLITE_OK)
+    return vr_error_set(err, VR_E_DB, "%s: cannot open: %s", db->path,
+                        db->db ? sqlite3_errmsg(db->db) : "out of memory");
+  identity id = {0};
+  int rc = identify(db, &id);
+  if ((rc & 0xff) == SQLITE_NOTADB || (rc & 0xff) == SQLITE_CORRUPT)
+    return refuse(db, err, "not a SQLite database (corrupted, or some other kind of file); left untouched");
+  if (rc != SQLITE_OK) return sql_error(db, err, "cannot read the file");
+  if (id.app != APPLICATION_ID && (id.tables > 0 || id.app != 0))
+    return refuse(db, err, "a SQLite database, but not a Virtuelium-C material database; left untouched");
+  if (exec(db, "PRAGMA journal_mode = WAL") != SQLITE_OK)
+    return sql_error(db, err, "cannot switch to WAL mode");
+  exec(db, "PRAGMA synchronous = NORMAL");
+  if (id.version != VR_MATDB_SCHEMA_VERSION || id.app != APPLICATION_ID)
+    return create_or_migrate(db, err);
+  return VR_OK;
+}
+
+/* PRAGMA application_id as the SQLite header stores it: 4 bytes, big-endian,
+ * at offset 68. */
+static int app_id_of(const unsigned char head[100]) {
+  return (int)((unsigned)head[68] << 24 | (unsigned)head[69] << 16 | (unsigned)head[70] << 8 |
+               (unsigned)head[71]);
+}
+
 vr_status vr_matdb_open(const char *path, int flags, vr_matdb **out, vr_error *err) {
   *out = NULL;
   if (!path) path = vr_matdb_default_path();
+  if (!*path)
+    return vr_error_set(err, VR_E_ARG,
+                        "the material database path is empty: give --db a file name (without "
+                        "--db: $VR_MATDB, else ./materials.db)");
   vr_matdb *db = calloc(1, sizeof *db);
   if (!db || !(db->path = strdup(path))) {
     free(db);
     return vr_error_set(err, VR_E_NOMEM, "out of memory");
   }
-  db->readonly = flags & VR_MATDB_READONLY;
-  struct stat sb;
-  if (db->readonly && stat(path, &sb) != 0) {
-    vr_status s = vr_error_set(err, VR_E_IO, "%s: no material database here: %s", path, strerror(errno));
-    free(db->path);
-    free(db);
-    return s;
-  }
-  int oflags = db->readonly ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  bool want_ro = flags & VR_MATDB_READONLY;
+  char dir[4096];
+  folder_of(path, dir, sizeof dir);
+  bool folder_writable = access(dir, W_OK | X_OK) == 0;
   vr_status st = VR_OK;
-  if (sqlite3_open_v2(path, &db->db, oflags | SQLITE_OPEN_NOMUTEX, NULL) != SQLITE_OK) {
-    st = vr_error_set(err, VR_E_DB, "%s: cannot open: %s", path,
-                      db->db ? sqlite3_errmsg(db->db) : "out of memory");
-    goto fail;
-  }
-  sqlite3_busy_timeout(db->db, 15000);
-  sqlite3_extended_result_codes(db->db, 1);
-  int version = 0, app = 0;
-  int rc = pragma_int(db, "PRAGMA user_version", &version);
-  if (rc == SQLITE_OK) rc = pragma_int(db, "PRAGMA application_id", &app);
-  if ((rc & 0xff) == SQLITE_NOTADB || (rc & 0xff) == SQLITE_CORRUPT) {
-    st = refuse(db, err, "not a SQLite database (corrupted, or some other kind of file)");
-    goto fail;
-  }
-  if (rc != SQLITE_OK) {
-    st = sql_error(db, err, "cannot read the file");
-    goto fail;
-  }
-  if (!db->readonly) {
-    if (exec(db, "PRAGMA journal_mode = WAL") != SQLITE_OK) {
-      st = sql_error(db, err, "cannot switch to WAL mode");
-      goto fail;
+  struct stat sb;
+  if (stat(path, &sb) != 0) {
+    int e = errno;
+    if (e != ENOENT || want_ro) {
+      st = vr_error_set(err, VR_E_IO, "%s: no material database here: %s", path, strerror(e));
+    } else if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
+      st = vr_error_set(err, VR_E_IO, "%s: cannot create the material database: the folder %s does not exist",
+                        path, dir);
+    } else if (!folder_writable) {
+      st = vr_error_set(err, VR_E_IO, "%s: cannot create the material database: the folder %s is not writable",
+                        path, dir);
+    } else {
+      st = open_writer(db, err);
     }
-    exec(db, "PRAGMA synchronous = NORMAL");
-    if (version != VR_MATDB_SCHEMA_VERSION || app != APPLICATION_ID)
-      if ((st = create_or_migrate(db, err))) goto fail;
+    goto finish;
+  }
+  if (S_ISDIR(sb.st_mode)) {
+    st = vr_error_set(err, VR_E_IO, "%s: is a folder, not a material database", path);
+    goto finish;
+  }
+  if (want_ro) snprintf(db->ro_reason, sizeof db->ro_reason, "opened for reading only");
+  else if (access(path, W_OK) != 0) snprintf(db->ro_reason, sizeof db->ro_reason, "the file is not writable");
+  else if (!folder_writable)
+    snprintf(db->ro_reason, sizeof db->ro_reason, "its folder %.200s is not writable", dir);
+  if (sb.st_size == 0) { /* a new database, created by touch or mktemp */
+    if (db->ro_reason[0])
+      st = vr_error_set(err, VR_E_DB, "%s: an empty file, not a material database%s%s", path,
+                        want_ro ? "" : ", and it cannot be created here: ", want_ro ? "" : db->ro_reason);
+    else
+      st = open_writer(db, err);
+    goto finish;
+  }
+  /* Anything else must say it is SQLite in its first 16 bytes before SQLite
+   * is let near it. */
+  unsigned char head[100] = {0};
+  FILE *f = fopen(path, "rb");
+  if (!f) {
+    st = vr_error_set(err, VR_E_IO, "%s: cannot read: %s", path, strerror(errno));
+    goto finish;
+  }
+  size_t got = fread(head, 1, sizeof head, f);
+  fclose(f);
+  if (got < sizeof head || memcmp(head, "SQLite format 3", 16) != 0) {
+    st = refuse(db, err, "not a SQLite database (corrupted, or some other kind of file); left untouched");
+    goto finish;
+  }
+  identity id = {0};
+  int probe_rc = SQLITE_OK;
+  st = open_reader(db, folder_writable, head[18] == 2, &id, &probe_rc, err);
+  if (st && (probe_rc & 0xff) == SQLITE_READONLY && app_id_of(head) == APPLICATION_ID) {
+    /* A hot journal or a WAL left by an interrupted writer: only a writable
+     * handle may recover it (SQLite does so on the first read).  The header
+     * already says the file is ours. */
+    close_handle(db);
+    if (access(path, W_OK) == 0 && folder_writable) {
+      if (open_handle(db, path, SQLITE_OPEN_READWRITE) == SQLITE_OK) identify(db, &id);
+      close_handle(db);
+      st = open_reader(db, folder_writable, head[18] == 2, &id, &probe_rc, err);
+    } else {
+      st = vr_error_set(err, VR_E_DB,
+                        "%s: an interrupted write left it needing recovery, which needs write "
+                        "access (%s)", path, db->ro_reason[0] ? db->ro_reason : "not writable");
+    }
+  }
+  if (st) goto finish;
+  if (id.app != APPLICATION_ID && (id.tables > 0 || id.app != 0)) {
+    st = refuse(db, err, "a SQLite database, but not a Virtuelium-C material database; left untouched");
+    goto finish;
+  }
+  if (id.version > VR_MATDB_SCHEMA_VERSION) {
+    char msg[160];
+    snprintf(msg, sizeof msg, "written by a newer Virtuelium-C (schema %d; this build knows up to %d)",
+             id.version, VR_MATDB_SCHEMA_VERSION);
+    st = refuse(db, err, msg);
+    goto finish;
+  }
+  bool current = id.app == APPLICATION_ID && id.version == VR_MATDB_SCHEMA_VERSION;
+  if (!current && db->ro_reason[0]) {
+    if (id.app != APPLICATION_ID)
+      st = vr_error_set(err, VR_E_DB, "%s: an empty SQLite file, not a material database (%s)", path,
+                        db->ro_reason);
+    else
+      st = vr_error_set(err, VR_E_DB, "%s: schema %d, this build reads %d: open it read-write once to "
+                        "migrate (%s)", path, id.version, VR_MATDB_SCHEMA_VERSION, db->ro_reason);
+    goto finish;
+  }
+  if (db->ro_reason[0]) {
+    db->readonly = 1;
   } else {
-    int tables = 0;
-    pragma_int(db, "SELECT count(*) FROM sqlite_master", &tables);
-    if (app != APPLICATION_ID) {
-      st = refuse(db, err, tables ? "a SQLite database, but not a Virtuelium-C material database"
-                                  : "an empty file, not a material database");
-      goto fail;
-    }
-    if (version != VR_MATDB_SCHEMA_VERSION) {
-      char msg[160];
-      snprintf(msg, sizeof msg, "schema %d, this build reads %d%s", version, VR_MATDB_SCHEMA_VERSION,
-               version > VR_MATDB_SCHEMA_VERSION ? " (written by a newer Virtuelium-C)"
-                                                 : " (open it read-write once to migrate)");
-      st = refuse(db, err, msg);
-      goto fail;
-    }
+    close_handle(db);
+    st = open_writer(db, err);
+  }
+finish:
+  if (st) {
+    vr_matdb_close(db);
+    return st;
   }
   exec(db, "PRAGMA foreign_keys = ON");
   *out = db;
   return VR_OK;
-fail:
-  vr_matdb_close(db);
-  return st;
+}
+
+const char *vr_matdb_readonly(const vr_matdb *db) { return db->readonly ? db->ro_reason : NULL; }
+
+vr_status vr_matdb_require_writable(const vr_matdb *db, vr_error *err) {
+  if (!db->readonly) return VR_OK;
+  return vr_error_set(err, VR_E_DB, "%s: the material database is read-only (%s); nothing was written",
+                      db->path, db->ro_reason);
 }
 
 void vr_matdb_close(vr_matdb *db) {
@@ -217,6 +408,43 @@ static vr_status check_spectrum_nonneg(const vr_material *m, const char *role, v
   return VR_OK;
 }
 
+/* Every text in the database is UTF-8, so that any client (and JSON) can
+ * read it; a file path is kept as the file system gives it. */
+static vr_status check_text(const vr_material *m, const char *field, const char *text, vr_error *err) {
+  size_t bad;
+  if (!text || vr_utf8_valid(text, strlen(text), &bad)) return VR_OK;
+  char *shown = vr_utf8_sanitize(m->name);
+  vr_status st = vr_error_set(err, VR_E_ARG, "material '%s': %s is not valid UTF-8 (byte %zu: 0x%02X)",
+                              shown ? shown : "?", field, bad, (unsigned char)text[bad]);
+  free(shown);
+  return st;
+}
+
+static vr_status check_texts(const vr_material *m, vr_error *err) {
+  vr_status st;
+  if ((st = check_text(m, "the name", m->name, err)) ||
+      (st = check_text(m, "the description", m->description, err)) ||
+      (st = check_text(m, "the model", m->prov.model, err)) ||
+      (st = check_text(m, "the reference", m->prov.reference, err)) ||
+      (st = check_text(m, "the note", m->prov.note, err)))
+    return st;
+  for (size_t i = 0; i < m->nspectra; i++)
+    if ((st = check_text(m, "a spectrum's role", m->spectra[i].role, err))) return st;
+  for (size_t i = 0; i < m->nprops; i++) {
+    char field[160];
+    snprintf(field, sizeof field, "property '%.100s'", m->props[i].key);
+    if ((st = check_text(m, "a property's key", m->props[i].key, err)) ||
+        (st = check_text(m, field, m->props[i].text, err)) ||
+        (st = check_text(m, field, m->props[i].unit, err)))
+      return st;
+  }
+  for (size_t i = 0; i < m->nparams; i++)
+    if ((st = check_text(m, "a parameter's name", m->params[i].name, err)) ||
+        (st = check_text(m, "a parameter's unit", m->params[i].unit, err)))
+      return st;
+  return VR_OK;
+}
+
 vr_status vr_matdb_validate(const vr_material *m, vr_error *err) {
   if (!m->name || !*m->name) return vr_error_set(err, VR_E_ARG, "a material needs a name");
   for (const char *p = m->name; *p; p++)
@@ -224,6 +452,7 @@ vr_status vr_matdb_validate(const vr_material *m, vr_error *err) {
       return vr_error_set(err, VR_E_ARG, "material name contains a control character");
   if ((unsigned)m->kind >= VR_KIND_COUNT) return vr_error_set(err, VR_E_ARG, "invalid material kind");
   vr_status st;
+  if ((st = check_texts(m, err))) return st;
   switch (m->kind) {
   case VR_KIND_DIELECTRIC:
   case VR_KIND_CONDUCTOR: {
@@ -373,8 +602,9 @@ done:
 }
 
 vr_status vr_matdb_save(vr_matdb *db, vr_material *m, vr_error *err) {
-  if (db->readonly) return vr_error_set(err, VR_E_DB, "%s: opened read-only", db->path);
-  vr_status st = vr_matdb_validate(m, err);
+  vr_status st = vr_matdb_require_writable(db, err);
+  if (st) return st;
+  st = vr_matdb_validate(m, err);
   if (st) return st;
   if (exec(db, "BEGIN IMMEDIATE") != SQLITE_OK) return sql_error(db, err, "cannot lock for writing");
   st = vr_matdb_insert(db, m, err);

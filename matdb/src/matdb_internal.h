@@ -9,6 +9,7 @@ struct vr_matdb {
   sqlite3 *db;
   char *path;
   int readonly;
+  char ro_reason[256]; /* why it is read-only; empty when writable */
 };
 
 /* Inserts m as a new version inside the caller's transaction. */

@@ -188,7 +188,9 @@ done:
 }
 
 vr_status vr_matdb_remove(vr_matdb *db, const char *name, int *removed, vr_error *err) {
-  if (db->readonly) return vr_error_set(err, VR_E_DB, "%s: opened read-only", db->path);
+  if (removed) *removed = 0;
+  vr_status rs = vr_matdb_require_writable(db, err);
+  if (rs) return rs;
   if (sqlite3_exec(db->db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
     return sql_error(db, err, "cannot lock for writing");
   sqlite3_stmt *s;

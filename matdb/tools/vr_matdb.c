@@ -9,23 +9,26 @@
 #include "vr/csv.h"
 #include "vr/json.h"
 #include "vr/matdb.h"
+#include "vr/out_guard.h"
 #include "vr_matdb_print.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static const vr_option OPTIONS[] = {
-    {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
+    {"db", 'd', "FILE", "material database (default: $VR_MATDB unless empty, else ./materials.db)"},
     {"kind", 'k', "KIND", "list: only this kind; import: store as this kind"},
     {"name", 'n', "NAME", "import: store under this name (default: the file's stem)"},
-    {"version", 'v', "N", "show/eval/export: this version instead of the newest"},
+    {"version", 'v', "N", "show/eval/export: this version (1, 2, ...) instead of the newest"},
     {"role", 'r', "ROLE", "eval: a tabulated role (value, T, Rf, ...) instead of n, k"},
     {"extrapolate", 0, NULL, "eval: hold end values outside the data range (with a warning)"},
     {"csv", 0, NULL, "export as CSV"},
     {"yaml", 0, NULL, "export as refractiveindex.info YAML (n, k materials)"},
-    {"output", 'o', "FILE", "export: write to FILE (atomically) instead of stdout"},
+    {"output", 'o', "FILE", "export: write to FILE (atomically; never the database) instead of stdout"},
     {"yes", 0, NULL, "rm: really remove every version"},
     {"json", 'j', NULL, "JSON output"},
 };
@@ -36,9 +39,9 @@ static const char USAGE[] =
     "  vr-matdb init\n"
     "  vr-matdb list [--kind K] [--json]\n"
     "  vr-matdb show NAME [--version N] [--json]\n"
-    "  vr-matdb eval NAME NM... [--role R] [--extrapolate] [--json]\n"
+    "  vr-matdb eval NAME NM... [--version N] [--role R] [--extrapolate] [--json]\n"
     "  vr-matdb import FILE [--name N] [--kind K] [--json]\n"
-    "  vr-matdb export NAME --csv|--yaml [-o FILE]\n"
+    "  vr-matdb export NAME --csv|--yaml [-o FILE] [--version N]\n"
     "  vr-matdb history NAME [--json]\n"
     "  vr-matdb rm NAME --yes\n"
     "  vr-matdb check";
@@ -49,13 +52,19 @@ static const char ABOUT[] =
     "spectra).  Saving a name again adds a version; the newest is used unless --version.\n"
     "Wavelengths are in nm.  Evaluating outside a material's data range is an error unless\n"
     "--extrapolate is given.  Kinds: dielectric conductor layered reflectance btdf\n"
-    "chromogenic illuminant camera glazing.";
+    "chromogenic illuminant camera glazing.\n"
+    "A database whose file or folder cannot be written is opened read-only: every command\n"
+    "but import and rm works; those say the database is read-only.  A file that is not a\n"
+    "material database is refused and left untouched.  export -o never writes over the\n"
+    "database or its journals.  IGDB files in Windows-1252 are converted to UTF-8.  Options\n"
+    "that do not apply to a command are refused.";
 
 typedef struct ctx {
   vr_args *a;
   vr_matdb *db;
   vr_error err;
   bool json;
+  int version; /* --version, 0 for the newest */
 } ctx;
 
 static int fail(ctx *c) {
@@ -63,20 +72,16 @@ static int fail(ctx *c) {
   return 1;
 }
 
-static int need_operands(ctx *c, size_t n, const char *what) {
-  if (c->a->noperands < n) {
-    fprintf(stderr, "vr-matdb: %s\nTry 'vr-matdb --help'.\n", what);
-    return 2;
-  }
-  return 0;
-}
-
+/* --version N: 1, 2, ...; absent: 0, the newest.  A usage error (exit 2). */
 static int version_option(ctx *c, int *version) {
-  double v;
-  if (vr_args_double(c->a, "version", 0, &v, &c->err)) return fail(c);
-  if (v < 0 || v != floor(v)) {
-    vr_error_set(&c->err, VR_E_ARG, "option --version: '%g' is not a version number", v);
-    return fail(c);
+  const char *text = vr_args_get(c->a, "version");
+  double v = 0;
+  *version = 0;
+  if (!text) return 0;
+  if (vr_parse_double(text, &v) || v < 1 || v != floor(v) || v > INT_MAX) {
+    fprintf(stderr, "vr-matdb: option --version: '%s' is not a version number (1, 2, ...)\n"
+                    "Try 'vr-matdb --help'.\n", text);
+    return 2;
   }
   *version = (int)v;
   return 0;
@@ -102,28 +107,24 @@ static int cmd_list(ctx *c, bool history) {
 }
 
 static int cmd_show(ctx *c) {
-  int version, rc;
-  if ((rc = version_option(c, &version))) return rc;
   vr_material *m;
-  if (vr_matdb_load(c->db, c->a->operands[1], version, &m, &c->err)) return fail(c);
+  if (vr_matdb_load(c->db, c->a->operands[1], c->version, &m, &c->err)) return fail(c);
   vr_print_material(stdout, m, c->json);
   vr_material_destroy(m);
   return 0;
 }
 
 static int cmd_eval(ctx *c) {
-  int version, rc;
-  if ((rc = version_option(c, &version))) return rc;
   vr_material *m;
-  if (vr_matdb_load(c->db, c->a->operands[1], version, &m, &c->err)) return fail(c);
+  if (vr_matdb_load(c->db, c->a->operands[1], c->version, &m, &c->err)) return fail(c);
   const char *role = vr_args_get(c->a, "role");
+  int rc = 0;
   bool allow = vr_args_flag(c->a, "extrapolate");
   bool nk = !role && (m->n_formula.type || vr_material_spectrum(m, "n"));
   if (!role && !nk) role = m->nspectra ? m->spectra[0].role : "value";
   size_t count = c->a->noperands - 2;
   double *wl = malloc((count ? count : 1) * sizeof *wl), *v1 = malloc((count ? count : 1) * sizeof *v1),
          *v2 = malloc((count ? count : 1) * sizeof *v2);
-  rc = 0;
   for (size_t i = 0; i < count && !rc; i++) {
     const char *arg = c->a->operands[2 + i];
     if (vr_parse_double(arg, &wl[i]) || wl[i] <= 0) {
@@ -141,7 +142,7 @@ static int cmd_eval(ctx *c) {
   if (!rc) {
     if (c->json) {
       fputs("{\"name\": ", stdout);
-      vr_json_string(stdout, m->name);
+      vr_print_json_text(stdout, m->name);
       printf(", \"version\": %d, \"values\": [", m->version);
       for (size_t i = 0; i < count; i++) {
         printf("%s{\"wavelength_nm\": ", i ? ", " : "");
@@ -152,7 +153,9 @@ static int cmd_eval(ctx *c) {
           fputs(", \"k\": ", stdout);
           vr_json_number(stdout, v2[i]);
         } else {
-          printf(", \"%s\": ", role);
+          fputs(", ", stdout);
+          vr_print_json_text(stdout, role);
+          fputs(": ", stdout);
           vr_json_number(stdout, v1[i]);
         }
         fputc('}', stdout);
@@ -185,7 +188,7 @@ static int cmd_import(ctx *c) {
   }
   if (c->json) {
     fputs("{\"name\": ", stdout);
-    vr_json_string(stdout, m->name);
+    vr_print_json_text(stdout, m->name);
     printf(", \"version\": %d, \"kind\": \"%s\", \"sha256\": \"%s\"}\n", m->version, vr_kind_name(m->kind),
            m->prov.sha256);
   } else {
@@ -197,16 +200,11 @@ static int cmd_import(ctx *c) {
 }
 
 static int cmd_export(ctx *c) {
-  bool csv = vr_args_flag(c->a, "csv"), yaml = vr_args_flag(c->a, "yaml");
-  if (csv == yaml) {
-    fprintf(stderr, "vr-matdb: export needs exactly one of --csv and --yaml\n");
-    return 2;
-  }
-  int version, rc;
-  if ((rc = version_option(c, &version))) return rc;
+  bool csv = vr_args_flag(c->a, "csv");
   vr_material *m;
-  if (vr_matdb_load(c->db, c->a->operands[1], version, &m, &c->err)) return fail(c);
+  if (vr_matdb_load(c->db, c->a->operands[1], c->version, &m, &c->err)) return fail(c);
   const char *out = vr_args_get(c->a, "output");
+  if (out && !strcmp(out, "-")) out = NULL; /* standard output */
   vr_atomic_file af = {0};
   FILE *f = stdout;
   vr_status st = VR_OK;
@@ -243,6 +241,82 @@ static int cmd_check(ctx *c) {
   return ok ? 0 : 1;
 }
 
+/* Which options each command takes; any other is refused rather than
+ * silently ignored.  --db goes with every command. */
+static const struct command {
+  const char *name;
+  size_t min_operands, max_operands; /* counting the command; 0: no limit */
+  const char *need;
+  const char *options; /* space-separated */
+} CMDS[] = {
+    {"init", 1, 1, "", ""},
+    {"list", 1, 1, "", "kind json"},
+    {"check", 1, 1, "", ""},
+    {"show", 2, 2, "show needs a material name", "version json"},
+    {"eval", 3, 0, "eval needs a material name and wavelengths", "version role extrapolate json"},
+    {"import", 2, 2, "import needs a file", "name kind json"},
+    {"export", 2, 2, "export needs a material name", "version csv yaml output"},
+    {"history", 2, 2, "history needs a material name", "json"},
+    {"rm", 2, 2, "rm needs a material name", "yes"},
+};
+
+static bool takes(const struct command *k, const char *option) {
+  size_t n = strlen(option);
+  for (const char *p = k->options; (p = strstr(p, option)); p += n)
+    if ((p == k->options || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return true;
+  return false;
+}
+
+static int usage(const char *fmt, const char *a, const char *b) {
+  fprintf(stderr, "vr-matdb: ");
+  fprintf(stderr, fmt, a, b);
+  fprintf(stderr, "\nTry 'vr-matdb --help'.\n");
+  return 2;
+}
+
+/* Everything that can be told from the command line alone, before any file
+ * is opened: exit 2 with a message, or 0. */
+static int check_command_line(ctx *c, const struct command *k) {
+  vr_args *a = c->a;
+  for (size_t i = 0; i < NOPT; i++)
+    if (a->values[i] && strcmp(OPTIONS[i].name, "db") && !takes(k, OPTIONS[i].name))
+      return usage("option --%s does not apply to '%s'", OPTIONS[i].name, k->name);
+  const char *db = vr_args_get(a, "db");
+  if (db && !*db) { /* the library's refusal, as a usage error */
+    vr_matdb *none;
+    vr_error e = {0};
+    vr_matdb_open(db, 0, &none, &e);
+    return usage("%s%s", e.message, "");
+  }
+  if (a->noperands < k->min_operands) return usage("%s%s", k->need, "");
+  if (k->max_operands && a->noperands > k->max_operands)
+    return usage("unexpected argument '%s' after '%s'", a->operands[k->max_operands], k->name);
+  if (!strcmp(k->name, "export") && vr_args_flag(a, "csv") == vr_args_flag(a, "yaml"))
+    return usage("export needs exactly one of --csv and --yaml%s%s", "", "");
+  return version_option(c, &c->version);
+}
+
+/* PATH-wal, PATH-shm and PATH-journal of the database are the database
+ * too, whether or not they exist at this moment (SQLite makes them while
+ * the database is open). */
+static vr_status not_a_journal(const char *out, const char *db_path, vr_error *err) {
+  static const char *const suffix[] = {"-wal", "-shm", "-journal"};
+  struct stat so, sd;
+  if (stat(db_path, &sd) != 0) return VR_OK;
+  for (int i = 0; i < 3; i++) {
+    size_t n = strlen(out), m = strlen(suffix[i]);
+    if (n <= m || strcmp(out + n - m, suffix[i])) continue;
+    char stem[4096];
+    snprintf(stem, sizeof stem, "%.*s", (int)(n - m), out);
+    if (stat(stem, &so) == 0 && so.st_dev == sd.st_dev && so.st_ino == sd.st_ino)
+      return vr_error_set(err, VR_E_ARG,
+                          "-o %s: is the material database's journal of this run (%s%s); refusing "
+                          "to overwrite it, choose another output path",
+                          out, db_path, suffix[i]);
+  }
+  return VR_OK;
+}
+
 int main(int argc, char **argv) {
   vr_args a;
   vr_args_outcome o = vr_args_parse(&a, "vr-matdb", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
@@ -251,11 +325,6 @@ int main(int argc, char **argv) {
   ctx c = {.a = &a, .json = vr_args_flag(&a, "json")};
   int rc;
   const char *cmd = a.noperands ? a.operands[0] : NULL;
-  static const struct { const char *name; size_t operands; const char *need; } CMDS[] = {
-      {"init", 1, ""}, {"list", 1, ""}, {"check", 1, ""},
-      {"show", 2, "show needs a material name"}, {"eval", 3, "eval needs a material name and wavelengths"},
-      {"import", 2, "import needs a file"}, {"export", 2, "export needs a material name"},
-      {"history", 2, "history needs a material name"}, {"rm", 2, "rm needs a material name"}};
   size_t k = 0, ncmds = sizeof CMDS / sizeof CMDS[0];
   while (cmd && k < ncmds && strcmp(cmd, CMDS[k].name)) k++;
   if (!cmd || k == ncmds) {
@@ -264,27 +333,42 @@ int main(int argc, char **argv) {
     vr_args_free(&a);
     return 2;
   }
-  if ((rc = need_operands(&c, CMDS[k].operands, CMDS[k].need))) {
+  if ((rc = check_command_line(&c, &CMDS[k]))) {
+    vr_args_free(&a);
+    return rc;
+  }
+  const char *path = vr_args_get(&a, "db");
+  const char *db_path = path ? path : vr_matdb_default_path();
+  /* Outputs never replace an input of the run: the database (and its
+   * journals) and the imported file; checked before any work. */
+  vr_out_guard guard;
+  vr_out_guard_init(&guard);
+  vr_out_guard_database(&guard, db_path);
+  if (!strcmp(cmd, "import")) vr_out_guard_input(&guard, a.operands[1], "the imported file");
+  const char *out = vr_args_get(&a, "output");
+  if (out && (vr_out_guard_check(&guard, out, "-o", &c.err) || not_a_journal(out, db_path, &c.err))) {
+    rc = fail(&c);
     vr_args_free(&a);
     return rc;
   }
   bool writes = !strcmp(cmd, "init") || !strcmp(cmd, "import") || !strcmp(cmd, "rm");
-  /* Readers open read-only so they never create a database by accident, but
-   * a missing default database is created (and seeded) on first use. */
-  const char *path = vr_args_get(&a, "db");
+  /* Readers open read-only so they never change a database by accident, but
+   * a missing or 0-byte database is created (and seeded) on first use.  The
+   * library opens a database it cannot write read-only by itself. */
   int flags = writes ? 0 : VR_MATDB_READONLY;
-  if (!writes) {
-    FILE *probe = fopen(path ? path : vr_matdb_default_path(), "rb");
-    if (probe) fclose(probe);
-    else flags = 0;
-  }
+  struct stat sb;
+  if (!writes && *db_path && (stat(db_path, &sb) != 0 || sb.st_size == 0)) flags = 0;
   if (vr_matdb_open(path, flags, &c.db, &c.err)) {
     rc = fail(&c);
     vr_args_free(&a);
     return rc;
   }
-  if (!strcmp(cmd, "init")) {
-    printf("%s: material database ready (schema %d)\n", vr_matdb_path(c.db), VR_MATDB_SCHEMA_VERSION);
+  if (writes && strcmp(cmd, "init") && vr_matdb_require_writable(c.db, &c.err)) {
+    rc = fail(&c);
+  } else if (!strcmp(cmd, "init")) {
+    const char *ro = vr_matdb_readonly(c.db);
+    printf("%s: material database ready (schema %d%s%s)\n", vr_matdb_path(c.db), VR_MATDB_SCHEMA_VERSION,
+           ro ? "; read-only: " : "", ro ? ro : "");
     rc = 0;
   } else if (!strcmp(cmd, "list")) rc = cmd_list(&c, false);
   else if (!strcmp(cmd, "history")) rc = cmd_list(&c, true);

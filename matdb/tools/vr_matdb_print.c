@@ -1,10 +1,17 @@
 /* Text and JSON views of materials for vr-matdb, and CSV export. */
 #include "vr_matdb_print.h"
+#include "utf8.h"
 #include "vr/json.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+void vr_print_json_text(FILE *f, const char *s) {
+  char *clean = vr_utf8_sanitize(s);
+  vr_json_string(f, clean ? clean : s);
+  free(clean);
+}
 
 static void kv(FILE *f, const char *key, const char *value) {
   if (value && *value) fprintf(f, "  %-14s %s\n", key, value);
@@ -52,27 +59,27 @@ void vr_print_material(FILE *f, const vr_material *m, bool json) {
     return;
   }
   fputs("{\"name\": ", f);
-  vr_json_string(f, m->name);
+  vr_print_json_text(f, m->name);
   fprintf(f, ", \"version\": %d, \"kind\": \"%s\", \"description\": ", m->version, vr_kind_name(m->kind));
-  vr_json_string(f, m->description);
+  vr_print_json_text(f, m->description);
   fputs(", \"provenance\": {\"source_path\": ", f);
-  vr_json_string(f, m->prov.source_path);
+  vr_print_json_text(f, m->prov.source_path);
   fputs(", \"source_sha256\": ", f);
-  vr_json_string(f, m->prov.sha256[0] ? m->prov.sha256 : NULL);
+  vr_print_json_text(f, m->prov.sha256[0] ? m->prov.sha256 : NULL);
   fputs(", \"tool\": ", f);
-  vr_json_string(f, m->prov.tool);
+  vr_print_json_text(f, m->prov.tool);
   fputs(", \"tool_version\": ", f);
-  vr_json_string(f, m->prov.tool_version);
+  vr_print_json_text(f, m->prov.tool_version);
   fputs(", \"model\": ", f);
-  vr_json_string(f, m->prov.model);
+  vr_print_json_text(f, m->prov.model);
   fputs(", \"reference\": ", f);
-  vr_json_string(f, m->prov.reference);
+  vr_print_json_text(f, m->prov.reference);
   fputs(", \"note\": ", f);
-  vr_json_string(f, m->prov.note);
+  vr_print_json_text(f, m->prov.note);
   fputs(", \"residual\": ", f);
   vr_json_number(f, m->prov.residual);
   fputs(", \"created_at\": ", f);
-  vr_json_string(f, m->prov.created_at);
+  vr_print_json_text(f, m->prov.created_at);
   fputs("}, \"formula\": ", f);
   if (m->n_formula.type) {
     fprintf(f, "{\"type\": %d, \"range_nm\": [", m->n_formula.type);
@@ -92,7 +99,7 @@ void vr_print_material(FILE *f, const vr_material *m, bool json) {
   for (size_t i = 0; i < m->nspectra; i++) {
     const vr_spectrum *s = m->spectra[i].s;
     fprintf(f, "%s", i ? ", " : "");
-    vr_json_string(f, m->spectra[i].role);
+    vr_print_json_text(f, m->spectra[i].role);
     fputs(": [", f);
     for (size_t j = 0; j < s->n; j++) {
       fputs(j ? ", [" : "[", f);
@@ -106,25 +113,25 @@ void vr_print_material(FILE *f, const vr_material *m, bool json) {
   fputs("}, \"properties\": [", f);
   for (size_t i = 0; i < m->nprops; i++) {
     fputs(i ? ", {\"key\": " : "{\"key\": ", f);
-    vr_json_string(f, m->props[i].key);
+    vr_print_json_text(f, m->props[i].key);
     fputs(", \"text\": ", f);
-    vr_json_string(f, m->props[i].text);
+    vr_print_json_text(f, m->props[i].text);
     fputs(", \"value\": ", f);
     vr_json_number(f, m->props[i].value);
     fputs(", \"unit\": ", f);
-    vr_json_string(f, m->props[i].unit);
+    vr_print_json_text(f, m->props[i].unit);
     fputc('}', f);
   }
   fputs("], \"parameters\": [", f);
   for (size_t i = 0; i < m->nparams; i++) {
     fputs(i ? ", {\"name\": " : "{\"name\": ", f);
-    vr_json_string(f, m->params[i].name);
+    vr_print_json_text(f, m->params[i].name);
     fputs(", \"value\": ", f);
     vr_json_number(f, m->params[i].value);
     fputs(", \"stderr\": ", f);
     vr_json_number(f, m->params[i].stderr_);
     fputs(", \"unit\": ", f);
-    vr_json_string(f, m->params[i].unit);
+    vr_print_json_text(f, m->params[i].unit);
     fputc('}', f);
   }
   fputs("]}\n", f);
@@ -136,25 +143,29 @@ void vr_print_entry(FILE *f, const vr_matdb_entry *e, bool json, bool first) {
     char one[100];
     size_t n = 0;
     for (const char *p = src; *p && n + 1 < sizeof one; p++) one[n++] = (*p == '\n') ? ' ' : *p;
+    /* Never cut a UTF-8 sequence in two. */
+    if (src[n])
+      while (n && ((unsigned char)src[n] & 0xC0) == 0x80) n--;
     one[n] = '\0';
     fprintf(f, "%-26s %-12s v%-3d %s\n", e->name, e->kind, e->version, one);
     return;
   }
   fputs(first ? "  {\"name\": " : ",\n  {\"name\": ", f);
-  vr_json_string(f, e->name);
-  fprintf(f, ", \"kind\": \"%s\", \"version\": %d, \"versions\": %d, \"created_at\": ", e->kind,
-          e->version, e->versions);
-  vr_json_string(f, e->created_at);
+  vr_print_json_text(f, e->name);
+  fputs(", \"kind\": ", f);
+  vr_print_json_text(f, e->kind);
+  fprintf(f, ", \"version\": %d, \"versions\": %d, \"created_at\": ", e->version, e->versions);
+  vr_print_json_text(f, e->created_at);
   fputs(", \"tool\": ", f);
-  vr_json_string(f, e->tool);
+  vr_print_json_text(f, e->tool);
   fputs(", \"source_path\": ", f);
-  vr_json_string(f, e->source_path);
+  vr_print_json_text(f, e->source_path);
   fputs(", \"source_sha256\": ", f);
-  vr_json_string(f, e->source_sha256);
+  vr_print_json_text(f, e->source_sha256);
   fputs(", \"model\": ", f);
-  vr_json_string(f, e->model);
+  vr_print_json_text(f, e->model);
   fputs(", \"reference\": ", f);
-  vr_json_string(f, e->reference);
+  vr_print_json_text(f, e->reference);
   fputs(", \"residual\": ", f);
   vr_json_number(f, e->residual);
   fputc('}', f);

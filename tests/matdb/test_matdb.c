@@ -1,10 +1,13 @@
 /* The material database: creation and seeding, versions, the IGDB importer
- * on NFRC 102, refusal of foreign, corrupt and newer files, validation. */
+ * on NFRC 102 and on Windows-1252 names, refusal of foreign, corrupt and
+ * newer files (left untouched), read-only opens, validation. */
 #include "vr_test.h"
 #include "import.h"
+#include "utf8.h"
 #include "vr/matdb.h"
 
 #include <sqlite3.h>
+#include <sys/stat.h>
 
 static char dbdir[64];
 
@@ -286,6 +289,210 @@ static void lab_layers_match_their_sources(void **state) {
   vr_matdb_close(db);
 }
 
+/* The whole content of a file, for before/after comparisons. */
+static char *slurp(const char *path, size_t *len) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *buf = malloc((size_t)n + 1);
+  *len = fread(buf, 1, (size_t)n, f);
+  fclose(f);
+  return buf;
+}
+
+static void assert_unchanged(const char *path, const char *before, size_t len) {
+  size_t n;
+  char *now = slurp(path, &n);
+  assert_non_null(now);
+  assert_int_equal(n, len);
+  assert_memory_equal(now, before, len);
+  free(now);
+}
+
+/* Issue 18: a file that is not a material database is refused before
+ * anything is written to it, whatever its journal mode; its bytes, its
+ * journal mode (byte 18 of the SQLite header: 1 rollback, 2 WAL) and its
+ * folder stay as they were. */
+static void foreign_files_are_left_untouched(void **state) {
+  (void)state;
+  vr_matdb *db;
+  vr_error err = {0};
+  const char *modes[] = {"DELETE", "WAL"};
+  for (int i = 0; i < 2; i++) {
+    char name[32];
+    snprintf(name, sizeof name, "foreign_%s.db", modes[i]);
+    char path[128];
+    snprintf(path, sizeof path, "%s", fresh_path(name));
+    sqlite3 *s;
+    char sql[160];
+    snprintf(sql, sizeof sql,
+             "PRAGMA journal_mode = %s; CREATE TABLE invoices (id INTEGER, amount REAL);"
+             " INSERT INTO invoices VALUES (1, 2.5);", modes[i]);
+    assert_int_equal(sqlite3_open(path, &s), SQLITE_OK);
+    assert_int_equal(sqlite3_exec(s, sql, NULL, NULL, NULL), SQLITE_OK);
+    sqlite3_close(s);
+    size_t len;
+    char *before = slurp(path, &len);
+    assert_int_equal((unsigned char)before[18], i + 1);
+    for (int ro = 0; ro < 2; ro++) {
+      assert_int_equal(vr_matdb_open(path, ro ? VR_MATDB_READONLY : 0, &db, &err), VR_E_DB);
+      assert_contains(err.message, path);
+      assert_contains(err.message, "not a Virtuelium-C material database");
+      assert_unchanged(path, before, len);
+      /* ... and nothing appears beside it. */
+      char side[160];
+      struct stat sb;
+      snprintf(side, sizeof side, "%s-wal", path);
+      assert_int_not_equal(stat(side, &sb), 0);
+      snprintf(side, sizeof side, "%s-shm", path);
+      assert_int_not_equal(stat(side, &sb), 0);
+    }
+    free(before);
+  }
+  /* A CSV file given as the database. */
+  const char *csv = fresh_path("spectrum.csv");
+  FILE *f = fopen(csv, "wb");
+  fputs("nm,value\n400,0.5\n410,0.6\n", f);
+  fclose(f);
+  size_t len;
+  char *before = slurp(csv, &len);
+  assert_int_equal(vr_matdb_open(csv, 0, &db, &err), VR_E_DB);
+  assert_contains(err.message, "not a SQLite database");
+  assert_unchanged(csv, before, len);
+  free(before);
+  /* The empty path names no file; NULL means the default. */
+  assert_int_equal(vr_matdb_open("", 0, &db, &err), VR_E_ARG);
+  assert_contains(err.message, "the material database path is empty");
+  /* A folder. */
+  assert_int_equal(vr_matdb_open(dbdir, 0, &db, &err), VR_E_IO);
+  assert_contains(err.message, "is a folder");
+}
+
+/* A 0-byte file (touch, mktemp) and a SQLite file without tables are new
+ * databases: created and seeded. */
+static void empty_files_become_databases(void **state) {
+  (void)state;
+  vr_matdb *db;
+  vr_error err = {0};
+  const char *zero = fresh_path("zero.db");
+  fclose(fopen(zero, "wb"));
+  assert_int_equal(vr_matdb_open(zero, VR_MATDB_READONLY, &db, &err), VR_E_DB);
+  assert_contains(err.message, "an empty file, not a material database");
+  assert_int_equal(vr_matdb_open(zero, 0, &db, &err), VR_OK);
+  int n = 0;
+  assert_int_equal(vr_matdb_list(db, NULL, count_visit, &n, &err), VR_OK);
+  assert_int_equal(n, 24 + 30 + 24);
+  assert_null(vr_matdb_readonly(db));
+  vr_matdb_close(db);
+  const char *blank = fresh_path("blank.db");
+  sqlite3 *s;
+  sqlite3_open(blank, &s);
+  sqlite3_exec(s, "PRAGMA user_version = 0; VACUUM;", NULL, NULL, NULL);
+  sqlite3_close(s);
+  assert_int_equal(vr_matdb_open(blank, 0, &db, &err), VR_OK);
+  vr_matdb_close(db);
+}
+
+/* Read-only opens read, never write: a rollback-journal database stays in
+ * rollback mode (header byte 18 = 1), and saves and removals say it is
+ * read-only, naming the file. */
+static void read_only_open_reads_and_refuses_writes(void **state) {
+  (void)state;
+  vr_matdb *db;
+  vr_error err = {0};
+  const char *path = fresh_path("ro.db");
+  assert_int_equal(vr_matdb_open(path, 0, &db, &err), VR_OK);
+  vr_matdb_close(db);
+  sqlite3 *s;
+  sqlite3_open(path, &s);
+  assert_int_equal(sqlite3_exec(s, "PRAGMA journal_mode = DELETE", NULL, NULL, NULL), SQLITE_OK);
+  sqlite3_close(s);
+  size_t len;
+  char *before = slurp(path, &len);
+  assert_int_equal((unsigned char)before[18], 1);
+  assert_int_equal(vr_matdb_open(path, VR_MATDB_READONLY, &db, &err), VR_OK);
+  assert_string_equal(vr_matdb_readonly(db), "opened for reading only");
+  vr_material *m;
+  assert_int_equal(vr_matdb_load(db, "N-BK7", 0, &m, &err), VR_OK);
+  m->version = 0;
+  assert_int_equal(vr_matdb_save(db, m, &err), VR_E_DB);
+  assert_contains(err.message, path);
+  assert_contains(err.message, "the material database is read-only (opened for reading only)");
+  vr_material_destroy(m);
+  int removed = -1;
+  assert_int_equal(vr_matdb_remove(db, "N-BK7", &removed, &err), VR_E_DB);
+  assert_contains(err.message, "is read-only");
+  assert_int_equal(removed, 0);
+  bool ok;
+  char report[256];
+  assert_int_equal(vr_matdb_check(db, &ok, report, sizeof report, &err), VR_OK);
+  assert_true(ok);
+  vr_matdb_close(db);
+  assert_unchanged(path, before, len);
+  free(before);
+}
+
+/* UTF-8 by RFC 3629 and Windows-1252 by the Unicode Consortium's mapping
+ * table (MAPPINGS/VENDORS/MICSFT/WINDOWS/CP1252.TXT): 0x80 -> U+20AC,
+ * 0x93 -> U+201C, 0x94 -> U+201D, 0xAE -> U+00AE, 0xE9 -> U+00E9; 0x81 is
+ * undefined there. */
+static void text_encodings(void **state) {
+  (void)state;
+  size_t bad = 99;
+  const char *good = "Cr\xC3\xA9" "ation \xE2\x82\xAC";
+  assert_true(vr_utf8_valid(good, strlen(good), NULL));
+  assert_false(vr_utf8_valid("ab\xC0\xAF", 4, &bad)); /* overlong '/' */
+  assert_int_equal(bad, 2);
+  assert_false(vr_utf8_valid("\xED\xA0\x80", 3, &bad)); /* a surrogate */
+  assert_false(vr_utf8_valid("\xF4\x90\x80\x80", 4, &bad)); /* past U+10FFFF */
+  assert_false(vr_utf8_valid("x\xC3", 2, &bad)); /* cut short */
+  assert_int_equal(bad, 1);
+  char *u = vr_cp1252_to_utf8("\x80\x81\x93\x94\xAE\xE9", 6, NULL);
+  assert_string_equal(u, "\xE2\x82\xAC\xEF\xBF\xBD\xE2\x80\x9C\xE2\x80\x9D\xC2\xAE\xC3\xA9");
+  free(u);
+  u = vr_utf8_sanitize("a\xE9z");
+  assert_string_equal(u, "a\xEF\xBF\xBDz");
+  free(u);
+}
+
+/* IGDB product names in Windows-1252 arrive as UTF-8; a UTF-8 file (with a
+ * byte-order mark) is kept as it is; the database refuses a text that is
+ * not UTF-8. */
+static void igdb_windows_1252_names(void **state) {
+  (void)state;
+  vr_error err = {0};
+  static const char *const files[] = {
+      "{ Thickness } 3\n{ Product Name: Cr\xE9" "ation\xAE \x93" "Clear\x94 }\n0.30 0.5 0.1 0.1\n"
+      "0.40 0.6 0.1 0.1\n0.50 0.7 0.1 0.1\n",
+      "\xEF\xBB\xBF{ Thickness } 3\n{ Product Name: Cr\xC3\xA9" "ation\xC2\xAE \xE2\x80\x9C" "Clear\xE2\x80\x9D }\n"
+      "0.30 0.5 0.1 0.1\n0.40 0.6 0.1 0.1\n0.50 0.7 0.1 0.1\n"};
+  for (int i = 0; i < 2; i++) {
+    vr_material *m = vr_material_create("pane", VR_KIND_GLAZING, NULL);
+    assert_int_equal(vr_igdb_parse(files[i], strlen(files[i]), "cp.DAT", m, &err), VR_OK);
+    assert_string_equal(vr_material_property(m, "product_name")->text,
+                        "Cr\xC3\xA9" "ation\xC2\xAE \xE2\x80\x9C" "Clear\xE2\x80\x9D");
+    assert_string_equal(m->description, "Cr\xC3\xA9" "ation\xC2\xAE \xE2\x80\x9C" "Clear\xE2\x80\x9D");
+    vr_material_destroy(m);
+  }
+  vr_matdb *db;
+  assert_int_equal(vr_matdb_open(fresh_path("utf8.db"), 0, &db, &err), VR_OK);
+  vr_material *m = vr_material_create("pane", VR_KIND_REFLECTANCE, NULL);
+  double nm[] = {400, 500}, v[] = {0.5, 0.5};
+  vr_material_add_spectrum(m, "value", vr_spectrum_create(2, nm, v, NULL), NULL);
+  vr_material_add_property(m, "product_name", "Cr\xE9" "ation", NAN, NULL, NULL);
+  assert_int_equal(vr_matdb_save(db, m, &err), VR_E_ARG);
+  assert_contains(err.message, "material 'pane': property 'product_name' is not valid UTF-8 (byte 2: 0xE9)");
+  vr_material_destroy(m);
+  m = vr_material_create("Cr\xE9" "ation", VR_KIND_REFLECTANCE, NULL);
+  vr_material_add_spectrum(m, "value", vr_spectrum_create(2, nm, v, NULL), NULL);
+  assert_int_equal(vr_matdb_save(db, m, &err), VR_E_ARG);
+  assert_contains(err.message, "the name is not valid UTF-8 (byte 2: 0xE9)");
+  vr_material_destroy(m);
+  vr_matdb_close(db);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(new_database_is_seeded_with_sources),
@@ -295,6 +502,11 @@ int main(void) {
       cmocka_unit_test(igdb_bad_input),
       cmocka_unit_test(refuses_foreign_corrupt_and_newer_files),
       cmocka_unit_test(validation_before_writing),
+      cmocka_unit_test(foreign_files_are_left_untouched),
+      cmocka_unit_test(empty_files_become_databases),
+      cmocka_unit_test(read_only_open_reads_and_refuses_writes),
+      cmocka_unit_test(text_encodings),
+      cmocka_unit_test(igdb_windows_1252_names),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,7 +1,9 @@
 /* One command-line style for every tool: GNU long options (--name VALUE or
  * --name=VALUE), optional one-letter aliases, "--" to end options, options
  * and operands in any order, and --help / --version handled the same way
- * everywhere.  Usage errors print "tool: message" and a hint to stderr. */
+ * everywhere (a tool that declares its own "version" option receives
+ * --version N; --version alone still prints the program version).  Usage
+ * errors print "tool: message" and a hint to stderr. */
 #ifndef VR_ARGS_H
 #define VR_ARGS_H
 

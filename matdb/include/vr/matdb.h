@@ -28,14 +28,34 @@ typedef struct vr_matdb vr_matdb;
 
 enum { VR_MATDB_READONLY = 1 };
 
-/* path NULL: $VR_MATDB or "materials.db".  A read-only open of a missing
- * file fails; a read-write open creates and seeds it.  Refuses, with a
- * message naming the file: something that is not SQLite, a SQLite file
- * that is not a material database, a schema newer than this build. */
+/* path NULL: $VR_MATDB or "materials.db" ($VR_MATDB set but empty counts as
+ * unset); path "" is refused (VR_E_ARG).  A missing or empty (0-byte, or
+ * SQLite without tables) file is a new database: a read-write open creates
+ * the schema and seeds it, a read-only open fails.
+ *
+ * What an existing file is, is checked before anything is written to it:
+ * something that is not SQLite, a SQLite file that is not a material
+ * database, and a schema newer than this build are refused with a message
+ * naming the file, and the file is left byte for byte as it was.
+ *
+ * flags VR_MATDB_READONLY, or a file or folder this process cannot write:
+ * the database is opened for reading only (never switched to WAL, never
+ * seeded); reads work, and saves and removals fail with "the material
+ * database is read-only (why)".  A WAL-mode file in a folder that cannot be
+ * written and has no -wal file beside it is read as immutable (SQLite
+ * cannot create the -shm file there). */
 vr_status vr_matdb_open(const char *path, int flags, vr_matdb **out, vr_error *err);
+/* NULL when writable, else why not ("the file is not writable", "its folder
+ * F is not writable", "opened for reading only"). */
+const char *vr_matdb_readonly(const vr_matdb *db);
+/* VR_OK when writable, else VR_E_DB "PATH: the material database is
+ * read-only (why); nothing was written": for tools to refuse a write before
+ * doing the work. */
+vr_status vr_matdb_require_writable(const vr_matdb *db, vr_error *err);
 void vr_matdb_close(vr_matdb *db);
 const char *vr_matdb_path(const vr_matdb *db);
-/* The path vr_matdb_open(NULL, ...) would use. */
+/* The path vr_matdb_open(NULL, ...) would use: $VR_MATDB when set and not
+ * empty, else "materials.db". */
 const char *vr_matdb_default_path(void);
 /* Does the text file at path (a model file, a capture manifest) name a
  * database material ("db:NAME" outside '#' comments)?  Tools open the

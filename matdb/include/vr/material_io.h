@@ -16,6 +16,15 @@ extern "C" {
 vr_status vr_import_file(const char *path, const char *name, const char *kind_override,
                          const char *tool, vr_material **out, vr_error *err);
 
+/* LBNL Optics file (IGDB ".DAT", Optics 5 ".LOF": the same layout): brace
+ * header lines ("{ Thickness } 3.048", "{ Product Name: ... }") and rows
+ * "lambda T Rf Rb" (micrometres unless "{ Units, Wavelength Units }" says
+ * Nanometers), at least 3 of them, wavelengths increasing.  Fills m with
+ * spectra T, Rf, Rb (nm) and every header field as a property; text that is
+ * not UTF-8 is read as Windows-1252.  Errors name the file, line and field. */
+vr_status vr_igdb_parse(const char *text, size_t len, const char *name, vr_material *m,
+                        vr_error *err);
+
 #ifdef __cplusplus
 }
 #endif
