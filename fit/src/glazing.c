@@ -110,13 +110,17 @@ vr_status vr_pane_from_curve(const vr_spectro_curve *c, double thickness_nm, dou
     return vr_error_set(err, VR_E_ARG, "angle of incidence %g deg outside [0, 90]", angle_deg);
   if (c->n == 0) return vr_error_set(err, VR_E_ARG, "empty spectrum");
   bool has_R = !isnan(c->p[0].Rf);
-  if (!has_R) return vr_error_set(err, VR_E_NOT_FOUND, "the pane's reflectance Rf was not measured");
+  if (!has_R && angle_deg > 0)
+    return vr_error_set(err, VR_E_NOT_FOUND,
+                        "the pane's reflectance R was not measured: reaching %g deg needs it "
+                        "(both angular routes start from T and R at normal incidence)", angle_deg);
   vr_pane *p = pane_alloc(c->n, err);
   if (!p) return VR_E_NOMEM;
+  p->has_R = has_R;
   for (size_t i = 0; i < c->n; i++) {
     p->nm[i] = c->p[i].nm;
     double Rb = isnan(c->p[i].Rb) ? c->p[i].Rf : c->p[i].Rb;
-    if (fabs(Rb - c->p[i].Rf) > VR_COATED_ASYMMETRY && p->nm[i] >= 380 && p->nm[i] <= 780)
+    if (has_R && fabs(Rb - c->p[i].Rf) > VR_COATED_ASYMMETRY && p->nm[i] >= 380 && p->nm[i] <= 780)
       p->coated = true;
     for (int s = 0; s < 2; s++) {
       p->T[s][i] = c->p[i].T;
@@ -206,6 +210,11 @@ static double lerp_at(const double *x, const double *y, size_t n, double at) {
 vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr_error *err) {
   *out = NULL;
   if (count == 0) return vr_error_set(err, VR_E_ARG, "no panes");
+  for (size_t j = 0; j < count && count > 1; j++)
+    if (!panes[j]->has_R)
+      return vr_error_set(err, VR_E_NOT_FOUND,
+                          "pane %zu has no reflectance: panes combine through their "
+                          "inter-reflections, which need Rf and Rb", j + 1);
   const vr_pane *first = panes[0];
   for (size_t j = 1; j < count; j++) {
     const vr_pane *q = panes[j];
@@ -224,6 +233,7 @@ vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr
     memcpy(s->Rb[pol], first->Rb[pol], first->n * sizeof(double));
   }
   s->coated = first->coated;
+  s->has_R = first->has_R;
   for (size_t j = 1; j < count; j++) {
     const vr_pane *q = panes[j];
     s->coated = s->coated || q->coated;
@@ -298,26 +308,29 @@ static vr_status tristimulus(const vr_standard *std, const vr_spectrum *s, doubl
 vr_status vr_glazing_metrics_compute(const vr_standard *std, const vr_pane *pane,
                                      vr_glazing_metrics *out, vr_error *err) {
   memset(out, 0, sizeof *out);
+  out->has_R = pane->has_R;
+  out->Rvis_front = out->Rvis_back = out->Rsol_front = out->Rsol_back = NAN;
+  for (int i = 0; i < 3; i++) out->Rf_lab[i] = out->Rb_lab[i] = NAN;
   vr_spectrum *T = unpolarised(pane, pane->T, err);
-  vr_spectrum *Rf = T ? unpolarised(pane, pane->Rf, err) : NULL;
+  vr_spectrum *Rf = T && pane->has_R ? unpolarised(pane, pane->Rf, err) : NULL;
   vr_spectrum *Rb = Rf ? unpolarised(pane, pane->Rb, err) : NULL;
-  vr_status st = Rb ? VR_OK : (err ? err->status : VR_E_NOMEM);
+  vr_status st = T && (Rb || !pane->has_R) ? VR_OK : (err ? err->status : VR_E_NOMEM);
   if (!st) st = average(std, "PHOTOPIC", T, &out->Tvis, true, err);
-  if (!st) st = average(std, "PHOTOPIC", Rf, &out->Rvis_front, true, err);
-  if (!st) st = average(std, "PHOTOPIC", Rb, &out->Rvis_back, true, err);
+  if (!st && Rf) st = average(std, "PHOTOPIC", Rf, &out->Rvis_front, true, err);
+  if (!st && Rb) st = average(std, "PHOTOPIC", Rb, &out->Rvis_back, true, err);
   if (!st) st = average(std, "SOLAR", T, &out->Tsol, true, err);
-  if (!st) st = average(std, "SOLAR", Rf, &out->Rsol_front, true, err);
-  if (!st) st = average(std, "SOLAR", Rb, &out->Rsol_back, true, err);
+  if (!st && Rf) st = average(std, "SOLAR", Rf, &out->Rsol_front, true, err);
+  if (!st && Rb) st = average(std, "SOLAR", Rb, &out->Rsol_back, true, err);
   if (!st) st = average(std, "TUV", T, &out->Tuv, false, err);
   double white[3], xyz[3];
   bool ok = false;
   if (!st) st = tristimulus(std, T, out->T_xyz, white, &ok, err);
   if (!st && ok) {
     vr_xyz_to_lab(out->T_xyz, white, out->T_lab);
-    st = tristimulus(std, Rf, xyz, white, &ok, err);
-    if (!st) vr_xyz_to_lab(xyz, white, out->Rf_lab);
-    if (!st) st = tristimulus(std, Rb, xyz, white, &ok, err);
-    if (!st) vr_xyz_to_lab(xyz, white, out->Rb_lab);
+    if (Rf) st = tristimulus(std, Rf, xyz, white, &ok, err);
+    if (!st && Rf) vr_xyz_to_lab(xyz, white, out->Rf_lab);
+    if (!st && Rb) st = tristimulus(std, Rb, xyz, white, &ok, err);
+    if (!st && Rb) vr_xyz_to_lab(xyz, white, out->Rb_lab);
     out->has_colour = !st;
   }
   vr_spectrum_destroy(T);

@@ -452,11 +452,44 @@ static vr_status sums(const vr_std_method *m, const vr_spectrum *data, double *n
   return VR_OK;
 }
 
+/* The method's weight outside the data, as a share of its weight over its
+ * range, on the source's (else detector's, else listed, else a 1 nm) grid:
+ * the data's own grid cannot show what it lacks. */
+static double uncovered_share(const vr_std_method *m, const vr_spectrum *data) {
+  const double *wl = m->source ? m->source->nm : m->detector ? m->detector->nm
+                   : m->wlset == VR_WLSET_LIST ? m->list_nm : NULL;
+  size_t n = m->source ? m->source->n : m->detector ? m->detector->n
+           : m->wlset == VR_WLSET_LIST ? m->nlist : 0;
+  double lo = data->nm[0], hi = data->nm[data->n - 1], tol = 1e-9 * m->max_nm + 1e-9;
+  double total = 0, out = 0;
+  size_t steps = wl ? n : (size_t)(m->max_nm - m->min_nm) + 1;
+  for (size_t i = 0; i < steps; i++) {
+    double x = wl ? wl[i] : m->min_nm + (double)i;
+    if (x < m->min_nm - tol || x > m->max_nm + tol) continue;
+    double h = wl ? (i + 1 < n ? wl[i + 1] - x : (i > 0 ? x - wl[i - 1] : 1.0)) : 1.0;
+    double w = fabs(weight_at(m, x)) * h;
+    total += w;
+    if (x < lo - tol || x > hi + tol) out += w;
+  }
+  return total > 0 ? out / total : (hi < m->min_nm || lo > m->max_nm ? 1.0 : 0.0);
+}
+
+static vr_status check_coverage(const vr_std_method *m, const vr_spectrum *data, vr_error *err) {
+  double share = uncovered_share(m, data);
+  if (data->nm[data->n - 1] < m->min_nm || data->nm[0] > m->max_nm || share > VR_STD_MAX_UNCOVERED)
+    return vr_error_set(err, VR_E_RANGE,
+                        "method %s needs data between %g and %g nm; the data span %g-%g nm, "
+                        "leaving %.3g%% of its weight unmeasured (at most %g%% may be filled by "
+                        "the nearest measured value)",
+                        m->name, m->min_nm, m->max_nm, data->nm[0], data->nm[data->n - 1],
+                        100 * share, 100 * VR_STD_MAX_UNCOVERED);
+  return VR_OK;
+}
+
 vr_status vr_std_average(const vr_std_method *m, const vr_spectrum *data, double *out,
                          vr_error *err) {
-  if (data->nm[data->n - 1] < m->min_nm || data->nm[0] > m->max_nm)
-    return vr_error_set(err, VR_E_RANGE, "method %s needs data between %g and %g nm; the data span %g-%g nm",
-                        m->name, m->min_nm, m->max_nm, data->nm[0], data->nm[data->n - 1]);
+  vr_status cs = check_coverage(m, data, err);
+  if (cs) return cs;
   double a, b;
   vr_status st = sums(m, data, &a, &b, err);
   if (st) return st;
@@ -468,5 +501,9 @@ vr_status vr_std_sums(const vr_std_method *m, const vr_spectrum *data, double *n
                       vr_error *err) {
   if (!data && m->wlset == VR_WLSET_DATA)
     return vr_error_set(err, VR_E_ARG, "method %s: its wavelength set is the data's", m->name);
+  if (data) {
+    vr_status cs = check_coverage(m, data, err);
+    if (cs) return cs;
+  }
   return sums(m, data, num, den, err);
 }

@@ -8,6 +8,8 @@
 #include <string.h>
 #include <strings.h>
 
+#include <gsl/gsl_cdf.h>
+
 #include "vr/lsq.h"
 #include "vr/slab_invert.h"
 
@@ -187,6 +189,7 @@ static vr_status smooth(vr_spectro_fit_result *r, double *cov, vr_error *err) {
   vr_lsq_summary sum;
   if (!st) st = vr_lsq_solve(lsq, p, NULL, &sum, err);
   if (!st) {
+    r->dof = (long)(nuse - np);
     r->chi2_reduced = sum.chi2 / (double)(nuse - np);
     st = vr_lsq_covariance(lsq, p, r->chi2_reduced > 1.0, cov, err);
     if (st) vr_error_prefix(err, "n model: ");
@@ -218,6 +221,8 @@ static double model_n_err(const vr_spectro_fit_result *r, const double *cov, dou
     for (size_t j = 0; j < np; j++) v += g[i] * cov[i * np + j] * g[j];
   return sqrt(fmax(v, 0));
 }
+
+static void judge(vr_spectro_fit_result *r, const vr_spectro_data *d, double sigma);
 
 vr_status vr_spectro_fit(const vr_spectro_data *d, double thickness_nm,
                          const vr_spectro_fit_options *opt, vr_spectro_fit_result *out,
@@ -262,7 +267,32 @@ vr_status vr_spectro_fit(const vr_spectro_data *d, double thickness_nm,
      * inversion's k already used every angle. */
     q->k_final = c0->angle_deg == 0 ? k_from_T(c0->p[i].T, q->n_model, thickness_nm, q->nm) : q->k;
   }
+  judge(out, d, o.sigma_T);
   return VR_OK;
+}
+
+/* Step 4 (vr/spectro_fit.h): n_err is linear in sigma (sigma_T = sigma_R
+ * here), so the chi-square with another sigma is a rescaling. */
+static void judge(vr_spectro_fit_result *r, const vr_spectro_data *d, double sigma) {
+  r->sigma_verdict = fmax(sigma, VR_SPECTRO_VERDICT_SIGMA);
+  double scale = sigma / r->sigma_verdict;
+  r->chi2_verdict = r->chi2_reduced * scale * scale;
+  r->chi2_limit = gsl_cdf_chisq_Qinv(VR_SPECTRO_VERDICT_P, (double)r->dof) / (double)r->dof;
+  r->describes = r->chi2_verdict <= r->chi2_limit;
+  const vr_spectro_curve *c = &d->curves[0];
+  for (size_t i = 0; i < c->n && d->has_Rb; i++)
+    if (c->p[i].nm >= 380 && c->p[i].nm <= 780 && fabs(c->p[i].Rf - c->p[i].Rb) > 0.01)
+      r->coated = true;
+  snprintf(r->verdict, sizeof r->verdict,
+           "%s: reduced chi-square %.3g with the measurement's sigma %.3g (limit %.3g, the "
+           "upper %g%% point of chi-square for %ld degrees of freedom)%s",
+           r->describes ? "describes the data" : "does NOT describe the data", r->chi2_verdict,
+           r->sigma_verdict, r->chi2_limit, 100 * VR_SPECTRO_VERDICT_P, r->dof,
+           r->describes ? ""
+           : r->coated ? ": Rf and Rb differ, so the pane is coated, and a coating is no index "
+                         "of the glass (fit the glass uncoated, or give its layers to btdf --stack)"
+                       : ": the dispersion model cannot follow these T and R (coated pane, wrong "
+                         "thickness, or a different --model?)");
 }
 
 double vr_spectro_fit_n(const vr_spectro_fit_result *r, double nm, double *n_err) {
@@ -270,7 +300,7 @@ double vr_spectro_fit_n(const vr_spectro_fit_result *r, double nm, double *n_err
   return model_n(r->model, r->value, nm);
 }
 
-vr_status vr_spectro_fit_material(const vr_spectro_fit_result *r, const char *name,
+vr_status vr_spectro_fit_material(const vr_spectro_fit_result *r, const char *name, bool forced,
                                   vr_material **out, vr_error *err) {
   *out = NULL;
   vr_material *m = vr_material_create(name, VR_KIND_DIELECTRIC, err);
@@ -314,6 +344,16 @@ vr_status vr_spectro_fit_material(const vr_spectro_fit_result *r, const char *na
     st = vr_material_add_parameter(m, r->names[i], p[i], r->stderr_[i], r->units[i][0] ? r->units[i] : NULL, err);
   if (!st) st = vr_material_set_text(&m->prov.model, model, err);
   if (!st) m->prov.residual = r->chi2_reduced;
+  if (!st) st = vr_material_add_property(m, "fit_chi2_reduced", NULL, r->chi2_verdict, NULL, err);
+  if (!st) st = vr_material_add_property(m, "fit_chi2_limit", NULL, r->chi2_limit, NULL, err);
+  if (!st) st = vr_material_add_property(m, "fit_describes", NULL, r->describes ? 1 : 0, NULL, err);
+  if (!st) st = vr_material_add_property(m, "fit_forced", NULL, forced ? 1 : 0, NULL, err);
+  if (!st) {
+    char note[480];
+    snprintf(note, sizeof note, "verdict: %s%s", r->verdict,
+             forced ? "; saved with --force" : "");
+    st = vr_material_set_text(&m->prov.note, note, err);
+  }
   vr_spectrum_destroy(ks);
   vr_spectrum_destroy(kes);
   free(nm);

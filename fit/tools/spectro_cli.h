@@ -7,8 +7,15 @@
 #include "vr/matdb.h"
 #include "vr/spectro_data.h"
 
-/* "vr-spectro: message" on stderr; returns 1. */
+/* "vr-spectro: message" on stderr; returns spectro_exit(e). */
 int spectro_fail(const vr_error *e);
+/* 2 for an option's value outside its domain (VR_E_RANGE with a message
+ * naming the option, "--charge ..."), else 1. */
+int spectro_exit(const vr_error *e);
+
+/* The material database this run uses: --db, else $VR_MATDB, else
+ * ./materials.db (the resolution of vr_matdb_open). */
+const char *spectro_db_path(const vr_args *a);
 
 /* The database named by --db (or the default), opened once on demand. */
 vr_status spectro_db(const vr_args *a, vr_matdb **db, vr_error *err);

@@ -192,7 +192,7 @@ int spectro_cmd_chromogenic(vr_args *a) {
 out:
   inputs_free(&in);
 fail0:
-  if (rc) spectro_fail(&err);
+  if (rc) rc = spectro_fail(&err);
   for (size_t i = 0; i < ns; i++) {
     if (T) vr_spectrum_destroy(T[i]);
     if (Rf) vr_spectrum_destroy(Rf[i]);
@@ -222,19 +222,57 @@ int spectro_cmd_state(vr_args *a) {
     vr_error_set(&err, VR_E_ARG, "material %s is not a chromogenic glass", m->name);
     goto out;
   }
-  printf("# %s at state s = %.6f\nwavelength_nm,T,Rf,Rb\n", m->name, s);
-  for (size_t i = 0; i < grid->n; i++) {
-    double t, rf, rb;
-    if (vr_chromo_eval(m, s, grid->nm[i], &t, &rf, &rb, &err)) goto out;
-    printf("%g,%.6f,", grid->nm[i], t);
-    if (isnan(rf)) printf(",");
-    else printf("%.6f,", rf);
-    if (isnan(rb)) printf("\n");
-    else printf("%.6f\n", rb);
+  size_t n = grid->n;
+  double *v = malloc(3 * n * sizeof *v);
+  if (!v) {
+    vr_error_set(&err, VR_E_NOMEM, "out of memory");
+    goto out;
   }
+  for (size_t i = 0; i < n; i++)
+    if (vr_chromo_eval(m, s, grid->nm[i], &v[i], &v[n + i], &v[2 * n + i], &err)) {
+      free(v);
+      goto out;
+    }
+  if (vr_args_flag(a, "json")) {
+    static const char *const KEYS[3] = {"T", "Rf", "Rb"};
+    printf("{\"material\": ");
+    vr_json_string(stdout, m->name);
+    printf(", \"state\": ");
+    vr_json_number(stdout, s);
+    printf(", \"wavelength_nm\": [");
+    for (size_t i = 0; i < n; i++) {
+      if (i) printf(", ");
+      vr_json_number(stdout, grid->nm[i]);
+    }
+    printf("]");
+    for (int q = 0; q < 3; q++) {
+      printf(", \"%s\": ", KEYS[q]);
+      if (isnan(v[q * n])) { /* not modelled (no reflectance in the fit) */
+        printf("null");
+        continue;
+      }
+      printf("[");
+      for (size_t i = 0; i < n; i++) {
+        if (i) printf(", ");
+        vr_json_number(stdout, v[q * n + i]);
+      }
+      printf("]");
+    }
+    printf("}\n");
+  } else {
+    printf("# %s at state s = %.6f\nwavelength_nm,T,Rf,Rb\n", m->name, s);
+    for (size_t i = 0; i < n; i++) {
+      printf("%g,%.6f,", grid->nm[i], v[i]);
+      if (isnan(v[n + i])) printf(",");
+      else printf("%.6f,", v[n + i]);
+      if (isnan(v[2 * n + i])) printf("\n");
+      else printf("%.6f\n", v[2 * n + i]);
+    }
+  }
+  free(v);
   rc = 0;
 out:
-  if (rc) spectro_fail(&err);
+  if (rc) rc = spectro_fail(&err);
   vr_material_destroy(m);
   vr_matdb_close(db);
   return rc;

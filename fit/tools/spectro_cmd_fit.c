@@ -43,6 +43,7 @@ static void print_text(const vr_spectro_fit_result *r, const char *src) {
     if ((r->pt[i].flags & VR_SPECTRO_ILL) && shown++ < 10)
       printf("  %.1f nm: %s\n", r->pt[i].nm, flag_text(r->pt[i].flags));
   if (shown > 10) printf("  ... and %zu more (see --table)\n", shown - 10);
+  printf("verdict: the n model %s\n", r->verdict);
 }
 
 static void print_json(const vr_spectro_fit_result *r, const char *src) {
@@ -61,7 +62,15 @@ static void print_json(const vr_spectro_fit_result *r, const char *src) {
     vr_json_number(stdout, r->stderr_[i]);
     printf(", \"unit\": \"%s\"}", r->units[i]);
   }
-  printf("], \"ill_conditioned\": %zu, \"points\": [", r->nill);
+  printf("], \"verdict\": {\"describes\": %s, \"chi2_reduced\": ", r->describes ? "true" : "false");
+  vr_json_number(stdout, r->chi2_verdict);
+  printf(", \"chi2_limit\": ");
+  vr_json_number(stdout, r->chi2_limit);
+  printf(", \"sigma\": ");
+  vr_json_number(stdout, r->sigma_verdict);
+  printf(", \"dof\": %ld, \"text\": ", r->dof);
+  vr_json_string(stdout, r->verdict);
+  printf("}, \"ill_conditioned\": %zu, \"points\": [", r->nill);
   for (size_t i = 0; i < r->n; i++) {
     const vr_spectro_point_fit *p = &r->pt[i];
     printf("%s[", i ? ", " : "");
@@ -114,15 +123,27 @@ int spectro_cmd_fit(vr_args *a) {
   }
   if (vr_args_flag(a, "json")) print_json(&r, path);
   else print_text(&r, path);
+  bool force = vr_args_flag(a, "force");
+  if (!r.describes && !force) {
+    /* Nothing is written for a fit that does not describe its data. */
+    vr_error_set(&err, VR_E_NUMERIC, "%s: the fit %s%s", path, r.verdict,
+                 save || table ? "; nothing saved or written (--force accepts it)"
+                               : " (--force accepts it)");
+    goto out;
+  }
+  if (!r.describes)
+    fprintf(stderr, "vr-spectro: warning: %s: the fit %s (accepted with --force)\n", path,
+            r.verdict);
   if (table && write_table(table, &r, &err)) goto out;
   if (save) {
-    if (spectro_db(a, &db, &err) || vr_spectro_fit_material(&r, save, &m, &err) ||
+    if (spectro_db(a, &db, &err) ||
+        vr_spectro_fit_material(&r, save, !r.describes && force, &m, &err) ||
         spectro_save(db, m, "fit", path, &err))
       goto out;
   }
   rc = 0;
 out:
-  if (rc) spectro_fail(&err);
+  if (rc) rc = spectro_fail(&err);
   vr_material_destroy(m);
   vr_spectro_fit_free(&r);
   vr_spectro_destroy(d);

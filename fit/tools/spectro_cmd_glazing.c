@@ -84,9 +84,13 @@ static void print_metrics(const vr_glazing_metrics *m, const vr_standard *std, d
     }
     const char *labs[3] = {"T_Lab", "Rf_Lab", "Rb_Lab"};
     const double *lab[3] = {m->T_lab, m->Rf_lab, m->Rb_lab};
+    printf(", \"has_reflectance\": %s", m->has_R ? "true" : "false");
+    if (!m->has_R)
+      printf(", \"note\": \"reflectance was not measured: the R figures and the reflected colour "
+             "need R (null); the T figures stand\"");
     for (int i = 0; i < 3; i++) {
       printf(", \"%s\": ", labs[i]);
-      if (!m->has_colour) {
+      if (!m->has_colour || (i > 0 && !m->has_R)) {
         printf("null");
         continue;
       }
@@ -103,12 +107,20 @@ static void print_metrics(const vr_glazing_metrics *m, const vr_standard *std, d
   printf("# %s, %g deg, %zu pane(s): ", std->description ? std->description : std->name, angle, n);
   for (size_t i = 0; i < n; i++) printf("%s%s", i ? " | " : "", items[i]);
   printf("\n# angular route: %s\n", route);
-  printf("Tvis        %.6f\nRvis_front  %.6f\nRvis_back   %.6f\n", m->Tvis, m->Rvis_front, m->Rvis_back);
-  printf("Tsol        %.6f\nRsol_front  %.6f\nRsol_back   %.6f\n", m->Tsol, m->Rsol_front, m->Rsol_back);
+  if (!m->has_R) {
+    printf("# reflectance was not measured: transmittance figures only; Rvis, Rsol and the "
+           "reflected colour need R\n");
+    printf("Tvis        %.6f\nTsol        %.6f\n", m->Tvis, m->Tsol);
+  } else {
+    printf("Tvis        %.6f\nRvis_front  %.6f\nRvis_back   %.6f\n", m->Tvis, m->Rvis_front,
+           m->Rvis_back);
+    printf("Tsol        %.6f\nRsol_front  %.6f\nRsol_back   %.6f\n", m->Tsol, m->Rsol_front,
+           m->Rsol_back);
+  }
   if (!isnan(m->Tuv)) printf("Tuv         %.6f\n", m->Tuv);
-  if (m->has_colour)
-    printf("transmitted L*a*b*  %.2f %.2f %.2f\nreflected (front)   %.2f %.2f %.2f\n", m->T_lab[0],
-           m->T_lab[1], m->T_lab[2], m->Rf_lab[0], m->Rf_lab[1], m->Rf_lab[2]);
+  if (m->has_colour) printf("transmitted L*a*b*  %.2f %.2f %.2f\n", m->T_lab[0], m->T_lab[1], m->T_lab[2]);
+  if (m->has_colour && m->has_R)
+    printf("reflected (front)   %.2f %.2f %.2f\n", m->Rf_lab[0], m->Rf_lab[1], m->Rf_lab[2]);
 }
 
 int spectro_cmd_metrics(vr_args *a) {
@@ -166,11 +178,14 @@ int spectro_cmd_metrics(vr_args *a) {
   }
   if (vr_pane_combine(panes, n, &sys, &err)) goto out;
   vr_glazing_metrics m;
-  if (vr_glazing_metrics_compute(std, sys, &m, &err)) goto out;
+  if (vr_glazing_metrics_compute(std, sys, &m, &err)) {
+    if (n == 1) vr_error_prefix(&err, "%s: ", items[0]);
+    goto out;
+  }
   print_metrics(&m, std, angle, items, n, used_route, vr_args_flag(a, "json"));
   rc = 0;
 out:
-  if (rc) spectro_fail(&err);
+  if (rc) rc = spectro_fail(&err);
   for (size_t i = 0; i < n; i++) {
     vr_pane_destroy(panes[i]);
     vr_spectro_destroy(data[i]);
@@ -186,9 +201,10 @@ out:
 static vr_status wavelengths(const vr_args *a, double **nm, size_t *n, vr_error *err) {
   const char *w = vr_args_get(a, "wavelengths");
   double v[3] = {300, 2500, 10};
-  if (w && (sscanf(w, "%lf:%lf:%lf", &v[0], &v[1], &v[2]) != 3 || !(v[0] > 0) || !(v[1] >= v[0]) ||
-            !(v[2] > 0)))
-    return vr_error_set(err, VR_E_ARG, "--wavelengths '%s': expected FROM:TO:STEP in nm", w);
+  char tail;
+  if (w && (sscanf(w, "%lf:%lf:%lf%c", &v[0], &v[1], &v[2], &tail) != 3 || !(v[0] > 0) ||
+            !(v[1] >= v[0]) || !(v[2] > 0) || !isfinite(v[1]) || (v[1] - v[0]) / v[2] > 1e6))
+    return vr_error_set(err, VR_E_RANGE, "--wavelengths '%s': expected FROM:TO:STEP in nm", w);
   *n = (size_t)floor((v[1] - v[0]) / v[2] + 1e-9) + 1;
   *nm = malloc(*n * sizeof **nm);
   if (!*nm) return vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -208,6 +224,78 @@ static vr_status write_btdf_table(const char *path, const vr_btdf_table *t, vr_e
       fprintf(f.fp, "\n");
     }
   return vr_atomic_file_commit(&f, err);
+}
+
+/* A measured curve on the --wavelengths grid, linear between its rows; the
+ * grid must lie inside the measurement (no extrapolation). */
+static vr_status resample_curve(const vr_spectro_curve *c, const double *nm, size_t n,
+                                const char *item, vr_spectro_curve *out, vr_error *err) {
+  double lo = c->p[0].nm, hi = c->p[c->n - 1].nm;
+  if (nm[0] < lo - 1e-9 || nm[n - 1] > hi + 1e-9)
+    return vr_error_set(err, VR_E_RANGE,
+                        "--wavelengths %g-%g nm: outside the measurement of %s, %g-%g nm (a "
+                        "measured pane is resampled within its data, never extrapolated)",
+                        nm[0], nm[n - 1], item, lo, hi);
+  *out = *c;
+  out->n = n;
+  out->p = malloc(n * sizeof *out->p);
+  if (!out->p) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  size_t k = 0;
+  for (size_t i = 0; i < n; i++) {
+    double x = fmin(fmax(nm[i], lo), hi);
+    while (k + 2 < c->n && c->p[k + 1].nm < x) k++;
+    const vr_spectro_point *a = &c->p[k], *b = &c->p[k + 1];
+    double t = (x - a->nm) / (b->nm - a->nm);
+    out->p[i] = (vr_spectro_point){.nm = nm[i],
+                                   .T = a->T + t * (b->T - a->T),
+                                   .Rf = a->Rf + t * (b->Rf - a->Rf),
+                                   .Rb = a->Rb + t * (b->Rb - a->Rb)};
+  }
+  return VR_OK;
+}
+
+static void json_array(const double *v, size_t n, size_t stride) {
+  printf("[");
+  for (size_t i = 0; i < n; i++) {
+    if (i) printf(", ");
+    vr_json_number(stdout, v[i * stride]);
+  }
+  printf("]");
+}
+
+static void print_btdf_json(const vr_btdf_table *t, const char *item, const vr_frosted_fit *ff,
+                            size_t ns) {
+  static const char *const Q[VR_BT_COUNT] = {"Ts", "Tp", "Rfs", "Rfp", "Rbs", "Rbp"};
+  printf("{\"source\": ");
+  vr_json_string(stdout, item);
+  printf(", \"method\": ");
+  vr_json_string(stdout, t->method);
+  printf(", \"thickness_mm\": ");
+  vr_json_number(stdout, t->thickness_nm > 0 ? t->thickness_nm * 1e-6 : NAN);
+  printf(", \"angles_deg\": ");
+  json_array(t->angles, t->na, 1);
+  printf(", \"wavelengths_nm\": ");
+  json_array(t->nm, t->nl, 1);
+  for (int q = 0; q < VR_BT_COUNT; q++) {
+    printf(", \"%s\": [", Q[q]);
+    for (size_t i = 0; i < t->na; i++) {
+      if (i) printf(", ");
+      json_array(t->q[q] + i * t->nl, t->nl, 1);
+    }
+    printf("]");
+  }
+  if (ff) {
+    printf(", \"frosted\": {\"samples\": %zu, \"alpha\": ", ns);
+    vr_json_number(stdout, ff->alpha);
+    printf(", \"alpha_err\": ");
+    vr_json_number(stdout, ff->alpha_err);
+    printf(", \"scale\": ");
+    vr_json_number(stdout, ff->scale);
+    printf(", \"rms_rel\": ");
+    vr_json_number(stdout, ff->rms_rel);
+    printf("}");
+  }
+  printf(", \"table_columns\": \"each quantity is [angle][wavelength]\"}\n");
 }
 
 static void print_btdf(const vr_btdf_table *t) {
@@ -232,6 +320,7 @@ int spectro_cmd_btdf(vr_args *a) {
   vr_material *src = NULL, *out = NULL;
   vr_btdf_table t = {0};
   vr_btdf_sample *samples = NULL;
+  vr_spectro_curve grid = {0};
   double *nm = NULL, angles[64], d_nm;
   size_t na = 0, nl = 0, ns = 0;
   vr_angular_route route;
@@ -269,6 +358,10 @@ int spectro_cmd_btdf(vr_args *a) {
         goto out;
       double sol = solar_T(std, c);
       vr_standard_destroy(std);
+      if (vr_args_get(a, "wavelengths")) {
+        if (wavelengths(a, &nm, &nl, &err) || resample_curve(c, nm, nl, item, &grid, &err)) goto out;
+        c = &grid;
+      }
       if (vr_btdf_from_curve(c, d->thickness_nm, route, sol, angles, na, &t, &err)) goto out;
     } else {
       if (spectro_db(a, &db, &err) || vr_matdb_load(db, item, 0, &src, &err)) goto out;
@@ -280,6 +373,11 @@ int spectro_cmd_btdf(vr_args *a) {
         c = &d->curves[0];
         double sol = solar_T(std, c);
         vr_standard_destroy(std);
+        if (vr_args_get(a, "wavelengths")) {
+          if (wavelengths(a, &nm, &nl, &err) || resample_curve(c, nm, nl, item, &grid, &err))
+            goto out;
+          c = &grid;
+        }
         if (vr_btdf_from_curve(c, d->thickness_nm, route, sol, angles, na, &t, &err)) goto out;
       } else {
         const vr_property *th = vr_material_property(src, "thickness");
@@ -290,7 +388,8 @@ int spectro_cmd_btdf(vr_args *a) {
       }
     }
   }
-  print_btdf(&t);
+  bool json = vr_args_flag(a, "json");
+  if (!json) print_btdf(&t);
   vr_frosted_fit ff = {0};
   if (scatter) {
     double index;
@@ -298,10 +397,12 @@ int spectro_cmd_btdf(vr_args *a) {
         vr_btdf_samples_read(scatter, &samples, &ns, &err) ||
         vr_frosted_fit_alpha(samples, ns, index, 0.02, &ff, &err))
       goto out;
-    printf("frosted face (GGX, %zu samples, n = %g): alpha = %.4f +- %.4f, scale %.3f +- %.3f, "
-           "relative RMS %.3f\n", ns, index, ff.alpha, ff.alpha_err, ff.scale, ff.scale_err,
-           ff.rms_rel);
+    if (!json)
+      printf("frosted face (GGX, %zu samples, n = %g): alpha = %.4f +- %.4f, scale %.3f +- %.3f, "
+             "relative RMS %.3f\n", ns, index, ff.alpha, ff.alpha_err, ff.scale, ff.scale_err,
+             ff.rms_rel);
   }
+  if (json) print_btdf_json(&t, item, scatter ? &ff : NULL, ns);
   if (vr_args_get(a, "table") && write_btdf_table(vr_args_get(a, "table"), &t, &err)) goto out;
   if (save) {
     if (spectro_db(a, &db, &err) || vr_btdf_table_material(&t, save, &out, &err)) goto out;
@@ -311,9 +412,10 @@ int spectro_cmd_btdf(vr_args *a) {
   }
   rc = 0;
 out:
-  if (rc) spectro_fail(&err);
+  if (rc) rc = spectro_fail(&err);
   free(samples);
   free(nm);
+  free(grid.p);
   vr_btdf_table_free(&t);
   vr_material_destroy(src);
   vr_material_destroy(out);

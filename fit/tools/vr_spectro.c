@@ -13,6 +13,7 @@
 #include "vr/chromogenic.h"
 #include "vr/csv.h"
 #include "vr/optics.h"
+#include "vr/out_guard.h"
 #include "vr/sha256.h"
 #include "vr/version.h"
 
@@ -38,33 +39,136 @@ static const vr_option OPTIONS[] = {
     {"charge", 0, "MC_CM2", "metrics, state: electrochromic charge density (mC/cm2)"},
     {"uv", 0, "W_M2", "metrics, state: photochromic steady state under this UV irradiance"},
     {"temperature", 0, "T", "with --uv: glass temperature, e.g. 25C or 298K (default 25C)"},
+    {"force", 0, NULL, "fit: accept (exit 0) and --save a fit that does not describe the data"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
 
 static const char USAGE[] =
-    "fit FILE [--thickness MM] [--model sellmeier|sellmeier2|cauchy] [--save NAME] [--json]\n"
+    "fit FILE [--thickness MM] [--model sellmeier|sellmeier2|cauchy] [--save NAME [--force]] [--json]\n"
     "       vr-spectro metrics FILE|NAME [--standard nfrc|en410|iso9050] [--angle DEG] [--panes A,B] [--json]\n"
-    "       vr-spectro btdf FILE|NAME|--stack FILE [--angles LIST] [--scatter FILE] [--save NAME]\n"
+    "       vr-spectro btdf FILE|NAME|--stack FILE [--angles LIST] [--wavelengths A:B:S] [--scatter FILE] [--save NAME] [--json]\n"
     "       vr-spectro chromogenic FILES... --states LIST [--save NAME] [--json]\n"
-    "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T]]";
+    "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T]] [--json]";
 static const char ABOUT[] =
-    "Spectrophotometry of glass (T, Rf, Rb; CSV or LBNL/IGDB .DAT; docs/vr-spectro.md).\n"
+    "Spectrophotometry of glass (T, Rf, Rb; CSV, Cary/Lambda CSV exports, LBNL Optics/IGDB\n"
+    "  .DAT and .LOF; docs/vr-spectro.md).  Outputs never replace an input of the run.\n"
     "fit: n, k of an uncoated pane from T and R (slab equations with every internal\n"
     "  reflection, physical root, ill-conditioned wavelengths flagged), smoothed by a\n"
-    "  Sellmeier or Cauchy model with standard errors.\n"
+    "  Sellmeier or Cauchy model with standard errors.  A fit whose reduced chi-square (with\n"
+    "  the photometric accuracy 0.005 as sigma) exceeds the chi-square test's upper 0.1%\n"
+    "  point does not describe the data: exit 1, not saved unless --force.\n"
     "metrics: visible, solar and UV transmittance and reflectance under NFRC 300 (the\n"
     "  Windows-CalcEngine method), EN 410 or ISO 9050; CIELAB of the transmitted light;\n"
     "  several panes with --panes; angles by the physical route (uncoated) or\n"
-    "  Windows-CalcEngine's coated-glass polynomials (coated).\n"
-    "btdf: angle x wavelength tables of T and R (s, p) for the renderer.\n"
+    "  Windows-CalcEngine's coated-glass polynomials (coated).  R is optional: T alone\n"
+    "  gives the T figures (R figures need R).  Data must cover each figure's range.\n"
+    "btdf: angle x wavelength tables of T and R (s, p) for the renderer; a measured pane\n"
+    "  is resampled onto --wavelengths inside its data, never extrapolated.\n"
     "chromogenic: state model of electrochromic (states: charge 12mC/cm2 or voltage -1V)\n"
     "  or photochromic glass (E=40 steady state, t=60:E=40 activation, fade=120:E=40;\n"
     "  add :T=25C for temperature) with 90% limits.\n"
-    "state: a chromogenic material's spectrum at a state, a charge or a UV irradiance.";
+    "state: a chromogenic material's spectrum at a state, a charge (within the range the\n"
+    "  model was fitted on) or a UV irradiance.";
 
 int spectro_fail(const vr_error *e) {
   fprintf(stderr, "vr-spectro: %s\n", e->message);
-  return 1;
+  return spectro_exit(e);
+}
+
+int spectro_exit(const vr_error *e) {
+  return e->status == VR_E_RANGE && !strncmp(e->message, "--", 2) ? 2 : 1;
+}
+
+const char *spectro_db_path(const vr_args *a) {
+  const char *p = vr_args_get(a, "db");
+  if (p) return p;
+  p = getenv("VR_MATDB");
+  return p && *p ? p : "materials.db";
+}
+
+/* One file name from a reference file, relative to that file's folder. */
+static void reference(vr_out_guard *g, const char *dir, const char *name, size_t n,
+                      const char *role) {
+  char path[1100];
+  size_t d = name[0] == '/' ? 0 : strlen(dir);
+  if (n == 0 || n >= 512 || d >= 512) return;
+  if (d) {
+    memcpy(path, dir, d);
+    path[d++] = '/';
+  }
+  memcpy(path + d, name, n);
+  path[d + n] = '\0';
+  vr_out_guard_input(g, path, role);
+}
+
+/* The files a model file or an LBNL standard names (a stack's "file:"
+ * materials, a standard's source and detector tables): each word, and the
+ * text after a line's ':', taken as a name beside the file.  Names that are
+ * not files are skipped by vr_out_guard_input. */
+static void referenced_files(vr_out_guard *g, const char *path, const char *role) {
+  struct stat sb;
+  if (stat(path, &sb) || !S_ISREG(sb.st_mode) || sb.st_size > (1 << 20)) return;
+  FILE *f = fopen(path, "rb");
+  if (!f) return;
+  char dir[1024];
+  snprintf(dir, sizeof dir, "%s", path);
+  char *slash = strrchr(dir, '/');
+  if (slash) *slash = '\0';
+  else snprintf(dir, sizeof dir, ".");
+  char line[1024];
+  while (fgets(line, sizeof line, f)) {
+    size_t n = strcspn(line, "\r\n");
+    line[n] = '\0';
+    const char *colon = strrchr(line, ':');
+    if (colon) {
+      const char *v = colon + 1;
+      while (*v == ' ' || *v == '\t') v++;
+      size_t k = strlen(v);
+      while (k && (v[k - 1] == ' ' || v[k - 1] == '\t')) k--;
+      reference(g, dir, v, k, role);
+    }
+    for (const char *w = line; *w;) {
+      while (*w == ' ' || *w == '\t') w++;
+      const char *e = w;
+      while (*e && *e != ' ' && *e != '\t') e++;
+      if (!strncmp(w, "file:", 5)) w += 5;
+      if (e > w) reference(g, dir, w, (size_t)(e - w), role);
+      w = e;
+    }
+  }
+  fclose(f);
+}
+
+/* Every input of the run recorded, every output checked, before any work. */
+static vr_status guard_outputs(const vr_args *a, vr_error *err) {
+  vr_out_guard g;
+  vr_out_guard_init(&g);
+  const char *cmd = a->operands[0];
+  for (size_t i = 1; i < a->noperands; i++)
+    vr_out_guard_input(&g, a->operands[i], !strcmp(cmd, "chromogenic") || !strcmp(cmd, "fit")
+                                               ? "the measurement" : "an input");
+  const struct {
+    const char *opt, *role;
+  } IN[] = {{"stack", "the stack model"}, {"scatter", "the scattering measurement"},
+            {"standard", "the optical standard"}};
+  for (size_t i = 0; i < sizeof IN / sizeof IN[0]; i++) {
+    const char *v = vr_args_get(a, IN[i].opt);
+    if (v) vr_out_guard_input(&g, v, IN[i].role);
+  }
+  if (vr_args_get(a, "stack")) referenced_files(&g, vr_args_get(a, "stack"), "a file of the stack model");
+  if (vr_args_get(a, "standard"))
+    referenced_files(&g, vr_args_get(a, "standard"), "a table of the optical standard");
+  const char *panes = vr_args_get(a, "panes");
+  if (panes) {
+    char *list = strdup(panes), *save = NULL;
+    if (!list) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+    for (char *t = strtok_r(list, ",", &save); t; t = strtok_r(NULL, ",", &save))
+      vr_out_guard_input(&g, t, "a pane");
+    free(list);
+  }
+  vr_out_guard_database(&g, spectro_db_path(a));
+  const char *table = vr_args_get(a, "table");
+  return table ? vr_out_guard_check(&g, table, "--table", err) : VR_OK;
 }
 
 vr_status spectro_db(const vr_args *a, vr_matdb **db, vr_error *err) {
@@ -92,18 +196,29 @@ vr_status spectro_state_of(const vr_args *a, const vr_material *m, double *s, vr
   double x;
   if (st) {
     if (vr_parse_double(st, &x) || !(x >= 0 && x <= 1))
-      return vr_error_set(err, VR_E_ARG, "--state '%s': expected a number in [0, 1]", st);
+      return vr_error_set(err, VR_E_RANGE, "--state '%s': expected a number in [0, 1]", st);
     *s = x;
     return VR_OK;
   }
   if (q) {
-    if (vr_parse_double(q, &x)) return vr_error_set(err, VR_E_ARG, "--charge '%s': not a number", q);
+    if (vr_parse_double(q, &x)) return vr_error_set(err, VR_E_RANGE, "--charge '%s': not a number", q);
+    /* The state model is linear in charge only over the states it was
+     * fitted on, 0 to Q_full: it is not extrapolated, and a charge outside
+     * is refused rather than taken as the nearest end. */
+    double qf = NAN;
+    for (size_t i = 0; i < m->nparams; i++)
+      if (!strcmp(m->params[i].name, "Q_full")) qf = m->params[i].value;
+    if (!isnan(qf) && !(x >= 0 && x <= qf))
+      return vr_error_set(err, VR_E_RANGE,
+                          "--charge %g mC/cm2: outside the calibrated range of %s, 0 to %g "
+                          "mC/cm2 (the charges its states were fitted on); the model is not "
+                          "extrapolated", x, m->name, qf);
     return vr_chromo_state_of_charge(m, x, s, err);
   }
   if (uv) {
     double T = 298.15;
     if (vr_parse_double(uv, &x) || x < 0)
-      return vr_error_set(err, VR_E_ARG, "--uv '%s': expected W/m2 >= 0", uv);
+      return vr_error_set(err, VR_E_RANGE, "--uv '%s': expected W/m2 >= 0", uv);
     if (temp) {
       char buf[32];
       snprintf(buf, sizeof buf, "%s", temp);
@@ -112,7 +227,7 @@ vr_status spectro_state_of(const vr_args *a, const vr_material *m, double *s, vr
       if (n && (buf[n - 1] == 'C' || buf[n - 1] == 'c')) add = 273.15, buf[n - 1] = '\0';
       else if (n && (buf[n - 1] == 'K' || buf[n - 1] == 'k')) buf[n - 1] = '\0';
       if (vr_parse_double(buf, &T) || !(T + add > 0))
-        return vr_error_set(err, VR_E_ARG, "--temperature '%s': use 25C or 298K", temp);
+        return vr_error_set(err, VR_E_RANGE, "--temperature '%s': use 25C or 298K", temp);
       T += add;
     }
     return vr_chromo_steady_state(m, x, T, s, err);
@@ -231,6 +346,55 @@ vr_status spectro_save(vr_matdb *db, vr_material *m, const char *cmd, const char
   return VR_OK;
 }
 
+/* Which commands take each option: an option a command would ignore is
+ * refused instead (exit 2). */
+static bool foreign_option(const vr_args *a, const char *cmd) {
+  static const struct {
+    const char *opt, *cmds, *why;
+  } TAKES[] = {
+      {"thickness", "fit metrics btdf chromogenic", NULL},
+      {"model", "fit", NULL},
+      {"sigma", "fit chromogenic", NULL},
+      {"save", "fit btdf chromogenic", NULL},
+      {"table", "fit btdf", "only fit and btdf write a table"},
+      {"force", "fit", "only fit accepts a flagged fit"},
+      {"standard", "metrics", NULL},
+      {"angle", "metrics", NULL},
+      {"panes", "metrics", NULL},
+      {"route", "metrics btdf", NULL},
+      {"angles", "btdf", NULL},
+      {"stack", "btdf", NULL},
+      {"wavelengths", "btdf", NULL},
+      {"scatter", "btdf", NULL},
+      {"index", "btdf", NULL},
+      {"states", "chromogenic", NULL},
+      {"state", "metrics state", NULL},
+      {"charge", "metrics state", NULL},
+      {"uv", "metrics state", NULL},
+      {"temperature", "metrics state", NULL},
+  };
+  for (size_t i = 0; i < sizeof TAKES / sizeof TAKES[0]; i++) {
+    if (!vr_args_get(a, TAKES[i].opt)) continue;
+    const char *c = TAKES[i].cmds;
+    size_t n = strlen(cmd);
+    bool ok = false;
+    for (const char *p = strstr(c, cmd); p && !ok; p = strstr(p + 1, cmd))
+      ok = (p == c || p[-1] == ' ') && (p[n] == '\0' || p[n] == ' ');
+    if (ok) continue;
+    if (TAKES[i].why)
+      fprintf(stderr, "vr-spectro: --%s: %s; '%s' does not take it\n", TAKES[i].opt, TAKES[i].why, cmd);
+    else
+      fprintf(stderr, "vr-spectro: --%s: '%s' does not take it (an option of: %s)\n", TAKES[i].opt,
+              cmd, c);
+    return true;
+  }
+  if (vr_args_get(a, "temperature") && !vr_args_get(a, "uv")) {
+    fprintf(stderr, "vr-spectro: --temperature: only with --uv (the photochromic steady state)\n");
+    return true;
+  }
+  return false;
+}
+
 int main(int argc, char **argv) {
   vr_args a;
   vr_args_outcome o = vr_args_parse(&a, "vr-spectro", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
@@ -248,9 +412,15 @@ int main(int argc, char **argv) {
   int rc = -1;
   for (size_t i = 0; i < sizeof CMDS / sizeof CMDS[0]; i++)
     if (a.noperands >= 1 && !strcmp(a.operands[0], CMDS[i].name)) {
+      vr_error err = {0};
       if (a.noperands < CMDS[i].min_operands) {
         fprintf(stderr, "vr-spectro: '%s' needs its input (see vr-spectro --help)\n", CMDS[i].name);
         rc = 2;
+      } else if (foreign_option(&a, CMDS[i].name)) {
+        rc = 2;
+      } else if (guard_outputs(&a, &err)) {
+        fprintf(stderr, "vr-spectro: %s\n", err.message);
+        rc = 1;
       } else {
         rc = CMDS[i].run(&a);
       }

@@ -89,9 +89,9 @@ check "T + R > 1 names file:line" test $rc -eq 1 -a -n "$(grep 'sum.csv:3' "$tmp
 bad neg.csv 'wavelength_nm,T,Rf\n500,0.9,-0.08\n'
 "$bin" metrics "$tmp/neg.csv" 2> "$tmp/err" > /dev/null; rc=$?
 check "negative value names file:line and field" test $rc -eq 1 -a -n "$(grep "neg.csv:2" "$tmp/err" | grep "'Rf'")"
-bad unsorted.csv 'wavelength_nm,T,Rf\n500,0.9,0.08\n490,0.9,0.08\n'
+bad unsorted.csv 'wavelength_nm,T,Rf\n500,0.9,0.08\n510,0.9,0.08\n490,0.9,0.08\n'
 "$bin" metrics "$tmp/unsorted.csv" 2> "$tmp/err" > /dev/null; rc=$?
-check "unsorted wavelengths" test $rc -eq 1 -a -n "$(grep 'unsorted.csv:3' "$tmp/err")"
+check "unsorted wavelengths" test $rc -eq 1 -a -n "$(grep 'unsorted.csv:4' "$tmp/err")"
 bad dup.csv 'wavelength_nm,T,Rf\n500,0.9,0.08\n500,0.9,0.08\n'
 "$bin" metrics "$tmp/dup.csv" 2> "$tmp/err" > /dev/null; rc=$?
 check "duplicate wavelengths" test $rc -eq 1 -a -n "$(grep 'dup.csv:3' "$tmp/err" | grep repeats)"
@@ -108,5 +108,126 @@ before=$("$matdb" list | wc -l)
 check "a failed fit saves nothing" test "$("$matdb" list | wc -l)" -eq "$before"
 "$bin" fit "$g/clear_float/CLEAR_3.DAT" --table /nonexistent/x.csv > /dev/null 2>&1; rc=$?
 check "unwritable table fails cleanly" test $rc -eq 1
+
+# Issue 18: nothing a user owns is lost or silently wrong.
+d="$src/tests/data/spectro"
+# 1. Outputs never replace inputs (same name, a symbolic link, the database,
+#    the stack model, the scattering measurement), checked before any work.
+cp "$g/clear_float/CLEAR_3.DAT" "$tmp/m.DAT"
+before=$(sha256sum < "$tmp/m.DAT")
+refuse spectro-table-over-input "$bin" fit "$tmp/m.DAT" --table "$tmp/m.DAT"
+check "the measurement is intact" test "$(sha256sum < "$tmp/m.DAT")" = "$before"
+ln -s m.DAT "$tmp/link.csv"
+refuse spectro-table-over-link "$bin" fit "$tmp/m.DAT" --table "$tmp/link.csv"
+refuse spectro-table-over-database "$bin" fit "$tmp/m.DAT" --table "$VR_MATDB"
+cp "$g/lowe/"*.model "$g/lowe/"*.yml "$tmp/"
+refuse spectro-table-over-stack "$bin" btdf --stack "$tmp/lowe.model" --table "$tmp/lowe.model"
+before=$(sha256sum < "$tmp/Ag_Ciesielski.yml")
+refuse spectro-table-over-stack-file "$bin" btdf --stack "$tmp/lowe.model" --table "$tmp/Ag_Ciesielski.yml"
+check "the stack's material file is intact" test "$(sha256sum < "$tmp/Ag_Ciesielski.yml")" = "$before"
+printf 'theta_i,theta_o,phi_o,btdf\n0,10,0,0.5\n0,20,0,0.3\n' > "$tmp/scatter.csv"
+refuse spectro-table-over-scatter "$bin" btdf "$tmp/m.DAT" --scatter "$tmp/scatter.csv" --table "$tmp/scatter.csv"
+refuse spectro-table-ignored "$bin" metrics "$tmp/m.DAT" --table "$tmp/x.csv"
+refuse spectro-option-ignored "$bin" fit "$tmp/m.DAT" --standard en410
+refuse spectro-temperature-without-uv "$bin" metrics "$tmp/m.DAT" --temperature 25C
+check "a refused command wrote nothing" test ! -e "$tmp/x.csv"
+
+# 2. A fit is saved only when it describes the data.  Real uncoated glass
+#    passes (IGDB NFRC 102; Pilkington Optifloat Clear, NFRC 9803, its
+#    Optics 5 file from pyWinCalc); the coated low-e pane (Pilkington Energy
+#    Advantage, NFRC 9923, coated front) is flagged and not saved.
+"$bin" fit "$d/CLEAR5.LOF" --save optifloat --json > "$tmp/c5.json"; rc=$?
+check "uncoated Optifloat (LOF) fit describes the data" test $rc -eq 0
+python3 -c "
+import json; v=json.load(open('$tmp/c5.json'))['verdict']
+assert v['describes'] and v['chi2_reduced'] <= v['chi2_limit'] and v['sigma'] == 0.005, v"
+check "verdict in the JSON" test $? -eq 0
+"$matdb" show optifloat > "$tmp/show5"
+check "the verdict is in the provenance" grep -q "verdict: describes the data" "$tmp/show5"
+before=$("$matdb" list | wc -l)
+refuse spectro-fit-not-described "$bin" fit "$d/LOW-E_5.LOF" --save lowe-nk --table "$tmp/lowe-nk.csv"
+check "a flagged fit saves nothing" test "$("$matdb" list | wc -l)" -eq "$before"
+check "a flagged fit writes no table" test ! -e "$tmp/lowe-nk.csv"
+grep -q "coated" "$tmp/refused.err"; check "the verdict says the pane is coated" test $? -eq 0
+"$bin" fit "$d/LOW-E_5.LOF" --save lowe-nk --force > "$tmp/forced" 2> "$tmp/forced.err"; rc=$?
+check "--force accepts a flagged fit" test $rc -eq 0 -a -n "$(grep 'accepted with --force' "$tmp/forced.err")"
+"$matdb" show lowe-nk > "$tmp/showf"
+check "the forced fit records it in its provenance" grep -q "saved with --force" "$tmp/showf"
+refuse spectro-force-elsewhere "$bin" metrics "$tmp/m.DAT" --force
+
+# 3a. LBNL Optics 5 .LOF files (Pilkington, from pyWinCalc) read like IGDB
+#     .DAT: header thickness, micrometre rows T Rf Rb.
+"$bin" metrics "$d/LOW-E_5.LOF" --json > "$tmp/lof.json"; rc=$?
+check "metrics of a .LOF file" test $rc -eq 0
+python3 -c "
+import json; m=json.load(open('$tmp/lof.json'))
+# A coated low-e pane: front and back reflectance differ (0.112 / 0.106 at 550 nm in the file).
+assert 0.80 < m['Tvis'] < 0.86 and m['Rvis_front'] > m['Rvis_back'], m"
+check "low-e figures from the .LOF file" test $? -eq 0
+"$bin" metrics "$d/LOW-E_5.LOF" --angle 60 > "$tmp/lof60"
+check "the .LOF low-e pane takes the coated route" grep -q "coated" "$tmp/lof60"
+
+# 3b. An Agilent Cary 50 export (title line, "Wavelength (nm),Abs",
+#     wavelengths descending, metadata after a blank line, CRLF): read; its
+#     data stop at 900 nm, so the solar figure is refused, not truncated.
+refuse spectro-cary-solar-uncovered "$bin" metrics "$d/CuPCtS_H2O_vis.csv"
+grep -q "200.019-899.996 nm" "$tmp/refused.err"; check "the Cary export was read in full (200-900 nm)" test $? -eq 0
+printf 'glassT,,glassR,\r\nWavelength (nm),%%T,Wavelength (nm),%%R,\r\n' > "$tmp/cary.csv"
+awk '/^[0-9]/ { printf "%.1f,%.2f,%.1f,%.2f,\r\n", $1*1000, $2*100, $1*1000, $3*100 }' \
+  "$g/clear_float/CLEAR_3.DAT" | sort -t, -k1,1 -g -r >> "$tmp/cary.csv"
+printf '\r\nglassT\r\nCollection Time: 1/15/2014 4:59:54 PM\r\nInstrument  Cary 5000\r\n' >> "$tmp/cary.csv"
+"$bin" metrics "$tmp/cary.csv" --json > "$tmp/cary.json"; rc=$?
+check "a %T/%R Cary-layout export" test $rc -eq 0
+python3 -c "
+import json; m=json.load(open('$tmp/cary.json'))
+# NFRC 102 written as a Cary export: Windows-CalcEngine's Tvis 0.899260, Rvis 0.082563.
+assert abs(m['Tvis']-0.899260) < 1e-6 and abs(m['Rvis_front']-0.082563) < 1e-6, m"
+check "the Cary layout gives NFRC 102's figures" test $? -eq 0
+printf 'A,,B,\nWavelength (nm),%%T,Wavelength (nm),%%T,\n700,90,700,80,\n600,90,600,80,\n500,90,500,80,\n' > "$tmp/two.csv"
+refuse spectro-several-samples "$bin" metrics "$tmp/two.csv"
+
+# 3c. Transmittance only: T figures, and a clear word that R figures need R.
+awk 'BEGIN { print "wavelength_nm,T" } /^[0-9]/ { printf "%g,%s\n", $1*1000, $2 }' \
+  "$g/clear_float/CLEAR_3.DAT" > "$tmp/tonly.csv"
+"$bin" metrics "$tmp/tonly.csv" > "$tmp/tonly" 2>&1; rc=$?
+check "metrics of a transmittance-only file" test $rc -eq 0
+check "it says R figures need R" grep -q "Rvis, Rsol and the reflected colour need R" "$tmp/tonly"
+"$bin" metrics "$tmp/tonly.csv" --json | python3 -c "
+import json, sys; m=json.load(sys.stdin)
+# Windows-CalcEngine, NFRC 102: Tvis 0.899260, Tsol 0.833849 (T alone fixes them).
+assert abs(m['Tvis']-0.899260) < 1e-6 and abs(m['Tsol']-0.833849) < 1e-6
+assert m['Rvis_front'] is None and m['has_reflectance'] is False and m['Rf_Lab'] is None"
+check "transmittance-only JSON: T figures, R null" test $? -eq 0
+refuse spectro-tonly-angle "$bin" metrics "$tmp/tonly.csv" --angle 30
+refuse spectro-tonly-panes "$bin" metrics --panes "$tmp/tonly.csv,$tmp/tonly.csv"
+
+# 4. Silent clamps and ignored options.
+refuse spectro-charge-negative "$bin" state ec --charge -5
+refuse spectro-charge-above "$bin" metrics ec --charge 500
+"$bin" state ec --charge 32 > /dev/null; check "--charge at the calibrated end" test $? -eq 0
+printf '# thickness: -5.715 mm\nwavelength_nm,T,Rf\n400,0.8,0.08\n500,0.8,0.08\n600,0.8,0.08\n' > "$tmp/negthick.csv"
+refuse spectro-thickness-negative "$bin" fit "$tmp/negthick.csv"
+grep -q "negthick.csv:1" "$tmp/refused.err"; check "the thickness refusal names file:line" test $? -eq 0
+printf 'wavelength_nm,T,Rf\n500,0.9,0.08\n' > "$tmp/one.csv"
+refuse spectro-one-row "$bin" metrics "$tmp/one.csv"
+grep -q "one.csv" "$tmp/refused.err"; check "the one-row refusal names the file" test $? -eq 0
+"$bin" btdf "$tmp/m.DAT" --angles 0,60 --wavelengths 400:800:100 --table "$tmp/bw.csv" > /dev/null; rc=$?
+check "btdf --wavelengths resamples a measured pane" test $rc -eq 0 -a "$(cut -d, -f2 "$tmp/bw.csv" | sort -u | tr '\n' ' ')" = "400 500 600 700 800 wavelength_nm "
+# CLEAR_3.DAT at 500 nm reads "0.500 0.9050 0.0840 0.0840": the resampled normal row.
+check "resampled values are the measured ones at measured wavelengths" grep -q "^0,500,0.90500000,0.90500000,0.08400000" "$tmp/bw.csv"
+refuse spectro-btdf-wavelengths-outside "$bin" btdf "$tmp/m.DAT" --wavelengths 200:800:100
+"$bin" state ec --charge 16 --json > "$tmp/state.json"
+python3 -m json.tool "$tmp/state.json" > /dev/null; check "state --json is valid JSON" test $? -eq 0
+python3 -c "
+import json; s=json.load(open('$tmp/state.json'))
+assert s['state'] == 0.5 and len(s['T']) == len(s['wavelength_nm'])"
+check "state --json: 16 of the fitted 32 mC/cm2 is s = 0.5" test $? -eq 0
+"$bin" btdf "$tmp/m.DAT" --angles 0,30,60 --wavelengths 400:800:50 --json > "$tmp/btdf.json"
+python3 -m json.tool "$tmp/btdf.json" > /dev/null; check "btdf --json is valid JSON" test $? -eq 0
+python3 -c "
+import json; b=json.load(open('$tmp/btdf.json'))
+assert b['angles_deg'] == [0, 30, 60] and len(b['Ts']) == 3 and len(b['Ts'][0]) == 9
+assert abs(b['Ts'][0][2] - 0.905) < 1e-9"
+check "btdf --json holds the table" test $? -eq 0
 
 finish

@@ -70,6 +70,14 @@ static void electrochromic_round_trip(void **state) {
   double s, Tm, eta;
   assert_int_equal(vr_chromo_state_of_charge(m, 6, &s, &err), VR_OK);
   assert_near(s, 0.5, 1e-12);
+  /* Outside the fitted charges (0 to Q_full = 12 mC/cm2, the charges of the
+   * synthetic states above) there is no state: refused, never clamped. */
+  double s_end;
+  assert_int_equal(vr_chromo_state_of_charge(m, 12, &s_end, &err), VR_OK);
+  assert_near(s_end, 1.0, 1e-12);
+  assert_int_equal(vr_chromo_state_of_charge(m, 12.5, &s_end, &err), VR_E_RANGE);
+  assert_non_null(strstr(err.message, "outside the calibrated range"));
+  assert_int_equal(vr_chromo_state_of_charge(m, -5, &s_end, &err), VR_E_RANGE);
   assert_int_equal(vr_chromo_eval(m, s, 632.8, &Tm, NULL, NULL, &err), VR_OK);
   double q6 = 6;
   assert_near(Tm, ec_T(632.8, &q6), 3e-3);

@@ -60,6 +60,7 @@ typedef struct vr_pane {
   double *nm;
   double *T[2], *Rf[2], *Rb[2];
   bool coated;             /* Rf and Rb differ (VR_COATED_ASYMMETRY) */
+  bool has_R;              /* false: a transmittance-only pane (R arrays NAN) */
   vr_angular_route route;  /* the route used to reach the angle (AUTO at 0) */
 } vr_pane;
 
@@ -77,14 +78,19 @@ void vr_coated_angular(double T0, double R0, double angle_deg, double solar_T0, 
  * inversion has no root (data no slab can give, e.g. T + R = 1 within
  * rounding with k = 0) keep their normal-incidence values scaled the way a
  * lossless slab of the fitted neighbouring index would be; their count is
- * returned in *unsolved (may be NULL). */
+ * returned in *unsolved (may be NULL).
+ * A curve without reflectance gives a transmittance-only pane (has_R
+ * false) at normal incidence; at an angle it is refused (VR_E_NOT_FOUND:
+ * both routes start from T and R). */
 vr_status vr_pane_from_curve(const vr_spectro_curve *c, double thickness_nm, double angle_deg,
                              vr_angular_route route, double solar_T0, vr_pane **out,
                              size_t *unsolved, vr_error *err);
 
 /* The system of panes[0] (outside) .. panes[count-1] (inside), each
  * resampled linearly onto the first pane's grid (where they all must be
- * defined: VR_E_RANGE otherwise, naming the pane). */
+ * defined: VR_E_RANGE otherwise, naming the pane).  Every pane needs its
+ * reflectance when there are several (the inter-reflections): a
+ * transmittance-only pane among them is VR_E_NOT_FOUND. */
 vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr_error *err);
 
 typedef struct vr_glazing_metrics {
@@ -94,8 +100,9 @@ typedef struct vr_glazing_metrics {
   double T_xyz[3], T_lab[3];   /* transmitted colour (the standard's colour
                                   methods: NFRC gives D65 and CIE 1964 10 deg),
                                   L*a*b* against the perfect transmitter */
-  double Rf_lab[3], Rb_lab[3];
+  double Rf_lab[3], Rb_lab[3];  /* NAN without reflectance */
   bool has_colour;
+  bool has_R;                  /* false: transmittance-only pane, R figures NAN */
 } vr_glazing_metrics;
 
 /* Figures of a pane (unpolarised) under the standard's SOLAR, PHOTOPIC,

@@ -78,14 +78,23 @@ const char *vr_standard_builtin_names(void);
 /* The method of that name (case-insensitive), or NULL. */
 const vr_std_method *vr_standard_method(const vr_standard *s, const char *name);
 
+/* Share of a method's weight (source x detector over its range) that data
+ * must cover: beyond it, the nearest measured value would stand in for a
+ * real measurement.  1 %: IGDB files start at 300 nm, and a measurement
+ * from 310 nm leaves 0.02 % of the NFRC solar weight uncovered; one that
+ * stops at 900 nm leaves 45 %. */
+#define VR_STD_MAX_UNCOVERED 0.01
+
 /* Weighted mean of data under the method (see the top).  VR_E_RANGE when the
- * data do not reach into the range at all or the weights sum to 0;
+ * data leave more than VR_STD_MAX_UNCOVERED of the method's weight
+ * unmeasured (the message gives the share) or the weights sum to 0;
  * VR_E_ARG for an unsupported method. */
 vr_status vr_std_average(const vr_std_method *m, const vr_spectrum *data, double *out,
                          vr_error *err);
 /* The two sums themselves: num = sum_w data S D (data NULL: 1) and den =
  * sum_w S D, for colour (X = k num_X / den_Y).  data must still be given for
- * VR_WLSET_DATA methods. */
+ * VR_WLSET_DATA methods; given data must cover the method as for
+ * vr_std_average. */
 vr_status vr_std_sums(const vr_std_method *m, const vr_spectrum *data, double *num, double *den,
                       vr_error *err);
 

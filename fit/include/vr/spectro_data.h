@@ -6,21 +6,34 @@
  * the columns, found by name, case-insensitive:
  *   wavelength   "wavelength_nm", "lambda (um)", "nm", ... (unit from the
  *                header: nm, um, A, eV; nm if none)
- *   T            "T", "Tnorm", "transmittance"
+ *   T            "T", "Tnorm", "transmittance", "%T"; or absorbance "Abs",
+ *                "absorbance", "OD" (decadic: T = 10^-A)
  *   Rf           "Rf", "R", "R_front", "reflectance" (optional)
  *   Rb           "Rb", "R_back" (optional)
  *   angle        "angle", "aoi", "theta" in degrees (optional, default 0)
  *   state        "state", "tint", "charge", "voltage", ... (optional):
  *                rows with the same state label form one spectrum
- * A "%" in the T/R headers means percent.  A comment line
- * "# thickness: 3.048 mm" (or nm, um) gives the pane's thickness.
- * LBNL Optics / IGDB ".DAT" files are read through the material database's
- * importer (thickness from their header).
+ * A "%" in the T/R headers means percent ("T (%)", "%T", "%R").  A comment
+ * line "# thickness: 3.048 mm" (or nm, um) gives the pane's thickness; a
+ * value that is not a positive number is refused, naming the line.
+ *
+ * Spectrophotometer exports (Agilent Cary WinUV, PerkinElmer UV WinLab
+ * .csv): title lines (sample names) before the "Wavelength (nm),%T" header
+ * are skipped, and so is the metadata block after the first blank line that
+ * follows the data.  In column pairs (wavelength, value, wavelength, value,
+ * ...) each value goes with the wavelength column on its left; one pane per
+ * file (one %T column, and %R on T's wavelengths).
+ *
+ * LBNL Optics files, known by their content (a first line in braces),
+ * whatever the extension (IGDB ".DAT", Optics 5 ".LOF"): "{ Thickness } mm",
+ * "{ Units, Wavelength Units } SI Microns|Nanometers", then rows
+ * "wavelength T Rf Rb".
  *
  * Checks, each naming file:line and the field: numbers must be finite,
  * 0 <= T, R <= 1, T + R <= 1 + 0.005 (the photometric tolerance LBNL
  * Optics applies), wavelengths strictly increasing inside each (state,
- * angle) spectrum, every spectrum at least 1 point. */
+ * angle) spectrum, or strictly decreasing throughout it (then turned
+ * round), every spectrum at least VR_SPECTRO_MIN_ROWS rows. */
 #ifndef VR_SPECTRO_DATA_H
 #define VR_SPECTRO_DATA_H
 
@@ -34,6 +47,9 @@ extern "C" {
 #endif
 
 #define VR_SPECTRO_TR_TOLERANCE 0.005
+/* Rows a spectrum needs: fewer cannot say how the pane varies with
+ * wavelength (one row would make a flat, grey pane). */
+#define VR_SPECTRO_MIN_ROWS 3
 
 typedef struct vr_spectro_point {
   double nm, T, Rf, Rb;      /* Rf, Rb NAN when not measured */
@@ -58,6 +74,9 @@ typedef struct vr_spectro_data {
 vr_status vr_spectro_read(const char *path, vr_spectro_data **out, vr_error *err);
 vr_status vr_spectro_parse_csv(const char *text, size_t len, const char *name,
                                vr_spectro_data **out, vr_error *err);
+/* An LBNL Optics file (IGDB .DAT, Optics 5 .LOF) already in memory. */
+vr_status vr_spectro_parse_optics(const char *text, size_t len, const char *name,
+                                  vr_spectro_data **out, vr_error *err);
 /* From a glazing material (roles T, Rf, Rb; property "thickness" in mm). */
 vr_status vr_spectro_from_material(const vr_material *m, vr_spectro_data **out, vr_error *err);
 void vr_spectro_destroy(vr_spectro_data *d);
