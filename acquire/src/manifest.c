@@ -348,6 +348,9 @@ static vr_status parse_in(const char *text, size_t len, const char *path, char *
   c->dir = dir;
   c->stream = stream;
   vr_sha256_buffer(text, len, c->sha256);
+  /* A UTF-8 byte-order mark, as Windows editors write one, is not a
+   * statement (the hash above is still of the bytes as read). */
+  if (len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3)) text += 3, len -= 3;
   c->grid[0] = 400, c->grid[1] = 700, c->grid[2] = 10;
   parser p = {c, db, path, 0, NULL, err};
   vr_status st = (c->path && c->dir) ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");

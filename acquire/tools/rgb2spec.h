@@ -74,7 +74,10 @@ bool rg_same_light(const vr_spectrum *a, const vr_spectrum *b);
 void rg_print_text(const rg_run *run);
 void rg_print_json(const rg_run *run);
 vr_status rg_write_report(const char *path, const rg_run *run, vr_error *err);
-vr_status rg_save(vr_matdb *db, const char *prefix, const rg_run *run, vr_error *err);
+/* Saves each region's spectrum as P<region>; forced: saved with --force
+ * although some region misses its photos or a light disagrees with its
+ * photo (said in the provenance note, with the region's own flags). */
+vr_status rg_save(vr_matdb *db, const char *prefix, const rg_run *run, bool forced, vr_error *err);
 
 /* CIEDE2000 between two linear camera responses under light l of the run
  * (through XYZ with the light's white). */
@@ -106,8 +109,12 @@ vr_status rg_per_pixel(const rg_run *run, const vr_image *img, const char *path,
                        const rg_pixel_options *opt, rg_pixels *res, vr_error *err);
 void rg_pixels_free(rg_pixels *px);
 void rg_print_pixels(FILE *out, const rg_run *run, const rg_pixels *px, const char *path);
-vr_status rg_save_texture(vr_matdb *db, const char *name, const char *path, const rg_run *run,
-                          const rg_pixels *px, vr_error *err);
+/* Saves material `name` for the texture: its hash is of the file as
+ * written at `written`, its 'texture' property the absolute path of
+ * `final` (where the caller then puts it; the same name when written in
+ * place). */
+vr_status rg_save_texture(vr_matdb *db, const char *name, const char *written, const char *final,
+                          const rg_run *run, const rg_pixels *px, bool forced, vr_error *err);
 
 /* vr-rgb2spec simulate (rgb2spec_simulate.c). */
 int rg_cmd_simulate(vr_args *a);

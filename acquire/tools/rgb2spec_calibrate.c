@@ -6,6 +6,7 @@
  * vr_chart, vr_capture_spectrum); nothing is written unless everything
  * before the save succeeded. */
 #include "rgb2spec.h"
+#include "rgb2spec_inputs.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -244,6 +245,10 @@ int rg_cmd_calibrate(int argc, char **argv) {
   if (a.noperands != 1 || !light_arg) {
     fprintf(stderr, "vr-rgb2spec calibrate: give one PHOTO and --light\n"
                     "Try 'vr-rgb2spec calibrate --help' for more information.\n");
+    vr_args_free(&a);
+    return 2;
+  }
+  if (!rg_db_option_ok(&a)) {
     vr_args_free(&a);
     return 2;
   }

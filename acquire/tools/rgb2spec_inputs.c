@@ -5,6 +5,11 @@
  * The first is refused, the others are said, with what to do. */
 #include "rgb2spec_inputs.h"
 
+#include <stdio.h>
+#include <string.h>
+
+#include "vr/matdb.h"
+
 const char *rg_encoding_hint(const vr_capture *cap, const vr_capture_photo *p,
                              const vr_image *img) {
   if (!cap || !p || !img) return NULL;
@@ -46,4 +51,40 @@ vr_status rg_check_photo(const vr_capture *cap, const vr_capture_photo *p, const
   if (hint)
     fprintf(notes, "vr-rgb2spec: warning: %s: %s (%s:%ld)\n", p->path, hint, cap->path, p->line);
   return VR_OK;
+}
+
+/* A file: reference of the manifest, resolved as vr_capture_spectrum does. */
+static void guard_file_ref(vr_out_guard *g, const vr_capture *cap, const char *ref, const char *role) {
+  if (!ref || strncmp(ref, "file:", 5)) return;
+  const char *rel = ref + 5;
+  char path[4200];
+  if (rel[0] == '/' || !cap->dir || !cap->dir[0]) snprintf(path, sizeof path, "%s", rel);
+  else snprintf(path, sizeof path, "%s/%s", cap->dir, rel);
+  vr_out_guard_input(g, path, role);
+}
+
+void rg_guard_capture(vr_out_guard *g, const vr_capture *cap, bool photos) {
+  if (!g || !cap) return;
+  if (!cap->stream) vr_out_guard_input(g, cap->path, "the capture manifest");
+  for (size_t i = 0; i < cap->nphotos; i++) {
+    if (photos) vr_out_guard_input(g, cap->photos[i].path, "a photo");
+    guard_file_ref(g, cap, cap->photos[i].light_name, "a light's spectrum");
+  }
+  if (cap->labels_path) vr_out_guard_input(g, cap->labels_path, "the label image");
+  guard_file_ref(g, cap, cap->camera_name, "the camera's sensitivities");
+  for (size_t i = 0; i < cap->nregions; i++)
+    guard_file_ref(g, cap, cap->regions[i].reference_name, "a reference spectrum");
+}
+
+bool rg_db_option_ok(const vr_args *a) {
+  const char *p = vr_args_get(a, "db");
+  if (!p || *p) return true;
+  vr_error e = {0};
+  vr_matdb *db = NULL;
+  if (vr_matdb_open(p, VR_MATDB_READONLY, &db, &e) == VR_OK) {
+    vr_matdb_close(db);
+    return true;
+  }
+  fprintf(stderr, "vr-rgb2spec: --db '': %s\n", e.message);
+  return false;
 }

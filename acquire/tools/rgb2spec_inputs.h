@@ -3,10 +3,13 @@
 #ifndef VR_RGB2SPEC_INPUTS_H
 #define VR_RGB2SPEC_INPUTS_H
 
+#include <stdbool.h>
 #include <stdio.h>
+#include "vr/args.h"
 #include "vr/error.h"
 #include "vr/image.h"
 #include "vr/manifest.h"
+#include "vr/out_guard.h"
 
 /* Checks photo p of capture cap, read into img (vr_image_read):
  *  - refuses (VR_E_ARG) a photo with pixels that are not fully opaque,
@@ -29,5 +32,17 @@ vr_status rg_check_photo(const vr_capture *cap, const vr_capture_photo *p, const
  * sentence for a failure message (no file name, no line), or NULL when the
  * photo is not such a case. */
 const char *rg_encoding_hint(const vr_capture *cap, const vr_capture_photo *p, const vr_image *img);
+
+/* Records in g every file the capture reads, for vr_out_guard_check: the
+ * manifest (unless it came from a stream), every photo it lists (unless
+ * photos is false: simulate writes them), its labels image, and the file:
+ * camera, lights and references (relative to the manifest's folder, as the
+ * manifest reader resolves them). */
+void rg_guard_capture(vr_out_guard *g, const vr_capture *cap, bool photos);
+
+/* --db '' names no database: false after printing the material database
+ * library's refusal ("vr-rgb2spec: --db '': ..."); the caller exits 2
+ * before reading anything.  true otherwise. */
+bool rg_db_option_ok(const vr_args *a);
 
 #endif

@@ -261,7 +261,7 @@ vr_status rg_write_report(const char *path, const rg_run *run, vr_error *err) {
   return vr_atomic_file_commit(&f, err);
 }
 
-vr_status rg_save(vr_matdb *db, const char *prefix, const rg_run *run, vr_error *err) {
+vr_status rg_save(vr_matdb *db, const char *prefix, const rg_run *run, bool forced, vr_error *err) {
   vr_status st = VR_OK;
   char note[512];
   size_t used = (size_t)snprintf(note, sizeof note, "lights:");
@@ -291,7 +291,17 @@ vr_status rg_save(vr_matdb *db, const char *prefix, const rg_run *run, vr_error 
     if (!st) st = vr_material_set_text(&m->prov.tool, "vr-rgb2spec", err);
     if (!st) st = vr_material_set_text(&m->prov.tool_version, vr_version(), err);
     if (!st) st = vr_material_set_text(&m->prov.model, model, err);
-    if (!st) st = vr_material_set_text(&m->prov.note, note, err);
+    if (!st) {
+      /* What the recovery said of this region travels with it. */
+      char full[1024];
+      snprintf(full, sizeof full, "%s; %s (chi2 %.4g, limit %.4g)%s", note,
+               g->misfit ? "misses its photos by more than their noise explains" : "fits its photos within their noise",
+               g->info.chi2, g->info.chi2_limit,
+               forced ? "; saved with --force although some regions miss their photos or a light disagrees with its photo" : "");
+      st = vr_material_set_text(&m->prov.note, full, err);
+    }
+    if (!st) st = vr_material_add_property(m, "fit_misfit", NULL, g->misfit ? 1 : 0, NULL, err);
+    if (!st) st = vr_material_add_property(m, "fit_forced", NULL, forced ? 1 : 0, NULL, err);
     if (!st) m->prov.residual = g->de_mean;
     if (!st) st = vr_matdb_save(db, m, err);
     vr_material_destroy(m);

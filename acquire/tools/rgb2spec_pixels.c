@@ -417,11 +417,28 @@ void rg_print_pixels(FILE *out, const rg_run *run, const rg_pixels *px, const ch
     fprintf(out, ", against the references RMSE %.4f\n", px->rmse_ref);
 }
 
-vr_status rg_save_texture(vr_matdb *db, const char *name, const char *path, const rg_run *run,
-                          const rg_pixels *px, vr_error *err) {
+/* The absolute name of path, which need not exist yet: its folder
+ * resolved, then its last component.  malloc'ed; NULL if the folder cannot
+ * be resolved. */
+static char *absolute_name(const char *path) {
+  const char *slash = strrchr(path, '/');
+  char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+  char *rdir = dir ? realpath(dir, NULL) : NULL;
+  free(dir);
+  if (!rdir) return NULL;
+  const char *base = slash ? slash + 1 : path;
+  size_t n = strlen(rdir) + strlen(base) + 2;
+  char *abs = malloc(n);
+  if (abs) snprintf(abs, n, "%s%s%s", rdir, strcmp(rdir, "/") ? "/" : "", base);
+  free(rdir);
+  return abs;
+}
+
+vr_status rg_save_texture(vr_matdb *db, const char *name, const char *written, const char *final,
+                          const rg_run *run, const rg_pixels *px, bool forced, vr_error *err) {
   unsigned char *bytes = NULL;
   size_t len = 0;
-  vr_status st = vr_read_file(path, 0, (char **)&bytes, &len, err);
+  vr_status st = vr_read_file(written, 0, (char **)&bytes, &len, err);
   if (st) return st;
   vr_sha256 h;
   char hex[65];
@@ -429,12 +446,12 @@ vr_status rg_save_texture(vr_matdb *db, const char *name, const char *path, cons
   vr_sha256_update(&h, bytes, len);
   vr_sha256_final(&h, hex);
   free(bytes);
-  char *abs = realpath(path, NULL);
+  char *abs = absolute_name(final);
   vr_material *m = vr_material_create(name, VR_KIND_REFLECTANCE, err);
   if (!m || !abs) {
     free(abs);
     vr_material_destroy(m);
-    return m ? vr_error_set(err, VR_E_IO, "%s: cannot resolve the path", path) : err->status;
+    return m ? vr_error_set(err, VR_E_IO, "%s: cannot resolve the path", final) : err->status;
   }
   vr_spectrum *mean = vr_spectrum_create(run->n, run->grid, px->mean, err);
   char model[160];
@@ -455,6 +472,10 @@ vr_status rg_save_texture(vr_matdb *db, const char *name, const char *path, cons
   if (!st) st = vr_material_set_text(&m->prov.model, model, err);
   if (!st && isfinite(px->rmse_patch))
     st = vr_material_add_property(m, "texture_rmse_vs_patches", NULL, px->rmse_patch, NULL, err);
+  if (!st) st = vr_material_add_property(m, "fit_forced", NULL, forced ? 1 : 0, NULL, err);
+  if (!st && forced)
+    st = vr_material_set_text(&m->prov.note, "saved with --force although some regions miss their photos "
+                                             "or a light disagrees with its photo", err);
   if (!st) {
     m->prov.residual = px->chi2_per_channel;
     st = vr_matdb_save(db, m, err);

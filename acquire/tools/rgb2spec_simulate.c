@@ -5,6 +5,7 @@
  * own tone curves, vr_capture_encode).  Used to make
  * samples/photos and the tests' captures. */
 #include "rgb2spec.h"
+#include "rgb2spec_inputs.h"
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -53,6 +54,7 @@ int rg_cmd_simulate(vr_args *a) {
     fprintf(stderr, "vr-rgb2spec: %s\n", err.message);
     return 2;
   }
+  if (!rg_db_option_ok(a)) return 2;
   vr_matdb *db = NULL;
   vr_capture *cap = NULL;
   vr_camera *cam = NULL;
@@ -68,6 +70,26 @@ int rg_cmd_simulate(vr_args *a) {
   if (cap->nphotos > RGB2SPEC_MAX_LIGHTS) {
     vr_error_set(&err, VR_E_ARG, "at most %d photos", RGB2SPEC_MAX_LIGHTS);
     goto out;
+  }
+  /* The photos are this command's outputs: none may replace a file the
+   * capture reads, and every one must be writable before the first is
+   * rendered (no half-made set). */
+  {
+    vr_out_guard *g = calloc(1, sizeof *g);
+    if (!g) {
+      vr_error_set(&err, VR_E_NOMEM, "out of memory");
+      goto out;
+    }
+    vr_out_guard_init(g);
+    rg_guard_capture(g, cap, false);
+    vr_out_guard_database(g, vr_args_get(a, "db") ? vr_args_get(a, "db") : vr_matdb_default_path());
+    vr_status gst = VR_OK;
+    for (size_t l = 0; l < cap->nphotos && !gst; l++) {
+      gst = vr_out_guard_check(g, cap->photos[l].path, "photo", &err);
+      if (gst) vr_error_prefix(&err, "%s:%ld: ", cap->path, cap->photos[l].line);
+    }
+    free(g);
+    if (gst) goto out;
   }
   double grid[1024];
   size_t n;

@@ -12,6 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <errno.h>
+#include <unistd.h>
 
 #include "vr/chart.h"
 #include "vr/colour.h"
@@ -20,7 +22,7 @@ static const vr_option OPTIONS[] = {
     {"manifest", 'm', "FILE", "capture manifest (default: manifest.txt beside the first photo)"},
     {"method", 0, "NAME", "matrix-r, bounded, regularised or auto (default: regularised, weighted by the measured noise)"},
     {"lambda-rule", 0, "NAME", "regularised smoothing from the noise: upre (default), discrepancy or gcv"},
-    {"force", 0, NULL, "save even when a region misses its photos or a light disagrees with its photo"},
+    {"force", 0, NULL, "save and write even when a region misses its photos or a light disagrees with its photo"},
     {"save-prefix", 's', "P", "save each region's spectrum as material P<region>"},
     {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
     {"report", 'r', "FILE.html", "HTML report with plots and a swatch image"},
@@ -53,10 +55,12 @@ static const char ABOUT[] =
     "with a clipped channel apart), the spectral RMSE and held-out-light CIEDE2000 where a\n"
     "reference is known, and the condition number of the system.  Exit status 1 when a\n"
     "region misses its photos by more than their noise explains or a photo disagrees with\n"
-    "its light; --save-prefix then saves nothing unless --force.  --per-pixel writes a\n"
-    "spectral EXR texture with the same prior and bounds and a flags channel.  simulate\n"
-    "renders the manifest's regions from their reference spectra into photos (noise, then\n"
-    "8-bit sRGB, or 16-bit for encoding=linear).";
+    "its light; --save-prefix, --per-pixel and --texture then save and write nothing unless\n"
+    "--force (the report is written).  Outputs never replace an input of the run (photos,\n"
+    "manifest, the files it reads, the database): checked before any photo is read.\n"
+    "--per-pixel writes a spectral EXR texture with the same prior and bounds and a flags\n"
+    "channel.  simulate renders the manifest's regions from their reference spectra into\n"
+    "photos (noise, then 8-bit sRGB, or 16-bit for encoding=linear).";
 
 static int fail(const vr_error *e) {
   fprintf(stderr, "vr-rgb2spec: %s\n", e->message);
@@ -284,6 +288,26 @@ static char *default_manifest(const char *photo) {
   return s;
 }
 
+/* The run's outputs against the inputs in g and against each other:
+ * --report (and the swatch image beside it) and --per-pixel. */
+static vr_status check_outputs(const vr_out_guard *g, const char *report, const char *pixels,
+                               vr_error *err) {
+  char swatch[4200];
+  vr_status st = VR_OK;
+  if (report) {
+    snprintf(swatch, sizeof swatch, "%s.swatch.png", report);
+    if ((st = vr_out_guard_check(g, report, "--report", err)) ||
+        (st = vr_out_guard_check(g, swatch, "--report's swatch image", err)))
+      return st;
+  }
+  if (pixels && (st = vr_out_guard_check(g, pixels, "--per-pixel", err))) return st;
+  if (report && pixels &&
+      ((st = vr_out_guard_distinct(report, "--report", pixels, "--per-pixel", err)) ||
+       (st = vr_out_guard_distinct(swatch, "--report's swatch image", pixels, "--per-pixel", err))))
+    return st;
+  return VR_OK;
+}
+
 static int cmd_recover(vr_args *a) {
   vr_error err = {0};
   vr_matdb *db = NULL;
@@ -312,6 +336,11 @@ static int cmd_recover(vr_args *a) {
   if (vr_args_get(a, "exr-compression") &&
       vr_exr_compression_parse(vr_args_get(a, "exr-compression"), &popt.compression, &err))
     goto out;
+  if (texture && !*texture) {
+    fprintf(stderr, "vr-rgb2spec: --texture needs a material name\n");
+    rc = 2;
+    goto out_quiet;
+  }
   if (texture && !pixels) {
     vr_error_set(&err, VR_E_ARG, "--texture needs --per-pixel FILE.exr");
     goto out;
@@ -322,11 +351,45 @@ static int cmd_recover(vr_args *a) {
     goto out;
   }
   mpath = manifest ? strdup(manifest) : default_manifest(a->operands[0]);
+  if (!mpath) {
+    vr_error_set(&err, VR_E_NOMEM, "out of memory");
+    goto out;
+  }
+  if (!rg_db_option_ok(a)) {
+    rc = 2;
+    goto out_quiet;
+  }
+  /* Outputs are checked before any work, first against what the command
+   * line names (nothing is opened or created yet), then against every file
+   * the manifest reads. */
+  const char *report = vr_args_get(a, "report");
+  vr_out_guard *guard = calloc(1, sizeof *guard);
+  if (!guard) {
+    vr_error_set(&err, VR_E_NOMEM, "out of memory");
+    goto out;
+  }
+  vr_out_guard_init(guard);
+  if (strcmp(mpath, "-")) vr_out_guard_input(guard, mpath, "the capture manifest");
+  for (size_t i = 0; i < a->noperands; i++) vr_out_guard_input(guard, a->operands[i], "a photo");
+  vr_out_guard_database(guard, vr_args_get(a, "db") ? vr_args_get(a, "db") : vr_matdb_default_path());
+  vr_status gst = check_outputs(guard, report, pixels, &err);
+  if (gst) {
+    free(guard);
+    goto out;
+  }
   /* Lookups alone (db: lights or references) open the database read-only:
    * a missing one is an error, never created and seeded here. */
   if (vr_capture_read_db(mpath, vr_args_get(a, "db"), prefix || texture ? 0 : VR_MATDB_READONLY,
-                         prefix || texture, &db, &cap, &err))
+                         prefix || texture, &db, &cap, &err)) {
+    free(guard);
     goto out;
+  }
+  rg_guard_capture(guard, cap, true);
+  gst = check_outputs(guard, report, pixels, &err);
+  free(guard);
+  if (gst) goto out;
+  /* A save that cannot happen is said now, not after the recovery. */
+  if ((prefix || texture) && vr_matdb_require_writable(db, &err)) goto out;
   run.cap = cap;
   /* The photos: those given, each of which the manifest must list; or all. */
   if (a->noperands == 0) {
@@ -466,21 +529,39 @@ static int cmd_recover(vr_args *a) {
               run.photo[l]->light_name, run.photo[l]->light_name, run.loo_de[l], RG_LOO_LIMIT);
     }
   bool force = vr_args_flag(a, "force");
-  const char *report = vr_args_get(a, "report");
+  /* The report is written either way: it shows what went wrong. */
   if (report && rg_write_report(report, &run, &err)) goto out;
-  if (prefix && doubtful && !force) {
-    vr_error_set(&err, VR_E_ARG, "nothing saved: %zu region(s) miss their photos or a light "
-                                 "disagrees with its photo (see above); --force saves anyway",
-                 run.nmisfit);
+  if ((prefix || pixels) && doubtful && !force) {
+    bool saves = prefix || texture;
+    vr_error_set(&err, VR_E_ARG, "nothing %s: %zu region(s) miss their photos or a light "
+                                 "disagrees with its photo (see above); --force %s anyway",
+                 saves && pixels ? "saved or written" : saves ? "saved" : "written", run.nmisfit,
+                 saves && pixels ? "saves and writes" : saves ? "saves" : "writes");
     goto out;
   }
-  if (prefix && rg_save(db, prefix, &run, &err)) goto out;
+  if (prefix && rg_save(db, prefix, &run, force && doubtful, &err)) goto out;
   if (pixels) {
-    if (rg_per_pixel(&run, img, pixels, &popt, &px, &err)) goto out;
+    /* With --texture the EXR is written beside its final name and put in
+     * place only once its database row is saved: a failed save leaves
+     * neither, and an earlier file of that name as it was. */
+    char tmpname[4200];
+    const char *target = pixels;
+    if (texture) {
+      snprintf(tmpname, sizeof tmpname, "%s.part-%ld", pixels, (long)getpid());
+      target = tmpname;
+    }
+    if (rg_per_pixel(&run, img, target, &popt, &px, &err)) goto out;
     rg_print_pixels(vr_args_flag(a, "json") ? stderr : stdout, &run, &px, pixels);
-    if (texture && rg_save_texture(db, texture, pixels, &run, &px, &err)) {
-      remove(pixels); /* nothing half done: no texture without its database row */
-      goto out;
+    if (texture) {
+      if (rg_save_texture(db, texture, target, pixels, &run, &px, force && doubtful, &err)) {
+        remove(target);
+        goto out;
+      }
+      if (rename(target, pixels)) {
+        vr_error_set(&err, VR_E_IO, "%s: cannot put the texture in place (%s left as written): %s; "
+                                    "material '%s' names %s", pixels, target, strerror(errno), texture, pixels);
+        goto out;
+      }
     }
   }
   if (doubtful && !force) {

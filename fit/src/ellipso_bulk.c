@@ -235,6 +235,7 @@ vr_status vr_ellipso_fit_bulk(const vr_ellipso_data *d, const vr_fit_options *op
   st = vr_ellipso_fit(m, d, &opt, out, err);
   if (!st) {
     vr_fit_judge(out, d, BULK_SMOOTH_LIMIT);
+    vr_fit_judge_bounds(out);
     if (!out->describes) st = exact_inversion(d, &m, out, err);
   } else if (st != VR_E_NOMEM) {
     /* The smooth model cannot even be evaluated over these data (a

@@ -48,16 +48,39 @@ vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name,
   }
   for (size_t c = 0; c < vr_csv_cols(csv, 0); c++) {
     const char *h = vr_csv_field(csv, 0, c);
+    long *slot = NULL;
     if (is_sigma(h)) {
-      if (has(h, "psi")) csp = (long)c;
-      else if (has(h, "delta")) csd = (long)c;
-    } else if (has(h, "psi")) cp = (long)c;
-    else if (has(h, "delta")) cd = (long)c;
-    else if (has(h, "aoi") || has(h, "angle") || has(h, "theta")) ca = (long)c;
+      if (has(h, "psi")) slot = &csp;
+      else if (has(h, "delta")) slot = &csd;
+    } else if (has(h, "psi")) slot = &cp;
+    else if (has(h, "delta")) slot = &cd;
+    else if (has(h, "aoi") || has(h, "angle") || has(h, "theta")) slot = &ca;
     else if (cw < 0 && (has(h, "wave") || has(h, "lambda") || has(h, "wl") || unit_of(h))) {
       cw = (long)c;
       wunit = unit_of(h);
     }
+    /* Two columns read as one quantity: which one the file means cannot
+     * be guessed, and the other would be ignored in silence. */
+    if (slot && *slot >= 0) {
+      st = vr_error_at(err, VR_E_PARSE, name, vr_csv_line(csv, 0), 0,
+                       "columns '%s' and '%s' are both read as the same quantity: rename or remove one",
+                       vr_csv_field(csv, 0, (size_t)*slot), h);
+      vr_csv_destroy(csv);
+      return st;
+    }
+    if (slot) *slot = (long)c;
+  }
+  /* A standard deviation for one of Psi, Delta only: weighting one by the
+   * file and the other by the default 1 deg would misweigh the fit, and
+   * dropping it would ignore the file in silence. */
+  if ((csp >= 0) != (csd >= 0)) {
+    st = vr_error_at(err, VR_E_PARSE, name, vr_csv_line(csv, 0), 0,
+                     "column '%s' gives the standard deviation of %s but no column gives that of %s: "
+                     "give both (sigma_psi, sigma_delta) or neither",
+                     vr_csv_field(csv, 0, (size_t)(csp >= 0 ? csp : csd)), csp >= 0 ? "Psi" : "Delta",
+                     csp >= 0 ? "Delta (sigma_delta)" : "Psi (sigma_psi)");
+    vr_csv_destroy(csv);
+    return st;
   }
   /* A single-wavelength instrument's table may have no wavelength column:
    * the caller gives it. */

@@ -287,6 +287,7 @@ static vr_status finish(fit_ctx *c, vr_fit_result *out, double limit, vr_error *
     out->describes = out->describes && view.describes;
     first += c->d[s].n;
   }
+  vr_fit_judge_bounds(out);
   return VR_OK;
 }
 

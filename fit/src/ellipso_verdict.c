@@ -87,6 +87,32 @@ void vr_fit_judge(vr_fit_result *r, const vr_ellipso_data *d, double limit) {
   }
 }
 
+void vr_fit_judge_bounds(vr_fit_result *r) {
+  if (!r->at_bound) return;
+  char names[320] = "";
+  size_t used = 0, count = 0;
+  for (size_t i = 0; i < r->nfree; i++) {
+    if (!r->at_bound[i]) continue;
+    count++;
+    if (used < sizeof names)
+      used += (size_t)snprintf(names + used, sizeof names - used, "%s%s at its %s bound %.6g",
+                               count > 1 ? ", " : "", r->names && r->names[i] ? r->names[i] : "a parameter",
+                               r->at_bound[i] < 0 ? "lower" : "upper", r->value[i]);
+  }
+  if (!count) return;
+  r->describes = false;
+  /* The misfit part of the verdict follows, without its own opening. */
+  const char *rest = r->verdict;
+  static const char *const OPENING[] = {"describes the data: ", "does NOT describe the data: "};
+  for (int k = 0; k < 2; k++)
+    if (!strncmp(rest, OPENING[k], strlen(OPENING[k]))) rest += strlen(OPENING[k]);
+  char v[sizeof r->verdict];
+  snprintf(v, sizeof v, "does NOT describe the data: %.240s (pinned there, not fitted: the data want %s "
+           "beyond; widen the bound or change the model); %.230s",
+           names, count > 1 ? "them" : "it", rest);
+  memcpy(r->verdict, v, sizeof v);
+}
+
 void vr_pseudo_index(const vr_ellipso_point *p, double *n, double *k, double *sigma_n, double *sigma_k) {
   vr_complex N = vr_eps_to_index(vr_pseudo_epsilon(p->psi_deg, p->delta_deg, p->aoi_deg));
   *n = creal(N);

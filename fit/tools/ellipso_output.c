@@ -374,7 +374,7 @@ vr_status vr_fit_write_report(const char *path, const vr_fit_view *v, vr_error *
 }
 
 vr_status vr_fit_save(vr_matdb *db, const char *name, const vr_fit_view *v, const char *const *data_paths,
-                      size_t npaths, const char *model_path, vr_error *err) {
+                      size_t npaths, const char *model_path, bool forced, vr_error *err) {
   if (v->nk_per_sample)
     return vr_error_set(err, VR_E_ARG, "the optical constants of %s differ per sample: there is no one n, k to save",
                         v->layer_name);
@@ -418,6 +418,22 @@ vr_status vr_fit_save(vr_matdb *db, const char *name, const vr_fit_view *v, cons
     st = vr_material_add_parameter(m, v->fit->names[i], v->fit->value[i], v->fit->stderr_[i], NULL, err);
   if (!st && v->layer >= 0)
     st = vr_material_add_property(m, "thickness", NULL, v->model->layers[v->layer].thickness_nm, "nm", err);
+  /* The verdict travels with the material: whoever uses it later sees
+   * whether the fit described its data, and whether it was forced. */
+  const vr_fit_result *r = v->fit;
+  size_t pinned = 0;
+  for (size_t i = 0; r->at_bound && i < r->nfree; i++) pinned += r->at_bound[i] != 0;
+  if (!st) st = vr_material_add_property(m, "fit_mse", NULL, r->mse, NULL, err);
+  if (!st) st = vr_material_add_property(m, "fit_misfit_ratio", NULL, r->misfit_ratio, NULL, err);
+  if (!st) st = vr_material_add_property(m, "fit_parameters_at_bound", NULL, (double)pinned, NULL, err);
+  if (!st) st = vr_material_add_property(m, "fit_describes", NULL, r->describes ? 1 : 0, NULL, err);
+  if (!st) st = vr_material_add_property(m, "fit_forced", NULL, forced ? 1 : 0, NULL, err);
+  if (!st) {
+    char note[1024];
+    snprintf(note, sizeof note, "verdict: %s; MSE %.6g%s", r->verdict, r->mse,
+             forced ? "; saved with --force although the fit does not describe the data" : "");
+    st = vr_material_set_text(&m->prov.note, note, err);
+  }
   if (!st) st = vr_matdb_save(db, m, err);
 done:
   vr_material_destroy(m);

@@ -32,8 +32,11 @@ void vr_fit_print_json(FILE *f, const vr_fit_view *v);
 vr_status vr_fit_write_report(const char *path, const vr_fit_view *v, vr_error *err);
 /* Saves the layer's n, k table, model, parameters and provenance (for
  * several data files: their names joined with "; " and the SHA-256 of
- * their SHA-256 digests in order). */
+ * their SHA-256 digests in order), and the verdict: the provenance note
+ * "verdict: ...; MSE ..." (and that it was saved with --force when forced)
+ * and the properties fit_mse, fit_misfit_ratio, fit_parameters_at_bound,
+ * fit_describes and fit_forced (0 or 1). */
 vr_status vr_fit_save(vr_matdb *db, const char *name, const vr_fit_view *v, const char *const *data_paths,
-                      size_t npaths, const char *model_path, vr_error *err);
+                      size_t npaths, const char *model_path, bool forced, vr_error *err);
 
 #endif

@@ -5,7 +5,9 @@
 #include "ellipso_output.h"
 #include "vr/args.h"
 #include "vr/csv.h"
+#include "vr/file.h"
 #include "vr/matdb.h"
+#include "vr/out_guard.h"
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -13,6 +15,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <ctype.h>
 
 static const vr_option OPTIONS[] = {
     {"model", 'm', "FILE", "sample model file (docs/vr-ellipso.md); without it: bulk inversion"},
@@ -28,14 +32,14 @@ static const vr_option OPTIONS[] = {
     {"noise", 0, "SPSI,SDELTA", "simulate: add Gaussian noise with these standard deviations (deg)"},
     {"seed", 0, "N", "simulate: random seed for --noise (default 1)"},
     {"json", 'j', NULL, "fit: JSON output"},
-    {"force", 0, NULL, "fit: accept (exit 0) and --save a fit that does not describe the data"},
+    {"force", 0, NULL, "fit: accept (exit 0) and --save a fit that does not describe the data (the verdict is saved with it)"},
     {"record", 0, "N", "fit: the record (1-based) of a file of several, e.g. a Film Sense kinetic run"},
     {"no-depolarisation", 0, NULL, "fit: do not fit the depolarisation a file gives"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
 
 static const char USAGE[] =
-    "fit DATA... [--model FILE] [--save NAME] [--db FILE] [--report FILE.html] [--json]\n"
+    "fit DATA... [--model FILE] [--save NAME [--force]] [--db FILE] [--report FILE.html] [--json]\n"
     "       vr-ellipso simulate --model FILE --angles LIST --wavelengths FROM:TO:STEP [--noise SPSI,SDELTA]";
 static const char ABOUT[] =
     "Fits spectroscopic ellipsometry data (Psi, Delta; CSV, J.A. Woollam WVASE/CompleteEASE\n"
@@ -47,7 +51,10 @@ static const char ABOUT[] =
     "as several samples of one model: parameters marked 'per-sample' take one value per file,\n"
     "the others are shared.  Without a model (one file) the sample is treated as bulk:\n"
     "pseudo-optical constants per wavelength, then a dispersion fit or the exact inversion.\n"
-    "A fit that does not describe its data exits 1 and is not saved unless --force.  Delta\n"
+    "A fit that does not describe its data (rms residual above 10 times the noise the data\n"
+    "show, or a free parameter pinned at a bound) exits 1 and is not saved unless --force;\n"
+    "the verdict is saved with the material.  --report never replaces an input of the run\n"
+    "(data, model, the model's tables, the database): checked before anything is read.  Delta\n"
     "follows Woollam's convention (bare Si at 70 deg, 633 nm: Psi 10.6, Delta 179.3).";
 
 static int fail(const vr_error *e) {
@@ -57,6 +64,46 @@ static int fail(const vr_error *e) {
 
 static vr_status open_db(const vr_args *a, int flags, vr_matdb **db, vr_error *err) {
   return vr_matdb_open(vr_args_get(a, "db"), flags, db, err);
+}
+
+/* --db '' names no database: refused as the library refuses it, before
+ * anything is read (a usage error, exit 2). */
+static int db_option_ok(const vr_args *a) {
+  const char *p = vr_args_get(a, "db");
+  if (!p || *p) return 1;
+  vr_error e = {0};
+  vr_matdb *db = NULL;
+  if (vr_matdb_open(p, VR_MATDB_READONLY, &db, &e) == VR_OK) {
+    vr_matdb_close(db);
+    return 1;
+  }
+  fprintf(stderr, "vr-ellipso: --db '': %s\n", e.message);
+  return 0;
+}
+
+/* The tabulated materials a model file reads (file:PATH, relative to the
+ * model's folder) are inputs of the run too. */
+static void guard_model_files(vr_out_guard *g, const char *model_path) {
+  char *text = NULL;
+  size_t len = 0;
+  vr_error e = {0};
+  if (vr_read_file(model_path, 1 << 20, &text, &len, &e)) return; /* the model reader says why */
+  const char *slash = strrchr(model_path, '/');
+  int dirlen = slash ? (int)(slash - model_path) : 0;
+  bool comment = false;
+  for (size_t i = 0; i < len; i++) {
+    if (text[i] == '\n') comment = false;
+    else if (text[i] == '#') comment = true;
+    if (comment || (i && !isspace((unsigned char)text[i - 1])) || strncasecmp(text + i, "file:", 5)) continue;
+    size_t j = i + 5;
+    while (j < len && !isspace((unsigned char)text[j]) && text[j] != '#') j++;
+    char path[4200];
+    if (text[i + 5] == '/' || !slash) snprintf(path, sizeof path, "%.*s", (int)(j - i - 5), text + i + 5);
+    else snprintf(path, sizeof path, "%.*s/%.*s", dirlen, model_path, (int)(j - i - 5), text + i + 5);
+    vr_out_guard_input(g, path, "a material table of the model");
+    i = j - 1;
+  }
+  free(text);
 }
 
 static int cmd_fit(vr_args *a) {
@@ -96,6 +143,33 @@ static int cmd_fit(vr_args *a) {
     goto out;
   }
   ro.record = (size_t)recd;
+  const char *layer = vr_args_get(a, "layer");
+  if (!model_path && layer && strcmp(layer, "substrate")) {
+    fprintf(stderr, "vr-ellipso: --layer %s: without --model the sample is bulk and has no layers (only 'substrate')\n",
+            layer);
+    rc = 2;
+    goto out;
+  }
+  if (!db_option_ok(a)) {
+    rc = 2;
+    goto out;
+  }
+  /* Outputs are checked before any work: the report must not replace a
+   * file this run reads (its data, model, the model's tables, the
+   * database). */
+  const char *report = vr_args_get(a, "report");
+  if (report) {
+    vr_out_guard g;
+    vr_out_guard_init(&g);
+    for (size_t s = 0; s < nd; s++) vr_out_guard_input(&g, paths[s], "the measurement");
+    if (model_path) {
+      vr_out_guard_input(&g, model_path, "the model");
+      guard_model_files(&g, model_path);
+    }
+    const char *dbp = vr_args_get(a, "db");
+    vr_out_guard_database(&g, dbp ? dbp : vr_matdb_default_path());
+    if (vr_out_guard_check(&g, report, "--report", &err)) goto out;
+  }
   for (size_t s = 0; s < nd; s++) {
     if (vr_ellipso_read_with(paths[s], &ro, &d[s], &err)) goto out;
     fprintf(stderr, "vr-ellipso: %s: %zu points (%s)", paths[s], d[s].n, d[s].format);
@@ -109,19 +183,35 @@ static int cmd_fit(vr_args *a) {
   opt.global_search = !vr_args_flag(a, "no-global");
   opt.fit_depolarisation = !vr_args_flag(a, "no-depolarisation");
   if ((save || (model_path && vr_matdb_named_in(model_path))) && open_db(a, 0, &db, &err)) goto out;
+  /* A save that cannot happen is said now, not after the fit. */
+  if (save && vr_matdb_require_writable(db, &err)) goto out;
   if (model_path) {
     if (vr_model_read(model_path, db, &m[0], &err)) goto out;
     for (size_t s = 1; s < nd; s++)
       if (!(m[s] = vr_model_copy(m[0], &err))) goto out;
+    /* The reported layer (--layer) and whether its n, k can be saved are
+     * known from the model alone. */
+    vr_fit_result none = {0};
+    vr_fit_view pre;
+    vr_status pst = vr_fit_view_init(&pre, m[0], d, nd, &none, layer, &err);
+    bool per_sample = pre.nk_per_sample;
+    const char *pname = pre.layer_name;
+    vr_fit_view_free(&pre);
+    if (pst) goto out;
+    if (save && per_sample) {
+      vr_error_set(&err, VR_E_ARG, "--save %s: the optical constants of %s are fitted per sample: there is no "
+                                   "one n, k to save (share them, or save another layer with --layer)",
+                   save, pname);
+      goto out;
+    }
     if (vr_ellipso_fit_samples(m, d, nd, &opt, &r, &err)) goto out;
   } else {
     if (vr_ellipso_fit_bulk(&d[0], &opt, &m[0], &r, &err)) goto out;
   }
   if (r.ndepol) fprintf(stderr, "vr-ellipso: fitting %zu depolarisation values as well (--no-depolarisation: Psi, Delta only)\n", r.ndepol);
-  if (vr_fit_view_init(&v, m[0], d, nd, &r, vr_args_get(a, "layer"), &err)) goto out;
+  if (vr_fit_view_init(&v, m[0], d, nd, &r, layer, &err)) goto out;
   if (vr_args_flag(a, "json")) vr_fit_print_json(stdout, &v);
   else vr_fit_print_text(stdout, &v);
-  const char *report = vr_args_get(a, "report");
   if (report && vr_fit_write_report(report, &v, &err)) goto out;
   const char *what = nd > 1 ? "the data files" : paths[0];
   if (!r.describes && !vr_args_flag(a, "force")) {
@@ -132,7 +222,7 @@ static int cmd_fit(vr_args *a) {
   }
   if (!r.describes) fprintf(stderr, "vr-ellipso: warning: %s: the fit %s (accepted with --force)\n", what, r.verdict);
   if (save) {
-    if (vr_fit_save(db, save, &v, paths, nd, model_path, &err)) goto out;
+    if (vr_fit_save(db, save, &v, paths, nd, model_path, vr_args_flag(a, "force") && !r.describes, &err)) goto out;
     fprintf(stderr, "vr-ellipso: saved '%s' to %s\n", save, vr_matdb_path(db));
   }
   fprintf(stderr, "vr-ellipso: fit took %.3f s\n", r.seconds);
@@ -176,6 +266,7 @@ static int cmd_simulate(vr_args *a) {
     return 2;
   }
   if (vr_args_double(a, "seed", 1, &seed, &err)) return fail(&err);
+  if (!db_option_ok(a)) return 2;
   vr_matdb *db = NULL;
   vr_sample_model *m = NULL;
   if (vr_matdb_named_in(model_path) && open_db(a, 0, &db, &err)) return fail(&err);

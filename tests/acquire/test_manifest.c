@@ -41,6 +41,26 @@ static void good_manifest(void **state) {
   vr_capture_destroy(c);
 }
 
+/* A UTF-8 byte-order mark, as Windows editors write one, is skipped; the
+ * hash is still that of the bytes as read. */
+static void byte_order_mark(void **state) {
+  (void)state;
+  const char text[] = "\xEF\xBB\xBF" "photo d65.png light=D65\nregion wall rect=5,5,20,10\n";
+  vr_capture *c = NULL;
+  vr_error err = {0};
+  assert_int_equal(vr_capture_parse(text, strlen(text), "/photos/capture.txt", NULL, &c, &err), VR_OK);
+  assert_int_equal(c->nphotos, 1);
+  assert_string_equal(c->photos[0].path, "/photos/d65.png");
+  char hex[65];
+  vr_sha256_buffer(text, strlen(text), hex);
+  assert_string_equal(c->sha256, hex);
+  vr_capture_destroy(c);
+  /* Only at the start: elsewhere it is an unknown statement, as before. */
+  const char later[] = "photo d65.png light=D65\n\xEF\xBB\xBF" "region wall rect=5,5,20,10\n";
+  assert_int_not_equal(vr_capture_parse(later, strlen(later), "/photos/capture.txt", NULL, &c, &err), VR_OK);
+  assert_contains(err.message, "capture.txt:2:1: unknown statement");
+}
+
 static void errors(void **state) {
   (void)state;
   vr_capture *c = NULL;
@@ -310,7 +330,7 @@ static void read_db_from_a_pipe(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(good_manifest),        cmocka_unit_test(errors),
+      cmocka_unit_test(good_manifest),        cmocka_unit_test(byte_order_mark), cmocka_unit_test(errors),
       cmocka_unit_test(manifest_from_a_pipe), cmocka_unit_test(manifest_from_stdin),
       cmocka_unit_test(manifest_from_a_fifo), cmocka_unit_test(pipe_size_limit),
       cmocka_unit_test(read_db_from_a_pipe),

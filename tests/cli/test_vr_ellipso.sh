@@ -164,4 +164,78 @@ check "Film Sense kinetic run without --record: refused with the count" test $rc
 "$bin" fit "$fs/Filmsense_kineticTest.txt" --record 3 --model "$tmp/native.model" > /dev/null 2> "$tmp/fsk.err"; rc=$?
 check "... --record 3 reads the record at 24.77 s" grep -q "record 3 of 7 at 24.766 s" "$tmp/fsk.err"
 
+# ---- Nothing a user owns is lost or silently wrong (issue 18) -----------
+# Outputs never replace inputs: the report is checked against the data, the
+# model, the tables the model reads and the database before anything is
+# read or fitted; the files are left byte for byte as they were.
+own="$tmp/own"
+mkdir -p "$own"
+cp "$s/thermal_oxide.csv" "$s/thermal_oxide.model" "$s/SiO2_Malitson.yml" "$s/Si_Aspnes.yml" "$own/"
+ln -s thermal_oxide.csv "$own/link.csv"
+sums() { sha256sum "$own/thermal_oxide.csv" "$own/thermal_oxide.model" "$own/Si_Aspnes.yml" "$VR_MATDB"; }
+sums > "$tmp/sums.before"
+refuse ellipso-report-over-data "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$own/thermal_oxide.csv"
+check "... refused before the data are read" test -z "$(grep 'points (' "$tmp/refused.err")"
+refuse ellipso-report-over-data-link "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$own/link.csv"
+refuse ellipso-report-over-model "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$own/thermal_oxide.model"
+refuse ellipso-report-over-table "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$own/Si_Aspnes.yml"
+refuse ellipso-report-over-db "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$VR_MATDB"
+sums > "$tmp/sums.after"
+check "... data, model, table and database left as they were" cmp -s "$tmp/sums.before" "$tmp/sums.after"
+refuse ellipso-report-missing-folder "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$own/nosuch/r.html"
+refuse ellipso-report-empty "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report ''
+refuse ellipso-db-empty "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --save X --db ''
+# What cannot be saved is said before the fit, not after it.
+printf 'layer film cauchy thickness=50 A=1.46 B=0.0036 fit per-sample min=0 max=300\nparam film.A = 1.46 fit per-sample min=1.3 max=1.7\nsubstrate file:Si_Aspnes.yml\n' > "$own/per.model"
+refuse ellipso-save-per-sample-nk "$bin" fit "$tmp/ox50.csv" "$tmp/ox250.csv" --model "$own/per.model" --save PER
+check "... before fitting" test -z "$(grep 'fit took' "$tmp/refused.err")"
+refuse ellipso-layer-unknown "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --layer nosuch
+check "... before fitting" test -z "$(grep 'fit took' "$tmp/refused.err")"
+refuse ellipso-layer-bulk "$bin" fit "$s/bare_glass.csv" --layer film
+
+# A fit is saved only when it describes the data.  Film Sense's native
+# oxide given a wrong film (n = 2.5) with a thickness bound of 1 nm: the
+# thickness ends pinned at the bound, and the misfit (9.5 times the noise
+# the 8 LEDs show) alone would pass the limit of 10, so this was saved
+# before.  The CompleteEASE export with the same wrong model misses by
+# 1800 times its noise (MSE 1834).  Both are refused; --force saves with
+# the verdict in the provenance.
+printf 'layer film constant n=2.5 k=0 thickness=0.5 fit min=0 max=1\nsubstrate file:%s\n' "$src/matdb/data/si_green2008.yml" > "$own/wrong.model"
+refuse ellipso-save-pinned-at-bound "$bin" fit "$real/Filmsense_staticTest.txt" --model "$own/wrong.model" --save PIN
+"$VR_BIN/../matdb/vr-matdb" show PIN > /dev/null 2>&1
+check "... nothing saved" test $? -ne 0
+refuse ellipso-save-misfit "$bin" fit "$real/Woolam_staticTest.dat" --model "$own/wrong.model" --save MIS
+check "... the verdict names the pinned thickness" grep -q "film.thickness at its upper bound 1" "$tmp/refused.err"
+"$VR_BIN/../matdb/vr-matdb" show MIS > /dev/null 2>&1
+check "... nothing saved" test $? -ne 0
+"$bin" fit "$real/Filmsense_staticTest.txt" --model "$own/wrong.model" --save PIN --force > /dev/null 2> "$tmp/pin.err"; rc=$?
+"$VR_BIN/../matdb/vr-matdb" show PIN --json > "$tmp/pin.json"
+python3 - "$tmp/pin.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+note = d["provenance"]["note"]
+assert note.startswith("verdict: does NOT describe the data: film.thickness at its upper bound 1"), note
+assert "MSE 0.93" in note and "saved with --force" in note, note
+p = {x["key"]: x["value"] for x in d["properties"]}
+assert p["fit_describes"] == 0 and p["fit_forced"] == 1 and p["fit_parameters_at_bound"] == 1, p
+assert abs(p["fit_mse"] - d["provenance"]["residual"]) < 1e-12 and p["fit_misfit_ratio"] > 9, p
+PY
+check "--force saves it with the verdict, the MSE and 'forced' in the provenance" test $? -eq 0 -a $rc -eq 0
+"$VR_BIN/../matdb/vr-matdb" show SiO2-fit --json > "$tmp/good.json"
+python3 - "$tmp/good.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["provenance"]["note"].startswith("verdict: describes the data"), d["provenance"]["note"]
+p = {x["key"]: x["value"] for x in d["properties"]}
+assert p["fit_describes"] == 1 and p["fit_forced"] == 0 and p["fit_parameters_at_bound"] == 0, p
+PY
+check "a fit that describes its data is saved with that verdict, not forced" test $? -eq 0
+
+# No input silently ignored: a standard deviation for Psi without one for
+# Delta (or the reverse), two columns read as one quantity.
+printf 'wavelength_nm,aoi,psi,delta,sigma_psi\n500,70,10,100,0.01\n' > "$own/lone.csv"
+refuse ellipso-csv-lone-sigma "$bin" fit "$own/lone.csv"
+printf 'wavelength_nm,aoi,psi,delta,psi_model\n500,70,10,100,11\n' > "$own/dup.csv"
+refuse ellipso-csv-duplicate-column "$bin" fit "$own/dup.csv"
+
 finish

@@ -138,4 +138,80 @@ check "16-bit photos without encoding=: a warning each, naming manifest:line" \
   test "$(grep -c '^vr-rgb2spec: warning: .*\.png: this 16-bit photo has no encoding= and is decoded as sRGB' "$tmp/err")" -eq 2 \
     -a -n "$(grep "add encoding=linear to its photo line ($tmp/lin/manifest.txt:3)" "$tmp/err")"
 
+# ---- Nothing a user owns is lost or silently wrong (issue 18) -----------
+# Outputs never replace inputs: --report (and its swatch image) and
+# --per-pixel are checked against the photos, the manifest, every file it
+# reads and the database before any photo is read; two outputs must differ.
+own="$tmp/own"
+mkdir -p "$own"
+cp "$tmp/cap/d65.png" "$tmp/cap/a.png" "$brick" "$own/"
+python3 -c "
+print('wavelength_nm,value')
+for w in range(380, 785, 5): print(w, 1.0, sep=',')" > "$own/flat.csv"
+printf 'photo d65.png light=D65 scale=0.9\nphoto a.png light=A scale=0.5\nregion brick rect=8,8,20,16 reference=file:brick_red.csv\nregion wood rect=36,24,20,16 reference=file:%s\n' \
+  "$wood" > "$own/manifest.txt"
+sed 's/light=A /light=file:flat.csv /' "$own/manifest.txt" > "$own/flat.txt"
+touch "$own/x.db"
+sums() { sha256sum "$own"/d65.png "$own"/a.png "$own"/manifest.txt "$own"/brick_red.csv "$own"/flat.csv "$own"/x.db; }
+sums > "$tmp/sums.before"
+refuse rgb2spec-per-pixel-over-photo "$bin" "$own/d65.png" "$own/a.png" --per-pixel "$own/d65.png"
+check "... refused before anything is recovered (nothing on standard output)" test ! -s "$tmp/refused.out"
+refuse rgb2spec-report-over-photo "$bin" --manifest "$own/manifest.txt" --report "$own/a.png"
+refuse rgb2spec-report-over-manifest "$bin" --manifest "$own/manifest.txt" --report "$own/manifest.txt"
+refuse rgb2spec-output-over-reference "$bin" --manifest "$own/manifest.txt" --per-pixel "$own/brick_red.csv"
+refuse rgb2spec-output-over-light "$bin" --manifest "$own/flat.txt" --report "$own/flat.csv"
+refuse rgb2spec-output-over-db "$bin" --manifest "$own/manifest.txt" --db "$own/x.db" --report "$own/x.db"
+sums > "$tmp/sums.after"
+check "... photos, manifest, spectra and database left as they were" cmp -s "$tmp/sums.before" "$tmp/sums.after"
+refuse rgb2spec-outputs-same-file "$bin" --manifest "$own/manifest.txt" --report "$own/r.html" --per-pixel "$own/r.html"
+refuse rgb2spec-output-missing-folder "$bin" --manifest "$own/manifest.txt" --per-pixel "$own/nosuch/t.exr" \
+  --texture t --db "$own/new.db"
+check "... and no database created for the texture" test ! -e "$own/new.db"
+refuse rgb2spec-db-empty "$bin" --manifest "$own/manifest.txt" --save-prefix x- --db ''
+refuse rgb2spec-db-empty "$bin" simulate --manifest "$own/manifest.txt" --db ''
+refuse rgb2spec-calibrate-db-empty "$bin" calibrate "$own/d65.png" --light D65 --save cam --db ''
+refuse rgb2spec-texture-empty "$bin" --manifest "$own/manifest.txt" --per-pixel "$own/t.exr" --texture ''
+# simulate writes the photos: none may be the manifest or a file it reads,
+# and every one must be writable before the first is rendered.
+printf 'photo m.txt light=D65\nregion r rect=1,1,4,4\n' > "$own/m.txt"
+refuse rgb2spec-simulate-over-manifest "$bin" simulate --manifest "$own/m.txt" --size 16x16
+mkdir -p "$own/sim"
+printf 'photo one.png light=D65\nphoto nosuch/two.png light=A\nregion r rect=1,1,4,4\n' > "$own/sim/m.txt"
+refuse rgb2spec-simulate-missing-folder "$bin" simulate --manifest "$own/sim/m.txt" --size 16x16
+check "... and no photo of the set written" test ! -e "$own/sim/one.png"
+
+# A recovery the tool does not stand behind (two lights swapped: every
+# region misses its photos) writes no texture and saves no row without
+# --force; with it, the rows say so.
+sed -e 's/light=D65/light=XX/; s/light=A /light=D65 /; s/light=XX/light=A/' "$own/manifest.txt" > "$own/swapped.txt"
+refuse rgb2spec-misfit-nothing-written "$bin" --manifest "$own/swapped.txt" --per-pixel "$own/sw.exr" --texture sw-tex \
+  --save-prefix sw- --db "$own/sw.db"
+check "... no EXR written" test ! -e "$own/sw.exr"
+"$bin" --manifest "$own/swapped.txt" --per-pixel "$own/sw.exr" --texture sw-tex --save-prefix sw- --db "$own/sw.db" \
+  --force > /dev/null 2>&1; rc=$?
+"$VR_BIN/../matdb/vr-matdb" show sw-brick --db "$own/sw.db" --json > "$tmp/sw.json"
+python3 - "$tmp/sw.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+note = d["provenance"]["note"]
+assert "misses its photos" in note and "saved with --force" in note, note
+p = {x["key"]: x["value"] for x in d["properties"]}
+assert p["fit_misfit"] == 1 and p["fit_forced"] == 1, p
+PY
+check "--force writes and saves, the rows saying they were forced" test $? -eq 0 -a $rc -eq 0 -a -s "$own/sw.exr"
+
+# A texture whose database row cannot be saved leaves an earlier file of
+# that name as it was (the EXR is put in place only after its row).
+echo "an earlier texture" > "$own/keep.exr"
+refuse rgb2spec-texture-row-refused "$bin" --manifest "$own/manifest.txt" --per-pixel "$own/keep.exr" \
+  --texture $'bad\xff' --db "$own/k.db"
+check "... the earlier file is kept, no part file left" \
+  test "$(cat "$own/keep.exr")" = "an earlier texture" -a -z "$(ls "$own" | grep part)"
+
+# A UTF-8 byte-order mark (as Windows editors write) at the start of a
+# manifest is not a statement.
+( cd "$tmp/cap" && { printf '\xef\xbb\xbf'; cat manifest.txt; } > bom.txt && "$bin" --manifest bom.txt --json > "$tmp/bom.json" 2> "$tmp/err" ); rc=$?
+check "a manifest with a UTF-8 byte-order mark gives the same result as without" \
+  test $rc -eq 0 -a -n "$(cmp -s "$tmp/file.json" "$tmp/bom.json" && echo same)"
+
 finish

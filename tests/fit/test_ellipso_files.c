@@ -173,6 +173,13 @@ static void reader_errors(void **state) {
       {"ep4w.dat", "#Lambda\tAOI\tDelta\tPsi\n#nm\tdeg\tdeg\tdeg\nNaN\t50\t170\t30\n", "ep4w.dat:3: field 'Lambda': not a finite number: 'NaN'"},
       {"ep4a.dat", "#Lambda\tAOI\tDelta\tPsi\n#nm\tdeg\tdeg\tdeg\n658\t95\t170\t30\n", "ep4a.dat:3: field 'aoi': 95 degrees is outside (0, 90)"},
       {"ep4e.dat", "#Lambda\tAOI\tDelta\tPsi\n#nm\tdeg\tdeg\tdeg\n", "ep4e.dat: no data rows"},
+      /* A lone standard-deviation column is refused, not ignored. */
+      {"lone.csv", "wavelength_nm,aoi,psi,delta,sigma_psi\n500,70,10,100,0.01\n",
+       "lone.csv:1: column 'sigma_psi' gives the standard deviation of Psi but no column gives that of Delta"},
+      {"loned.csv", "wavelength_nm,aoi,psi,delta,sigma_delta\n500,70,10,100,0.01\n",
+       "loned.csv:1: column 'sigma_delta' gives the standard deviation of Delta but no column gives that of Psi"},
+      {"dup.csv", "wavelength_nm,aoi,psi,delta,psi_model\n500,70,10,100,11\n",
+       "dup.csv:1: columns 'psi' and 'psi_model' are both read as the same quantity"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     vr_ellipso_data d;

@@ -62,6 +62,49 @@ static void offsets_recovered(void **state) {
   vr_ellipso_data_free(&d);
 }
 
+/* A thickness pinned at its bound is not a fit of it, however small the
+ * misfit looks: the data (104.3 nm, noise-free) want it beyond max=104, so
+ * the fit ends at 104 and its misfit alone (a few times a 0.001° noise
+ * floor) might pass; the verdict says it does not describe the data and
+ * names the parameter and bound. */
+static void pinned_at_bound(void **state) {
+  (void)state;
+  vr_sample_model *truth = model("104.3", "");
+  vr_ellipso_data d = {0};
+  d.p = calloc(66, sizeof *d.p);
+  d.source = strdup("simulated");
+  for (int i = 0; i < 66; i++) {
+    vr_ellipso_point *p = &d.p[d.n++];
+    p->nm = 300 + 8 * i;
+    p->aoi_deg = 70;
+    p->sigma_psi = p->sigma_delta = 1;
+    p->depolarisation = p->sigma_depolarisation = p->bandwidth_nm = NAN;
+    vr_error err = {0};
+    if (vr_model_psi_delta(truth, p->nm, p->aoi_deg, &p->psi_deg, &p->delta_deg, NULL, &err))
+      fail_msg("%s", err.message);
+  }
+  vr_sample_model *m = model("100 fit min=0 max=104", "");
+  vr_fit_options opt = vr_fit_default_options();
+  vr_fit_result r = {0};
+  vr_error err = {0};
+  if (vr_ellipso_fit(m, &d, &opt, &r, &err)) fail_msg("%s", err.message);
+  assert_int_equal(r.at_bound[0], 1);
+  assert_false(r.describes);
+  assert_contains(r.verdict, "does NOT describe the data: oxide.thickness at its upper bound 104");
+  assert_contains(r.verdict, "rms residual");
+  vr_fit_result_free(&r);
+  /* With room the same fit is free and describes the data. */
+  vr_sample_model *free_m = model("100 fit min=0 max=300", "");
+  if (vr_ellipso_fit(free_m, &d, &opt, &r, &err)) fail_msg("%s", err.message);
+  assert_int_equal(r.at_bound[0], 0);
+  assert_true(r.describes);
+  vr_fit_result_free(&r);
+  vr_model_destroy(free_m);
+  vr_model_destroy(m);
+  vr_model_destroy(truth);
+  vr_ellipso_data_free(&d);
+}
+
 /* An offset that takes an angle out of (0°, 90°) is an error, not a NaN. */
 static void offset_domain(void **state) {
   (void)state;
@@ -74,6 +117,7 @@ static void offset_domain(void **state) {
 }
 
 int main(void) {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(offsets_recovered), cmocka_unit_test(offset_domain)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(offsets_recovered), cmocka_unit_test(pinned_at_bound),
+                                      cmocka_unit_test(offset_domain)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

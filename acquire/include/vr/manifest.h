@@ -32,7 +32,7 @@
  * /dev/fd/N of a shell's <(...)), whose relative paths are taken from the
  * current working directory: such a stream has no folder of its own.
  * Errors are "manifest:line:col: message", the manifest named as given, or
- * "<stdin>" for "-". */
+ * "<stdin>" for "-".  A UTF-8 byte-order mark at the start is skipped. */
 #ifndef VR_MANIFEST_H
 #define VR_MANIFEST_H
 

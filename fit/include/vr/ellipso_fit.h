@@ -92,7 +92,8 @@ typedef struct vr_fit_result {
   double seconds;
   /* The verdict (vr_fit_judge): the noise the data show (degrees, per
    * vr_ellipso_noise), the rms residual in units of that noise, and
-   * whether the model describes the data (ratio <= VR_FIT_MAX_MISFIT). */
+   * whether the model describes the data (ratio <= VR_FIT_MAX_MISFIT and
+   * no free parameter pinned at a bound, vr_fit_judge_bounds). */
   double noise_psi, noise_delta, misfit_ratio;
   bool describes;
   char verdict[640];
@@ -119,6 +120,12 @@ void vr_ellipso_noise(const vr_ellipso_data *d, double *psi_deg, double *delta_d
 /* Fills r's verdict from its model values against d (limit: the largest
  * misfit ratio that still describes the data). */
 void vr_fit_judge(vr_fit_result *r, const vr_ellipso_data *d, double limit);
+/* A fit with a free parameter pinned at one of its bounds (r->at_bound) is
+ * not a fit of that parameter, whatever its misfit: describes becomes
+ * false and the verdict names the parameters and bounds before the misfit
+ * figures.  Called by the fits after vr_fit_judge; a no-op without
+ * pinned parameters. */
+void vr_fit_judge_bounds(vr_fit_result *r);
 /* The result of a model with no free parameters (chi2, MSE, model values,
  * verdict). */
 vr_status vr_ellipso_evaluate(const vr_sample_model *m, const vr_ellipso_data *d, vr_fit_result *out,
