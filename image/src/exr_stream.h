@@ -12,6 +12,7 @@
 #include <openexr.h>
 
 #include "vr/error.h"
+#include "vr/image.h"
 
 typedef struct exr_stream {
   const unsigned char *buf; /* reading: the whole file */
@@ -38,5 +39,12 @@ vr_status vr_exr_read_failed(vr_error *err, const char *path, const exr_stream *
                              exr_result_t rv, const char *doing);
 /* Index in the channel list of a channel called name, or -1. */
 int vr_exr_find_channel(const exr_attr_chlist_t *ch, const char *name);
+
+/* The colour attributes of vr/image.h (exr_colour.c; checked first with
+ * vr_exr_colour_check of image_internal.h): written into a part's header
+ * before exr_write_header (c may be NULL). */
+exr_result_t vr_exr_colour_set(exr_context_t ctxt, int part, const vr_exr_colour *c);
+/* Whether name is one of the attributes vr_exr_colour_set writes. */
+int vr_exr_colour_attr(const char *name);
 
 #endif

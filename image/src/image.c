@@ -307,10 +307,16 @@ vr_status vr_image_write_png(const char *path, const vr_image *img, int bits, vr
 }
 
 vr_status vr_image_write_exr(const char *path, const vr_image *img, vr_error *err) {
+  return vr_image_write_exr_with(path, img, NULL, err);
+}
+
+vr_status vr_image_write_exr_with(const char *path, const vr_image *img,
+                                  const vr_exr_colour *colour, vr_error *err) {
   if (!path) return vr_error_set(err, VR_E_ARG, "vr_image_write_exr: path is NULL");
   vr_status st = vr_image_check(img, path, err);
+  if (st == VR_OK) st = vr_exr_colour_check(path, colour, err);
   if (st != VR_OK) return st;
-  return vr_image_write_exr_as(path, img, 0, err);
+  return vr_image_write_exr_as(path, img, 0, colour, err);
 }
 
 /* Lower-case extension including the dot ("" when there is none). */
@@ -345,7 +351,7 @@ vr_status vr_image_write(const char *path, const vr_image *img, int bits, vr_err
                          "OpenEXR bit depth %d: must be 16 (half) or 32 (float)", bits);
     vr_status st = vr_image_check(img, path, err);
     if (st != VR_OK) return st;
-    return vr_image_write_exr_as(path, img, bits == 16, err);
+    return vr_image_write_exr_as(path, img, bits == 16, NULL, err);
   }
   return vr_error_at(err, VR_E_ARG, path, 0, 0,
                      "unknown image extension '%s': use .png, .tif, .tiff, .jpg, .jpeg or .exr",

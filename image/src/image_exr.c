@@ -203,7 +203,8 @@ static exr_result_t encode_pixels(exr_context_t ctxt, int part, const vr_image *
   return rv;
 }
 
-vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half, vr_error *err) {
+vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half,
+                                const vr_exr_colour *colour, vr_error *err) {
   vr_atomic_file af;
   vr_status st = vr_atomic_file_open(&af, path, err);
   if (st != VR_OK) return st;
@@ -223,6 +224,7 @@ vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half,
   static const char *const names[3] = {"R", "G", "B"};
   for (int k = 0; k < 3 && rv == EXR_ERR_SUCCESS; k++)
     rv = exr_add_channel(ctxt, part, names[k], type, EXR_PERCEPTUALLY_LINEAR, 1, 1);
+  if (rv == EXR_ERR_SUCCESS) rv = vr_exr_colour_set(ctxt, part, colour);
   if (rv == EXR_ERR_SUCCESS) rv = exr_write_header(ctxt);
   if (rv == EXR_ERR_SUCCESS) rv = encode_pixels(ctxt, part, img);
   if (ctxt) {

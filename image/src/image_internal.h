@@ -24,8 +24,14 @@ vr_status vr_image_encode_cv(const vr_image *img, const char *path, const char *
 vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *path,
                               vr_image *out, vr_error *err);
 
-/* Writes an RGB OpenEXR of float (half = 0) or half (half = 1) channels. */
-vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half, vr_error *err);
+/* The check of a vr_exr_colour (exr_colour.c): VR_E_ARG naming path and
+ * the value at fault; NULL is fine. */
+vr_status vr_exr_colour_check(const char *path, const vr_exr_colour *c, vr_error *err);
+
+/* Writes an RGB OpenEXR of float (half = 0) or half (half = 1) channels,
+ * with the attributes of colour (NULL: none; checked by the caller). */
+vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half,
+                                const vr_exr_colour *colour, vr_error *err);
 
 #ifdef __cplusplus
 }

@@ -5,13 +5,15 @@
  *
  * Channel names and attributes are those of the reader (spectral_exr.c,
  * which cites the reference code): S0.<λ>nm or T.<λ>nm with 6 decimals and
- * a decimal comma, spectralLayoutVersion "1.0", emissiveUnits. */
+ * a decimal comma, spectralLayoutVersion "1.0", emissiveUnits; beside
+ * them the colour attributes of the R, G, B preview (exr_colour.c). */
 #include "vr/spectral_exr.h"
 
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "image_internal.h"
 #include "spectral_exr_internal.h"
 
 #include "vr/atomic_file.h"
@@ -113,6 +115,12 @@ static vr_status check_attrs(const char *path, const vr_spectral_exr_layout *L, 
         return vr_error_at(err, VR_E_ARG, path, 0, 0,
                            "layout.attr_names[%zu] = '%s' is an attribute the writer or "
                            "OpenEXR sets itself", i, n);
+    /* Typed attributes of layout.colour: a string of that name would be
+     * read as the wrong type, or clash. */
+    if (vr_exr_colour_attr(n))
+      return vr_error_at(err, VR_E_ARG, path, 0, 0,
+                         "layout.attr_names[%zu] = '%s' is a colour attribute: give it in "
+                         "layout.colour", i, n);
     for (size_t j = 0; j < i; j++)
       if (strcmp(n, L->attr_names[j]) == 0)
         return vr_error_at(err, VR_E_ARG, path, 0, 0,
@@ -164,7 +172,12 @@ static vr_status check_layout(const char *path, const vr_spectral_exr_layout *L,
   if (L->emissive_units && !L->emissive_units[0])
     return vr_error_at(err, VR_E_ARG, path, 0, 0,
                        "layout.emissive_units is an empty string; pass NULL to write none");
-  st = check_flags_channel(path, L, err);
+  if (L->colour && !L->rgb)
+    return vr_error_at(err, VR_E_ARG, path, 0, 0,
+                       "layout.colour given without R, G, B channels (layout.rgb = 0): the "
+                       "attributes describe those channels");
+  st = vr_exr_colour_check(path, L->colour, err);
+  if (st == VR_OK) st = check_flags_channel(path, L, err);
   if (st == VR_OK) st = check_attrs(path, L, err);
   return st;
 }
@@ -198,6 +211,7 @@ static exr_result_t write_header(exr_context_t ctxt, int part, const vr_spectral
     rv = exr_attr_set_string(ctxt, part, "emissiveUnits", L->emissive_units);
   for (size_t i = 0; i < L->nattrs && rv == EXR_ERR_SUCCESS; i++)
     rv = exr_attr_set_string(ctxt, part, L->attr_names[i], L->attr_values[i]);
+  if (rv == EXR_ERR_SUCCESS) rv = vr_exr_colour_set(ctxt, part, L->colour);
   if (rv == EXR_ERR_SUCCESS) rv = exr_write_header(ctxt);
   return rv;
 }
@@ -318,6 +332,12 @@ static vr_status copy_image_rows(void *user, int thread, int y0, int y1, float *
 
 vr_status vr_spectral_exr_write(const char *path, const vr_spectral_image *img,
                                 const vr_image *rgb, const char *emissive_units, vr_error *err) {
+  return vr_spectral_exr_write_with(path, img, rgb, emissive_units, NULL, err);
+}
+
+vr_status vr_spectral_exr_write_with(const char *path, const vr_spectral_image *img,
+                                     const vr_image *rgb, const char *emissive_units,
+                                     const vr_exr_colour *colour, vr_error *err) {
   vr_status st = check_writable(path, img, rgb, emissive_units, err);
   if (st != VR_OK) return st;
   vr_spectral_exr_layout layout = {.width = img->width,
@@ -329,7 +349,8 @@ vr_status vr_spectral_exr_write(const char *path, const vr_spectral_image *img,
                                    .rgb = rgb != NULL,
                                    .emissive_units = emissive_units,
                                    .compression = VR_EXR_COMPRESSION_ZIP,
-                                   .threads = 1};
+                                   .threads = 1,
+                                   .colour = colour};
   image_rows rows = {img, rgb};
   return vr_spectral_exr_write_rows(path, &layout, copy_image_rows, &rows, err);
 }

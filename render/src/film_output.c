@@ -3,11 +3,12 @@
  * result was computed, so the tests build results by hand.
  *
  * All or nothing across files: each output is first written whole (by the
- * image library's own atomic writers) under a staging name reserved with
- * mkstemp beside its target, and the staging files are renamed into place
- * only once every one of them exists.  A failure before that point leaves the
- * previous outputs untouched; a failed rename (rare: the folder became
- * unwritable) removes the outputs of this call already renamed. */
+ * image library's own atomic writers) into a staging folder beside its
+ * target, and the staged files are renamed into place only once every one
+ * of them exists, then described by a manifest written last (film_set.c).
+ * A failure before that point leaves the previous outputs untouched; a
+ * failed rename (rare: the folder became unwritable) removes the outputs of
+ * this call already renamed. */
 #include "vr/film.h"
 
 #include <errno.h>
@@ -29,8 +30,11 @@
 #include "vr/spectral_exr.h"
 #include "vr/version.h"
 
-/* The unit the spectral EXR declares (the layout's own spelling). */
-static const char EMISSIVE_UNITS[] = "W.m^-2.sr^-1.nm^-1";
+#include "film_set.h"
+
+/* The unit the spectral EXR declares, spelt as the layout's reference
+ * writer does (the channels hold W/(m2 sr nm)). */
+static const char EMISSIVE_UNITS[] = VR_SPECTRAL_EMISSIVE_UNITS;
 
 vr_status vr_tonemap_parse(const char *text, vr_tonemap *out, vr_error *err) {
   if (!text || !strcasecmp(text, "clip")) *out = VR_TONEMAP_CLIP;
@@ -154,74 +158,10 @@ vr_status vr_sensors_write_csv(const vr_render_result *r, const char *path, vr_e
   return st;
 }
 
-/* ---- staging ---- */
-
-#define MAX_OUTPUTS 5
-
-typedef struct staged {
-  char *target, *stage;
-  bool renamed;
-} staged;
-
-typedef struct stage_set {
-  staged f[MAX_OUTPUTS];
-  int n;
-} stage_set;
-
-/* Reserves a staging name beside prefix+suffix. */
-static vr_status stage_add(stage_set *s, const char *prefix, const char *suffix, staged **out,
-                           vr_error *err) {
-  size_t n = strlen(prefix) + strlen(suffix);
-  staged *g = &s->f[s->n];
-  g->target = malloc(n + 1);
-  g->stage = malloc(n + 16);
-  if (!g->target || !g->stage) {
-    free(g->target), free(g->stage);
-    return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  }
-  snprintf(g->target, n + 1, "%s%s", prefix, suffix);
-  snprintf(g->stage, n + 16, "%s.stage-XXXXXX", g->target);
-  int fd = mkstemp(g->stage);
-  if (fd < 0) {
-    vr_status st = vr_error_set(err, VR_E_IO, "%s: cannot create a file beside it: %s", g->target,
-                                strerror(errno));
-    free(g->target), free(g->stage);
-    return st;
-  }
-  close(fd);
-  g->renamed = false;
-  s->n++;
-  *out = g;
-  return VR_OK;
-}
-
-/* Gives up: no staging file stays, and outputs of this call already in
- * place are removed. */
-static void stage_abort(stage_set *s) {
-  for (int i = 0; i < s->n; i++) {
-    unlink(s->f[i].renamed ? s->f[i].target : s->f[i].stage);
-    free(s->f[i].target), free(s->f[i].stage);
-  }
-  s->n = 0;
-}
-
-static vr_status stage_commit(stage_set *s, vr_error *err) {
-  for (int i = 0; i < s->n; i++) {
-    if (rename(s->f[i].stage, s->f[i].target) != 0) {
-      vr_status st = vr_error_set(err, VR_E_IO, "%s: cannot move into place: %s", s->f[i].target,
-                                  strerror(errno));
-      stage_abort(s);
-      return st;
-    }
-    s->f[i].renamed = true;
-  }
-  for (int i = 0; i < s->n; i++) free(s->f[i].target), free(s->f[i].stage);
-  s->n = 0;
-  return VR_OK;
-}
+/* ---- staging: film_set.c ---- */
 
 /* An error from a writer names the staging file: name the target instead. */
-static void rename_in_message(vr_error *err, const staged *g) {
+static void rename_in_message(vr_error *err, const film_staged *g) {
   if (!err) return;
   char *at = strstr(err->message, g->stage);
   if (!at) return;
@@ -299,35 +239,46 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
 
   vr_image rgb = {0}, png = {0}, fc = {0};
   vr_spectral_image sp = {0};
-  stage_set set = {.n = 0};
-  staged *g;
+  film_set set = {0};
+  film_staged *g = NULL;
+  char run_id[VR_FILM_RUN_ID_MAX];
+  if (!o->run_id) vr_film_run_id(run_id);
+  if ((st = film_set_begin(&set, prefix, err))) goto out;
   if (image) {
     if ((st = make_images(r, tm, &rgb, &png, err))) goto out;
-    if ((st = stage_add(&set, prefix, ".exr", &g, err))) goto out;
-    if ((st = vr_image_write_exr(g->stage, &rgb, err))) goto fail;
+    if ((st = film_set_add(&set, ".exr", &g, err))) goto out;
+    /* For viewers: linear sRGB, pixels in cd/m2 (RGB (1,1,1) is 1 cd/m2),
+     * and the exposure that makes the PNG's white (100 cd/m2 at EV 0) 1.0. */
+    vr_exr_colour colour = vr_exr_colour_srgb(1.0, r->exposure_ev - log2(100.0));
+    if ((st = vr_image_write_exr_with(g->stage, &rgb, &colour, err))) goto fail;
     if (spectral) {
       if ((st = make_spectral(r, &sp, err))) goto out;
-      if ((st = stage_add(&set, prefix, ".spectral.exr", &g, err))) goto out;
-      if ((st = vr_spectral_exr_write(g->stage, &sp, &rgb, EMISSIVE_UNITS, err))) goto fail;
+      if ((st = film_set_add(&set, ".spectral.exr", &g, err))) goto out;
+      if ((st = vr_spectral_exr_write_with(g->stage, &sp, &rgb, EMISSIVE_UNITS, &colour, err)))
+        goto fail;
     }
-    if ((st = stage_add(&set, prefix, ".png", &g, err))) goto out;
+    if ((st = film_set_add(&set, ".png", &g, err))) goto out;
     if ((st = vr_image_write_png(g->stage, &png, 8, err))) goto fail;
     if (falsecolour) {
       if ((st = make_falsecolour(r, o, &fc, err))) goto out;
-      if ((st = stage_add(&set, prefix, ".falsecolour.png", &g, err))) goto out;
+      if ((st = film_set_add(&set, ".falsecolour.png", &g, err))) goto out;
       if ((st = vr_image_write_png(g->stage, &fc, 8, err))) goto fail;
     }
   }
   if (r->nreadings) {
-    if ((st = stage_add(&set, prefix, ".sensors.csv", &g, err))) goto out;
+    if ((st = film_set_add(&set, ".sensors.csv", &g, err))) goto out;
     if ((st = write_csv_to(r, g->stage, err))) goto fail;
   }
-  st = stage_commit(&set, err);
+  if (o->stats_path) {
+    if ((st = film_set_add_path(&set, o->stats_path, &g, err))) goto out;
+    if ((st = vr_stats_write_json(r, g->stage, err))) goto fail;
+  }
+  st = film_set_commit(&set, o->run_id ? o->run_id : run_id, err);
   goto out;
 fail:
   rename_in_message(err, g);
 out:
-  if (st) stage_abort(&set);
+  if (st && set.dir) film_set_abort(&set);
   vr_image_free(&rgb);
   vr_image_free(&png);
   vr_image_free(&fc);
@@ -347,6 +298,22 @@ static void json_key(FILE *f, const char *indent, const char *key) {
   fprintf(f, "%s", indent);
   vr_json_string(f, key);
   fputs(": ", f);
+}
+
+void vr_passes_write_json(FILE *f, const vr_render_result *r) {
+  fputc('[', f);
+  size_t np = r->npasses < VR_MAX_PASSES ? r->npasses : VR_MAX_PASSES;
+  for (size_t i = 0; i < np; i++) {
+    const vr_pass_record *p = &r->passes[i];
+    fprintf(f, "%s\n    {\"name\": ", i ? "," : "");
+    vr_json_string(f, p->name);
+    fprintf(f, ", \"ran\": %s, \"reason\": ", p->ran ? "true" : "false");
+    vr_json_string(f, p->reason);
+    fputs(", \"seconds\": ", f);
+    vr_json_number(f, p->ran ? p->seconds : NAN);
+    fputc('}', f);
+  }
+  fputs(np ? "\n  ]" : "]", f);
 }
 
 vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_error *err) {
@@ -374,19 +341,8 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
   fputs("},\n", f);
 
   json_key(f, "  ", "passes");
-  fputs("[", f);
-  size_t np = r->npasses < VR_MAX_PASSES ? r->npasses : VR_MAX_PASSES;
-  for (size_t i = 0; i < np; i++) {
-    const vr_pass_record *p = &r->passes[i];
-    fprintf(f, "%s\n    {\"name\": ", i ? "," : "");
-    vr_json_string(f, p->name);
-    fprintf(f, ", \"ran\": %s, \"reason\": ", p->ran ? "true" : "false");
-    vr_json_string(f, p->reason);
-    fputs(", \"seconds\": ", f);
-    vr_json_number(f, p->seconds);
-    fputs("}", f);
-  }
-  fputs(np ? "\n  ],\n" : "],\n", f);
+  vr_passes_write_json(f, r);
+  fputs(",\n", f);
 
   json_key(f, "  ", "rays");
   fprintf(f,

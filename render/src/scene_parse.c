@@ -257,6 +257,8 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
   char *line = NULL, *w[SCN_MAX_WORDS];
   size_t cap = 0, nw;
   const char *c = text, *end = text + len;
+  /* A UTF-8 byte order mark, as some Windows editors write it: not text. */
+  if (len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3)) c += 3;
   while (!st && c < end) {
     const char *start = c, *e = memchr(c, '\n', (size_t)(end - c));
     if (!e) e = end;

@@ -1,8 +1,10 @@
 /* vr-render: renders a scene file into spectral and RGB OpenEXR, an sRGB
  * PNG, a sensor table and statistics (docs/vr-render.md).  This file is the
- * command line around vr_render_scene (the engine) and vr_film_write (the
- * files): options, the material database, decision lines and a progress bar
- * on stderr, and a short summary on stdout. */
+ * command line around vr_render_scene (the engine) and vr_film_write_with
+ * (the files): options, the material database, decision lines and a
+ * progress bar on stderr.  The scene's overrides, the checks of the outputs
+ * and the results on stdout are in render_overrides.c, render_outputs.c and
+ * render_report.c (render_cli.h). */
 #include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
@@ -14,6 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "render_cli.h"
 #include "vr/annual.h"
 #include "vr/args.h"
 #include "vr/comm.h"
@@ -22,26 +25,30 @@
 #include "vr/film.h"
 #include "vr/matdb.h"
 #include "vr/progress.h"
-#include "vr/fisheye.h"
 #include "vr/render.h"
 #include "vr/scene.h"
 #include "vr/sky.h"
 
 static const vr_option OPTIONS[] = {
-    {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv (default: the scene's name without .scn, here)"},
+    {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv, .manifest.json (default: the scene's name without .scn, here); checked before any work"},
     {"db", 'd', "FILE", "material database, read-only (default: $VR_MATDB, else ./materials.db; made if missing and needed)"},
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
     {"memory-budget", 0, "SIZE", "hold at most SIZE (e.g. 512M, 2G) of sub-domains, ray queues and maps: sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
     {"cache", 0, "DIR", "geometry cache folder (default: SCENE.vrcache beside the scene; a temporary one if that folder cannot be written)"},
     {"threads", 0, "P", "worker threads (default: the number of online CPUs; under mpirun, per rank)"},
-    {"send-batch", 0, "N", "under mpirun: rays a message between ranks carries at most (default 256)"},
+    {"send-batch", 0, "N", "under mpirun: rays a message between ranks carries at most (default 256; refused when running alone)"},
     {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
+    {"resolution", 0, "WxH", "image size in pixels, overriding the camera line's resolution="},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
+    {"exposure", 0, "EV|auto", "PNG exposure in EV, overriding the camera line's exposure=; auto: the image's log-average luminance Ylog = exp(mean ln Y) over its lit pixels to mid grey (PNG 118), EV = log2(18 cd/m2 / Ylog)"},
+    {"set", 0, "NAME.state=S", "a material's tint state S in [0, 1], overriding the scene (repeat for several materials)"},
     {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
-    {"stats", 0, "FILE.json", "write statistics (passes, rays, photons, sensors, memory, time) as JSON"},
+    {"stats", 0, "FILE.json", "write statistics (passes, rays, photons, sensors, memory, time) as JSON, one of the set of outputs"},
     {"tonemap", 0, "NAME", "PNG tone mapping: clip (default) or reinhard"},
     {"falsecolour", 0, "LO,HI", "also write PREFIX.falsecolour.png: the luminance map on a log scale from LO to HI cd/m2, with a labelled legend (needs a camera)"},
     {"sensors-only", 0, NULL, "evaluate the sensors only: no camera pass, no images"},
+    {"json", 0, NULL, "print the results (sensors, grids, glare, timings, output files) as one JSON object on stdout instead of the text summary"},
+    {"verify", 0, "PREFIX", "check the files PREFIX.manifest.json lists (size, SHA-256) and exit: 0 if the set is whole, 1 if any differs or is missing"},
     {"quiet", 'q', NULL, "print errors only: no decisions, progress bar or summary"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
@@ -49,9 +56,10 @@ static const vr_option OPTIONS[] = {
 static const char USAGE[] =
     "SCENE.scn [-o PREFIX] [--db FILE] [--subdomains S] [--memory-budget SIZE] [--cache DIR]\n"
     "                 [--threads P] [--image-space] [--send-batch N]\n"
-    "                 [--spp N] [--photons N] [--stats FILE.json] [--tonemap clip|reinhard]\n"
-    "                 [--falsecolour LO,HI]\n"
-    "                 [--sensors-only] [--quiet]";
+    "                 [--resolution WxH] [--spp N] [--photons N] [--exposure EV|auto]\n"
+    "                 [--set NAME.state=S]... [--stats FILE.json] [--tonemap clip|reinhard]\n"
+    "                 [--falsecolour LO,HI] [--sensors-only] [--json] [--quiet]\n"
+    "       vr-render --verify PREFIX";
 static const char ABOUT[] =
     "Renders a scene file (docs/scene-format.md) with the materials of the material database.\n"
     "Each analysis decision (which passes the scene needs, and why) is printed to stderr.\n"
@@ -59,7 +67,10 @@ static const char ABOUT[] =
     "in W/(m2 sr nm), Fichet-Pacanowski-Wilkie layout), PREFIX.png (8-bit sRGB: 100 cd/m2\n"
     "is white at EV 0, times 2^exposure of the scene's camera), and PREFIX.sensors.csv\n"
     "(illuminance in lx and spectral irradiance in W/(m2 nm)) when the scene has sensors.\n"
-    "The outputs appear together or not at all.\n"
+    "The outputs appear together or not at all, with PREFIX.manifest.json (the run's id, each\n"
+    "file's size and SHA-256) written last; 'vr-render --verify PREFIX' checks a set against it.\n"
+    "Every output is checked before any work: none may replace an input of the run (the scene,\n"
+    "its meshes, IES and weather files, the database), and its folder must exist.\n"
     "A scene whose sky is a whole weather file (sky perez weather=FILE, no date) is an annual\n"
     "study instead: PREFIX.annual.csv (DA, UDI, direct-sun hours per point) and\n"
     "PREFIX.annual-hourly.csv (every occupied hour), sDA and ASE on stdout.\n"
@@ -120,7 +131,7 @@ static void ui_end(ui *u) {
 
 /* ---- options ---- */
 
-__attribute__((format(printf, 1, 2))) static int usage_error(const char *fmt, ...) {
+int render_usage_error(const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
   fputs("vr-render: ", stderr);
@@ -137,7 +148,7 @@ static bool int_option(const vr_args *a, const char *name, long lo, long hi, lon
   char *end;
   double x = strtod(v, &end);
   if (end == v || *end || !(x >= (double)lo && x <= (double)hi) || x != floor(x)) {
-    usage_error("--%s '%s': expected an integer in [%ld, %ld]", name, v, lo, hi);
+    render_usage_error("--%s '%s': expected an integer in [%ld, %ld]", name, v, lo, hi);
     return false;
   }
   *out = (long)x;
@@ -287,85 +298,6 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
   return st;
 }
 
-/* ---- the summary on stdout ---- */
-
-/* Bytes for a person: "812.0 KiB", "1.5 GiB". */
-static void human(char out[32], size_t bytes) {
-  if (bytes >= ((size_t)1 << 30))
-    snprintf(out, 32, "%.2f GiB", (double)bytes / (1 << 30));
-  else if (bytes >= ((size_t)1 << 20))
-    snprintf(out, 32, "%.1f MiB", (double)bytes / (1 << 20));
-  else
-    snprintf(out, 32, "%.1f KiB", (double)bytes / 1024);
-}
-
-static void summary(const vr_render_result *r, const char *prefix, const char *stats,
-                    bool falsecolour, double film_seconds) {
-  if (r->width > 0 && r->height > 0) {
-    printf("image    %d x %d", r->width, r->height);
-    if (r->nbins && r->bin_nm)
-      printf(", %zu bins %g-%g nm", r->nbins, r->bin_nm[0], r->bin_nm[r->nbins - 1]);
-    printf(", exposure %+g EV\n", r->exposure_ev);
-  }
-  for (size_t i = 0; i < r->npasses && i < VR_MAX_PASSES; i++) {
-    const vr_pass_record *p = &r->passes[i];
-    if (p->ran) printf("pass     %-16s %9.3f s  %s\n", p->name, p->seconds, p->reason);
-    else printf("pass     %-16s   skipped    %s\n", p->name, p->reason);
-  }
-  printf("rays     camera %llu, shadow %llu, photon %llu, other %llu; %llu sub-domain crossings\n",
-         (unsigned long long)r->rays_camera, (unsigned long long)r->rays_shadow,
-         (unsigned long long)r->rays_photon, (unsigned long long)r->rays_other,
-         (unsigned long long)r->crossings);
-  if (r->photons_global || r->photons_caustic || r->photons_direct)
-    printf("photons  global %zu, caustic %zu, direct %zu\n", r->photons_global, r->photons_caustic,
-           r->photons_direct);
-  for (size_t k = 0; k < r->nreadings; k++) {
-    const vr_sensor_reading *s = &r->readings[k];
-    printf("sensor   %s (%d, %d)  %.6g lx  +- %.2g lx", s->sensor ? s->sensor : "", s->i, s->j,
-           s->illuminance_lx, s->stderr_lx);
-    if (!isnan(s->df_pct))
-      printf("  DF %.3g %% (sky %.3g, externally reflected %.3g, internally reflected %.3g)",
-             s->df_pct, s->df_sc_pct, s->df_erc_pct, s->df_irc_pct);
-    putchar('\n');
-  }
-  if (!isnan(r->eye_illuminance_lx)) {
-    const vr_dgp_result *g = &r->glare;
-    printf("glare    vertical illuminance at the lens %.6g lx, DGP %.3f (Wienold & Christoffersen "
-           "2006%s; glare sources: %.4g sr above %.4g cd/m2, mean %.4g cd/m2), DGPs %.3f\n",
-           r->eye_illuminance_lx, g->dgp, g->vertical_lx < 1000 ? ", low-light corrected" : "",
-           g->source_omega_sr, g->threshold_cd_m2, g->source_cd_m2, vr_dgps(r->eye_illuminance_lx));
-  }
-  if (r->photochromic_texels)
-    printf("photochromic  %zu texels, state %.4g to %.4g\n", r->photochromic_texels,
-           r->photochromic_state_min, r->photochromic_state_max);
-  printf("wrote   ");
-  if (r->width > 0 && r->height > 0) {
-    printf(" %s.exr", prefix);
-    if (r->nbins && r->spectral) printf(" %s.spectral.exr", prefix);
-    printf(" %s.png", prefix);
-    if (falsecolour) printf(" %s.falsecolour.png", prefix);
-  }
-  if (r->nreadings) printf(" %s.sensors.csv", prefix);
-  if (stats) printf(" %s", stats);
-  printf("  (%.3f s)\n", film_seconds);
-  printf("cache    %s%s (%.2f s, %.1f MiB)\n", r->cache_built ? "built: " : "",
-         r->cache_reason, r->cache_seconds, (double)r->cache_bytes / 1048576.0);
-  if (r->memory_budget) {
-    char b[8][32];
-    human(b[0], r->memory_budget), human(b[1], r->peak_cells_bytes);
-    human(b[2], r->peak_geometry_bytes), human(b[3], r->peak_embree_bytes);
-    human(b[4], r->peak_queue_bytes), human(b[5], r->peak_map_bytes);
-    human(b[6], r->cell_bytes_read), human(b[7], r->peak_spill_bytes);
-    printf("memory   budget %s: peak %s sub-domains (%s arrays, %s Embree), %s queues, %s maps; "
-           "%llu loads, %llu unloads, %s read in %.2f s, %llu rays spilled (peak %s on disk)\n",
-           b[0], b[1], b[2], b[3], b[4], b[5], (unsigned long long)r->cell_loads,
-           (unsigned long long)r->cell_unloads, b[6], r->cell_load_seconds,
-           (unsigned long long)r->rays_spilled, b[7]);
-  }
-  printf("time     %.3f s, peak memory %.1f MiB\n", r->seconds_total,
-         (double)vr_peak_rss_bytes() / (1024.0 * 1024.0));
-}
-
 static double now_s(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -376,17 +308,20 @@ static double now_s(void) {
 
 /* A checksum of what every rank must render alike: the scene file's bytes
  * and the options that change the result. */
-static void digest_of(const char *path, const vr_render_options *o, unsigned char out[32]) {
+static void digest_of(const char *path, const vr_render_options *o, const render_overrides *ov,
+                      unsigned char out[32]) {
   vr_sha256 c;
   vr_sha256_init(&c);
   char *text = NULL;
   size_t len = 0;
   if (!vr_read_file(path, 0, &text, &len, NULL)) vr_sha256_update(&c, text, len);
   free(text);
-  char opts[256];
+  char opts[256], more[8192];
   snprintf(opts, sizeof opts, "S=%d spp=%d photons=%ld image_space=%d no_camera=%d",
            o->subdomains, o->spp, o->photons, o->image_space, o->no_camera);
   vr_sha256_update(&c, opts, strlen(opts));
+  render_overrides_text(ov, more, sizeof more);
+  vr_sha256_update(&c, more, strlen(more));
   char hex[65];
   vr_sha256_final(&c, hex);
   for (int i = 0; i < 32; i++) {
@@ -396,8 +331,15 @@ static void digest_of(const char *path, const vr_render_options *o, unsigned cha
   }
 }
 
-static int run(const vr_args *a, vr_comm *comm) {
-  if (a->noperands != 1) return usage_error("expected one scene file, got %zu", a->noperands);
+static int run(const vr_args *a, int argc, char **argv, vr_comm *comm) {
+  if (vr_args_get(a, "verify")) {
+    if (a->noperands)
+      return render_usage_error("--verify PREFIX checks written files: it takes no scene file");
+    return render_verify(vr_args_get(a, "verify"), vr_args_flag(a, "quiet"));
+  }
+  if (a->noperands != 1) return render_usage_error("expected one scene file, got %zu", a->noperands);
+  render_overrides ov;
+  if (render_overrides_parse(a, argc, argv, OPTIONS, NOPT, &ov)) return 2;
   vr_render_options opt;
   vr_render_options_default(&opt);
   long cpus = sysconf(_SC_NPROCESSORS_ONLN);
@@ -409,14 +351,18 @@ static int run(const vr_args *a, vr_comm *comm) {
     return 2;
   size_t budget = 0;
   vr_error aerr = {0};
-  if (vr_args_size(a, "memory-budget", 0, &budget, &aerr)) return usage_error("%s", aerr.message);
+  if (vr_args_size(a, "memory-budget", 0, &budget, &aerr)) return render_usage_error("%s", aerr.message);
   if (budget && vr_args_flag(a, "image-space"))
-    return usage_error("--image-space keeps the whole scene in every thread: it cannot run under "
+    return render_usage_error("--image-space keeps the whole scene in every thread: it cannot run under "
                        "--memory-budget");
+  /* Options that would change nothing are refused, not ignored. */
+  if (vr_args_get(a, "send-batch") && vr_comm_size(comm) == 1)
+    return render_usage_error("--send-batch sets the messages between mpirun ranks: this process runs "
+                       "alone");
   const char *tonemap = vr_args_get(a, "tonemap");
   vr_tonemap tm = VR_TONEMAP_CLIP;
   if (vr_tonemap_parse(tonemap, &tm, NULL))
-    return usage_error("--tonemap '%s': expected clip or reinhard", tonemap);
+    return render_usage_error("--tonemap '%s': expected clip or reinhard", tonemap);
   vr_film_options fo = {.tonemap = tonemap};
   const char *fc = vr_args_get(a, "falsecolour");
   if (fc) {
@@ -425,8 +371,11 @@ static int run(const vr_args *a, vr_comm *comm) {
     if (*end == ',') fo.falsecolour_hi_cd_m2 = strtod(end + 1, &end);
     if (*end || !(fo.falsecolour_lo_cd_m2 > 0) ||
         !(fo.falsecolour_hi_cd_m2 > fo.falsecolour_lo_cd_m2) || !isfinite(fo.falsecolour_hi_cd_m2))
-      return usage_error("--falsecolour '%s': expected LO,HI in cd/m2 with 0 < LO < HI", fc);
+      return render_usage_error("--falsecolour '%s': expected LO,HI in cd/m2 with 0 < LO < HI", fc);
   }
+  const char *given = vr_args_get(a, "output");
+  if (given && !*given) return render_usage_error("-o '': expected a prefix such as out/room");
+  bool json = vr_args_flag(a, "json");
   int rank = vr_comm_rank(comm);
   /* Only rank 0 speaks (and writes). */
   ui u = {.quiet = vr_args_flag(a, "quiet") || rank != 0};
@@ -444,20 +393,37 @@ static int run(const vr_args *a, vr_comm *comm) {
   opt.user = &u;
 
   const char *path = a->operands[0], *stats = vr_args_get(a, "stats");
+  const char *db_path = vr_args_get(a, "db") ? vr_args_get(a, "db") : vr_matdb_default_path();
   vr_error err = {0};
   vr_scene *scene = NULL;
   vr_matdb *db = NULL;
   vr_render_result *r = NULL;
+  render_outputs outs = {0};
   char *prefix = NULL, *cache_dir = NULL;
+  char run_id[VR_FILM_RUN_ID_MAX];
+  vr_film_run_id(run_id);
   int rc = 1;
   bool agreed = false;
-  const char *given = vr_args_get(a, "output");
   const char *cache = vr_args_get(a, "cache");
   if (!(prefix = given ? strdup(given) : default_prefix(path))) {
     vr_error_set(&err, VR_E_NOMEM, "out of memory");
     goto ready;
   }
   if (vr_scene_read(path, &scene, &err)) goto ready;
+  if (render_overrides_apply(&ov, scene, &err) || render_options_check(a, scene, &err)) goto ready;
+  /* No camera line: the scene exists for its sensors. */
+  opt.no_camera = vr_args_flag(a, "sensors-only") || !scene->camera.given;
+  if (opt.no_camera && scene->nsensors == 0) {
+    vr_error_set(&err, VR_E_ARG, "%s: --sensors-only, but the scene has no sensor line", path);
+    goto ready;
+  }
+  /* Every output before any work: a wrong path costs a second, not a render. */
+  if (rank == 0) {
+    if (render_outputs_check(scene, prefix, stats, db_path, !opt.no_camera, fc != NULL, &outs,
+                             &err))
+      goto ready;
+    render_clean_stale(prefix, stats, ui_log, &u);
+  }
   if (rank == 0) log_perez(&u, scene);
   if (cache && !*cache) {
     vr_error_set(&err, VR_E_ARG, "--cache '': expected a folder");
@@ -469,25 +435,13 @@ static int run(const vr_args *a, vr_comm *comm) {
     if (!cache) ui_log(&u, why);
   }
   opt.cache_dir = cache;
-  /* No camera line: the scene exists for its sensors. */
-  opt.no_camera = vr_args_flag(a, "sensors-only") || !scene->camera.given;
-  if (fc && (opt.no_camera || scene->sky.annual)) {
-    vr_error_set(&err, VR_E_ARG, "%s: --falsecolour maps a camera's image: %s", path,
-                 !scene->camera.given ? "the scene has no camera"
-                 : scene->sky.annual  ? "an annual study renders no image"
-                                      : "--sensors-only renders none");
-    goto ready;
-  }
-  if (opt.no_camera && scene->nsensors == 0) {
-    vr_error_set(&err, VR_E_ARG, "%s: --sensors-only, but the scene has no sensor line", path);
-    goto ready;
-  }
-  open_db(vr_args_get(a, "db"), scene, &u, &db, &err);
+  if (!open_db(vr_args_get(a, "db"), scene, &u, &db, &err))
+    render_overrides_check_db(&ov, scene, db, &err);
 ready:
   /* Every rank ready, or every rank told why not. */
   if (vr_comm_agree(comm, err.status, &err)) goto fail;
   opt.has_digest = true;
-  digest_of(path, &opt, opt.scene_digest);
+  digest_of(path, &opt, &ov, opt.scene_digest);
   if (scene->sky.annual) {
     rc = annual(scene, db, &opt, prefix, rank, &u, &err) ? 1 : 0;
     agreed = rc != 0;
@@ -497,9 +451,17 @@ ready:
   ui_end(&u);
   double t0 = now_s();
   if (rank == 0) {
+    if (ov.exposure_auto && r->width > 0 && r->height > 0 &&
+        !vr_film_auto_exposure(r, &r->exposure_ev))
+      ui_log(&u, "--exposure auto: the image has no light; exposure left at the camera's");
+    fo.stats_path = stats;
+    fo.run_id = run_id;
     if (vr_film_write_with(r, prefix, &fo, &err)) goto out;
-    if (stats && vr_stats_write_json(r, stats, &err)) goto out;
-    if (!u.quiet) summary(r, prefix, stats, fc != NULL, now_s() - t0);
+    render_report rep = {.scene = path, .prefix = prefix, .stats = stats, .run_id = run_id,
+                         .outputs = &outs, .falsecolour = fc != NULL,
+                         .exposure_auto = ov.exposure_auto, .film_seconds = now_s() - t0};
+    if (json) render_summary_json(scene, r, &rep);
+    else if (!u.quiet) render_summary_text(scene, r, &rep);
   }
   rc = 0;
   goto out;
@@ -510,6 +472,7 @@ out:
   /* A failure of rank 0's own (writing the outputs) is its alone. */
   if (rc && (rank == 0 || !agreed)) fprintf(stderr, "vr-render: %s\n", err.message);
   if (r) vr_render_result_destroy(r);
+  render_outputs_free(&outs);
   vr_matdb_close(db);
   vr_scene_destroy(scene);
   free(prefix);
@@ -528,7 +491,7 @@ int main(int argc, char **argv) {
   }
   vr_args a;
   vr_args_outcome o = vr_args_parse(&a, "vr-render", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
-  int rc = o == VR_ARGS_EXIT_OK ? 0 : o == VR_ARGS_EXIT_USAGE ? 2 : run(&a, comm);
+  int rc = o == VR_ARGS_EXIT_OK ? 0 : o == VR_ARGS_EXIT_USAGE ? 2 : run(&a, argc, argv, comm);
   if (o == VR_ARGS_RUN) vr_args_free(&a);
   vr_comm_finalize(comm);
   return rc;

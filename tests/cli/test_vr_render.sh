@@ -10,7 +10,7 @@ source "$(dirname "$0")/harness.sh"
 check "--help exits 0" test $rc -eq 0
 check "--help shows usage" grep -q "^Usage: vr-render" "$tmp/help"
 for o in --output --db --subdomains --threads --image-space --spp --photons --stats --tonemap \
-         --sensors-only --quiet --help --version; do
+         --sensors-only --quiet --help --version --resolution --exposure --set --json --verify; do
   check "--help lists $o" grep -q -- "$o" "$tmp/help"
 done
 "$bin" --version > "$tmp/ver"; check "--version" grep -q "vr-render (Virtuelium-C) " "$tmp/ver"
@@ -283,5 +283,237 @@ check "the bad scale is named" grep -q "0 < LO < HI" "$tmp/err"
 check "--falsecolour with --sensors-only exits 1" test $rc -eq 1
 check "it says why" grep -q "sensors-only renders none" "$tmp/err"
 check "and writes nothing" test ! -e "$tmp/fc3.sensors.csv"
+
+
+# ---- Issue 18: nothing a user owns is lost or silently wrong ----
+
+# 1. Outputs never replace inputs: the scene, the database, a mesh; two
+# outputs are not one file; every output is checked, not only --stats.
+mkdir -p "$tmp/g18" && cp "$tmp/point.scn" "$tmp/g18/"
+cp "$tmp/half.scn" "$tmp/half.obj" "$tmp/g18/"
+cd "$tmp/g18"
+printf 'a database, as far as the guard can tell\n' > m.db
+sum_before=$(sha256sum point.scn m.db half.obj)
+refuse render-stats-over-scene "$bin" point.scn --stats point.scn
+refuse render-stats-over-db "$bin" point.scn --db m.db --stats m.db
+refuse render-stats-over-mesh "$bin" half.scn --sensors-only --stats half.obj
+ln -s point.scn link.scn
+refuse render-stats-over-scene-link "$bin" link.scn --stats point.scn
+cp point.scn p2.scn && ln p2.scn p2.sensors.csv
+refuse render-output-over-scene "$bin" p2.scn -o p2
+refuse render-stats-same-as-output "$bin" point.scn -o same --stats same.png
+mkdir -p adir
+refuse render-stats-is-folder "$bin" point.scn --stats adir
+check "the scene, the database and the mesh are untouched" test "$(sha256sum point.scn m.db half.obj)" = "$sum_before"
+check "no output of the refused runs" test -z "$(ls | grep -e '\.png$' -e '\.exr$' -e '\.manifest' -e '\.partial')"
+cd - > /dev/null
+
+# 2. Fail before the work: a missing output folder is refused before the
+# scene is even prepared (no decision line, no cache made), not after the
+# render.
+mkdir -p "$tmp/early" && cp "$tmp/point.scn" "$tmp/early/"
+refuse render-output-folder-missing "$bin" "$tmp/early/point.scn" -o "$tmp/early/no/such/x"
+check "a missing folder: one line, nothing of the render" test "$(wc -l < "$tmp/refused.err")" -eq 1
+check "a missing folder: no decision line" test -z "$(grep -e ' run ' -e 'camera' -e 'cache' "$tmp/refused.err")"
+check "a missing folder: no cache made" test ! -e "$tmp/early/point.vrcache"
+refuse render-stats-folder-missing "$bin" "$tmp/early/point.scn" -o "$tmp/early/x" --stats "$tmp/early/nope/s.json"
+check "a missing --stats folder: no image written" test ! -e "$tmp/early/x.png"
+
+# 3. The set of outputs: a manifest written last lists every file with its
+# size and SHA-256; --verify checks it; a file of another run put back in
+# the set (what a kill between the final renames leaves) is reported;
+# staging leftovers of a killed run (dead process) are removed by the next
+# run, a live run's are kept.
+mkdir -p "$tmp/set/other"
+cd "$tmp/set"
+cp "$tmp/point.scn" .
+sleep 0 & dead=$!; wait $dead
+mkdir "point.partial.$dead" && echo half > "point.partial.$dead/point.png"
+echo half > "other/s.json.partial.$dead"
+mkdir "point.partial.$$"   # this test's own shell: alive
+"$bin" point.scn --stats other/s.json > set.out 2> set.err; rc=$?
+check "render with a manifest" test $rc -eq 0
+check "the dead run's staging folder is removed" test ! -e "point.partial.$dead"
+check "the dead run's staged statistics are removed" test ! -e "other/s.json.partial.$dead"
+check "the removal is said" grep -q "removed what a killed run left: .*point.partial.$dead" set.err
+check "a live run's staging folder is kept" test -d "point.partial.$$"
+rmdir "point.partial.$$"
+check "no staging folder of this run left" test -z "$(ls -a . other | grep -e '\.partial\.' -e '\.tmp-' -e '\.stage-')"
+python3 - "$tmp/set" <<'PY'
+import hashlib, json, os, sys
+d = sys.argv[1]
+m = json.load(open(d + "/point.manifest.json"))
+names = [f["name"] for f in m["files"]]
+want = ["point.exr", "point.spectral.exr", "point.png", "point.sensors.csv", d + "/other/s.json"]
+assert names == want, names
+for f in m["files"]:
+    p = f["name"] if f["name"].startswith("/") else d + "/" + f["name"]
+    b = open(p, "rb").read()
+    assert len(b) == f["bytes"] and hashlib.sha256(b).hexdigest() == f["sha256"], f
+assert m["run_id"] and json.load(open(d + "/other/s.json"))["sensors"], m
+PY
+check "the manifest lists each file, its size and SHA-256" test $? -eq 0
+"$bin" --verify point > verify.out 2>&1; rc=$?
+check "--verify on a whole set exits 0" test $rc -eq 0
+check "--verify says so" grep -q "^verified point: the 5 files of run .* match point.manifest.json" verify.out
+cp point.png old.png
+"$bin" point.scn --exposure -3 --quiet; check "a second run with another exposure" test $? -eq 0
+check "the second run's PNG differs" test "$(sha256sum < point.png)" != "$(sha256sum < old.png)"
+"$bin" --verify point > /dev/null 2>&1; check "the second set verifies" test $? -eq 0
+cp old.png point.png
+refuse render-verify-mixed-set "$bin" --verify point
+check "--verify names the odd file" grep -q "point.png" "$tmp/refused.out"
+refuse render-verify-no-manifest "$bin" --verify nothing
+refuse render-verify-with-scene "$bin" --verify point point.scn
+cd - > /dev/null
+
+# 4. Designer options.  --resolution and --exposure override the camera
+# line, --spp the render line; bad values are usage errors.
+"$bin" "$tmp/point.scn" -o "$tmp/res" --resolution 12x7 --spp 2 --json > "$tmp/res.json" 2> /dev/null; rc=$?
+check "--resolution 12x7 --json runs" test $rc -eq 0
+python3 - "$tmp" <<'PY'
+import json, sys
+d = sys.argv[1]
+j = json.load(open(d + "/res.json"))
+assert j["image"]["width"] == 12 and j["image"]["height"] == 7, j["image"]
+cam = [p for p in j["passes"] if p["name"] == "camera"][0]
+assert "12 x 7 pixels, 2 samples per pixel" in cam["reason"], cam
+assert j["sensors"][0]["name"] == "floor" and abs(j["sensors"][0]["illuminance_lx"] - 1000 / 9) < 1.2, j["sensors"]
+assert d + "/res.png" in j["outputs"] and d + "/res.manifest.json" in j["outputs"], j["outputs"]
+assert j["timings"]["render_seconds"] > 0 and j["glare"] is None and j["run_id"], j
+m = json.load(open(d + "/res.manifest.json"))
+assert m["run_id"] == j["run_id"], (m["run_id"], j["run_id"])
+PY
+check "--json: valid JSON with the image, sensors, outputs, timings and the run id" test $? -eq 0
+refuse render-resolution-bad "$bin" "$tmp/point.scn" --resolution 0x10
+refuse render-exposure-bad "$bin" "$tmp/point.scn" --exposure bright
+refuse render-option-twice "$bin" "$tmp/point.scn" --spp 2 --spp 4
+refuse render-spp-no-image "$bin" "$tmp/point.scn" --sensors-only --spp 4
+refuse render-exposure-no-image "$bin" "$tmp/point.scn" --sensors-only --exposure 2
+refuse render-stats-annual "$bin" "$tmp/year.scn" -o "$tmp/year2" --stats "$tmp/year2.json"
+refuse render-output-folder-missing "$bin" "$tmp/year.scn" -o "$tmp/no/such/year"
+refuse render-send-batch-alone "$bin" "$tmp/point.scn" --send-batch 16
+
+# A grid's summary (Emin, Eavg, Emax, U0 = Emin/Eavg, Emin/Emax) in the text
+# results and the JSON, recomputed here from the sensor table.
+(cd "$tmp" && "$bin" boxes.scn --sensors-only -o grid > grid.txt 2> /dev/null && \
+   "$bin" boxes.scn --sensors-only -o grid2 --json > grid.json 2> /dev/null); rc=$?
+check "the grid scene renders (text and JSON)" test $rc -eq 0
+python3 - "$tmp" <<'PY'
+import csv, json, sys
+d = sys.argv[1]
+E = [float(r["illuminance_lx"]) for r in csv.DictReader(open(d + "/grid.sensors.csv")) if r["sensor"] == "floor"]
+assert len(E) == 4
+lo, avg, hi = min(E), sum(E) / len(E), max(E)
+line = [l for l in open(d + "/grid.txt") if l.startswith("grid ")]
+assert len(line) == 1, line
+w = line[0].split()
+val = lambda key: float(w[w.index(key) + 1])
+for key, want in (("Emin", lo), ("Eavg", avg), ("Emax", hi)):
+    assert abs(val(key) - want) <= 1e-5 * want, (key, val(key), want)
+assert w[1] == "floor" and w[2] == "4" and w[3] == "points", w
+assert abs(float(w[w.index("Emin/Eavg") + 1]) - lo / avg) <= 1e-3, w
+assert abs(float(w[w.index("Emin/Emax") + 1]) - lo / hi) <= 1e-3, w
+g = json.load(open(d + "/grid.json"))["grids"]
+assert len(g) == 1 and g[0]["name"] == "floor" and g[0]["points"] == 4, g
+E2 = [float(r["illuminance_lx"]) for r in csv.DictReader(open(d + "/grid2.sensors.csv"))]
+lo, avg, hi = min(E2), sum(E2) / 4, max(E2)
+for k, want in (("min_lx", lo), ("mean_lx", avg), ("max_lx", hi), ("u0", lo / avg), ("min_over_max", lo / hi)):
+    assert abs(g[0][k] - want) <= 1e-7 * abs(want), (k, g[0][k], want)
+PY
+check "grid summary: Emin, Eavg, Emax, U0, Emin/Emax as the sensor table gives them" test $? -eq 0
+
+# --exposure auto maps the log-average luminance to mid grey (PNG 118): a
+# dim lamp's render, near black at the camera's EV 0, comes near it.
+sed 's/intensity=1000cd/intensity=10cd/' "$tmp/point.scn" > "$tmp/dim.scn"
+"$bin" "$tmp/dim.scn" -o "$tmp/dim0" --quiet && "$bin" "$tmp/dim.scn" -o "$tmp/dima" --exposure auto > "$tmp/dima.out" 2> /dev/null
+check "--exposure auto runs" test $? -eq 0
+check "--exposure auto is reported" grep -q "^image .*exposure +[0-9.]* EV (auto" "$tmp/dima.out"
+python3 - "$tmp" <<'PY'
+import struct, sys, zlib
+def png_mean(path):
+    b = open(path, "rb").read()
+    assert b[:8] == b"\x89PNG\r\n\x1a\n"
+    i, idat, w = 8, b"", 0
+    while i < len(b):
+        n, t = struct.unpack(">I4s", b[i:i + 8])
+        c = b[i + 8:i + 8 + n]
+        if t == b"IHDR":
+            w, h, depth, ctype = struct.unpack(">IIBB", c[:10])
+            ch = {0: 1, 2: 3, 6: 4}[ctype]
+            assert depth == 8
+        elif t == b"IDAT":
+            idat += c
+        i += 12 + n
+    raw, stride, prev, vals = zlib.decompress(idat), w * ch, bytearray(w * ch), []
+    for y in range(h):
+        f, row = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for x in range(stride):
+            a = row[x - ch] if x >= ch else 0
+            up, c = prev[x], prev[x - ch] if x >= ch else 0
+            if f == 1: row[x] = (row[x] + a) & 255
+            elif f == 2: row[x] = (row[x] + up) & 255
+            elif f == 3: row[x] = (row[x] + (a + up) // 2) & 255
+            elif f == 4:
+                p = a + up - c; pa, pb, pc = abs(p - a), abs(p - up), abs(p - c)
+                row[x] = (row[x] + (a if pa <= pb and pa <= pc else up if pb <= pc else c)) & 255
+        vals += [row[x] for x in range(stride) if ch < 4 or x % 4 != 3]
+        prev = row
+    return sum(vals) / len(vals)
+d = sys.argv[1]
+m0, ma = png_mean(d + "/dim0.png"), png_mean(d + "/dima.png")
+assert m0 < 20, m0
+assert 90 <= ma <= 150, ma
+PY
+check "--exposure auto brings a dark render's PNG mean near mid grey (118)" test $? -eq 0
+
+# --set NAME.state=S: one scene file for a tint study.  Errors name the
+# material or the parameter.
+refuse render-set-unknown-material "$bin" "$tmp/point.scn" --set glass.state=0.5
+refuse render-set-unknown-parameter "$bin" "$tmp/point.scn" --set grey.tint=0.5
+refuse render-set-state-range "$bin" "$tmp/point.scn" --set grey.state=1.5
+refuse render-set-no-state "$bin" "$tmp/point.scn" --set grey.state=0.5
+refuse render-set-twice "$bin" "$tmp/point.scn" --set grey.state=0.5 --set grey.state=0.6
+sed 's/^render/material silver db:Ag\nsphere center=3,3,1 radius=0.2 material=silver\nrender/' "$tmp/point.scn" > "$tmp/ag.scn"
+refuse render-set-not-chromogenic "$bin" "$tmp/ag.scn" --set silver.state=0.5
+spectro="$VR_BIN/../fit/vr-spectro"
+if [ -x "$spectro" ]; then
+  "$spectro" chromogenic "$src/samples/glazing/electrochromic/ec_states.csv" --save ec > /dev/null 2>&1
+  check "an electrochromic glass for the tint study" test $? -eq 0
+  cat > "$tmp/tint.scn" <<'EOF'
+material grey lambert reflectance=0.5
+material ec db:ec state=0.2
+rect center=0,0,0 normal=0,0,1 size=4,4 material=grey
+rect center=0,0,1.5 normal=0,0,1 size=3,3 material=ec
+light point position=0,0,3 intensity=1000cd
+sensor under point position=0,0,0.01 normal=0,0,1
+render integrator=path sensor_samples=256
+EOF
+  for st in 0 1; do
+    "$bin" "$tmp/tint.scn" -o "$tmp/tint$st" --set "ec.state=$st" --quiet
+  done
+  sed 's/state=0.2/state=1/' "$tmp/tint.scn" > "$tmp/tint_one.scn"
+  "$bin" "$tmp/tint_one.scn" -o "$tmp/tint_one" --quiet
+  python3 - "$tmp" <<'PY'
+import csv, sys
+d = sys.argv[1]
+E = lambda f: float(next(csv.DictReader(open(d + "/" + f + ".sensors.csv")))["illuminance_lx"])
+e0, e1, one = E("tint0"), E("tint1"), E("tint_one")
+assert e1 < 0.5 * e0, (e0, e1)
+assert abs(e1 - one) <= 1e-9 * one, (e1, one)
+PY
+  check "--set ec.state: the coloured glass lets less light through, as state=1 in the file" test $? -eq 0
+  # A charge beyond the fitted ones (Q_full of ec_states.csv is its most
+  # coloured state's charge) has no state: refused, not clamped to state 1.
+  sed 's/state=0.2/charge=500mC\/cm2/' "$tmp/tint.scn" > "$tmp/tint_charge.scn"
+  refuse render-charge-above "$bin" "$tmp/tint_charge.scn" -o "$tmp/tint_charge" --quiet
+else
+  echo "# vr-spectro not built: the tint study with a fitted glass is skipped"
+fi
+
+# A UTF-8 byte order mark at the start of a scene file is not text.
+printf '\357\273\277' | cat - "$tmp/point.scn" > "$tmp/bom.scn"
+"$bin" "$tmp/bom.scn" -o "$tmp/bom" --sensors-only --quiet; rc=$?
+check "a scene file starting with a UTF-8 BOM renders" test $rc -eq 0
 
 finish

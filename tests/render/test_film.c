@@ -14,6 +14,8 @@
 #include <ctype.h>
 #include <openexr.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "vr/colour.h"
 #include "vr/falsecolour.h"
@@ -197,7 +199,8 @@ static void spectral_exr_has_bins_and_rgb(void **state) {
   assert_true(seenR);
   const exr_attribute_t *units = NULL;
   assert_int_equal(exr_get_attribute_by_name(ctxt, 0, "emissiveUnits", &units), EXR_ERR_SUCCESS);
-  assert_string_equal(units->string->str, "W.m^-2.sr^-1.nm^-1");
+  /* The reference writer's spelling (ART's OpenEXR wrapper, pbrt-v4). */
+  assert_string_equal(units->string->str, "W.m^-2.sr^-1");
   exr_finish(&ctxt);
   /* Values, through our reader. */
   vr_spectral_image sp = {0};
@@ -380,7 +383,8 @@ static void failed_output_removes_the_others(void **state) {
   rmdir(in_dir("blocked.png"));
   /* A folder that does not exist: an error naming the path, nothing else. */
   assert_int_not_equal(vr_film_write(&o.r, in_dir("none/x"), NULL, &err), VR_OK);
-  assert_contains(err.message, "none/x.exr");
+  assert_contains(err.message, "none/x");
+  assert_contains(err.message, "No such file");
 }
 
 static void falsecolour_map(void **state) {
@@ -450,6 +454,133 @@ static void falsecolour_map(void **state) {
   assert_non_null(strstr(err.message, "no image"));
 }
 
+/* ---- the set, its manifest and what killed runs leave (vr/film.h) ---- */
+
+static void copy_file(const char *from, const char *to) {
+  FILE *a = fopen(from, "rb"), *b = fopen(to, "wb");
+  assert_non_null(a);
+  assert_non_null(b);
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, a)) > 0) assert_int_equal(fwrite(buf, 1, n, b), n);
+  fclose(a);
+  fclose(b);
+}
+
+static int lines_seen;
+static char last_bad[1024];
+static void count_line(void *user, const char *line) {
+  (void)user;
+  lines_seen++;
+  if (strncmp(line, "ok", 2)) snprintf(last_bad, sizeof last_bad, "%s", line);
+}
+
+/* The manifest lists the set (the statistics included) with sizes and
+ * SHA-256; a file of an older set put back among the new ones (what a kill
+ * between the final renames leaves) and a missing file are found. */
+static void manifest_and_verify(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  vr_error err = {0};
+  vr_film_options fo = {.stats_path = in_dir("man.json"), .run_id = "run-one"};
+  assert_int_equal(vr_film_write_with(&o.r, in_dir("man"), &fo, &err), VR_OK);
+  const char *m = slurp(in_dir("man.manifest.json"));
+  assert_contains(m, "\"run_id\": \"run-one\"");
+  const char *names[] = {"\"man.exr\"", "\"man.spectral.exr\"", "\"man.png\"",
+                         "\"man.sensors.csv\"", "\"man.json\""};
+  for (int i = 0; i < 5; i++) assert_contains(m, names[i]);
+  vr_film_check c;
+  lines_seen = 0;
+  assert_int_equal(vr_film_verify(in_dir("man"), count_line, NULL, &c, &err), VR_OK);
+  assert_int_equal(c.files, 5);
+  assert_int_equal(c.bad, 0);
+  assert_int_equal(lines_seen, 5);
+  assert_string_equal(c.run_id, "run-one");
+  /* A second run, brighter: its PNG differs; the first run's PNG put back. */
+  copy_file(in_dir("man.png"), in_dir("old.png"));
+  make_result(&o, 25);
+  fo.run_id = "run-two";
+  assert_int_equal(vr_film_write_with(&o.r, in_dir("man"), &fo, &err), VR_OK);
+  assert_int_equal(vr_film_verify(in_dir("man"), NULL, NULL, &c, &err), VR_OK);
+  copy_file(in_dir("old.png"), in_dir("man.png"));
+  assert_int_equal(vr_film_verify(in_dir("man"), count_line, NULL, &c, &err), VR_E_RANGE);
+  assert_int_equal(c.bad, 1);
+  assert_contains(last_bad, "differs");
+  assert_contains(last_bad, "man.png");
+  assert_contains(err.message, "1 of 5 files do not match");
+  assert_contains(err.message, "run-two");
+  unlink(in_dir("man.sensors.csv"));
+  assert_int_equal(vr_film_verify(in_dir("man"), count_line, NULL, &c, &err), VR_E_RANGE);
+  assert_int_equal(c.bad, 2);
+  assert_int_equal(vr_film_verify(in_dir("nothing"), NULL, NULL, &c, &err), VR_E_IO);
+  assert_contains(err.message, "nothing.manifest.json");
+}
+
+/* A killed run's staging folder (its process gone) is removed; a live
+ * process's is kept. */
+static void stale_staging_is_removed(void **state) {
+  (void)state;
+  pid_t child = fork();
+  assert_true(child >= 0);
+  if (child == 0) _exit(0);
+  assert_int_equal(waitpid(child, NULL, 0), child);
+  char dead[64], live[64], file[128];
+  snprintf(dead, sizeof dead, "st.partial.%ld", (long)child);
+  snprintf(live, sizeof live, "st.partial.%ld", (long)getppid());
+  assert_int_equal(mkdir(in_dir(dead), 0755), 0);
+  assert_int_equal(mkdir(in_dir(live), 0755), 0);
+  snprintf(file, sizeof file, "%s/st.png", dead);
+  write_file(in_dir(file), "half", 4);
+  snprintf(file, sizeof file, "stx.json.partial.%ld", (long)child);
+  write_file(in_dir(file), "half", 4); /* another name's: not ours to touch */
+  char removed[1024];
+  assert_int_equal(vr_film_clean_stale(in_dir("st"), removed, sizeof removed), 1);
+  assert_contains(removed, dead);
+  assert_false(exists(in_dir(dead)));
+  assert_true(exists(in_dir(live)));
+  assert_true(exists(in_dir(file)));
+  assert_int_equal(vr_film_clean_stale(in_dir("stx.json"), NULL, 0), 1);
+  assert_false(exists(in_dir(file)));
+  rmdir(in_dir(live));
+  /* A staging folder named by this process's own id is a previous holder's
+   * of the id (ids restart in every container): writing goes on over it. */
+  char own[64];
+  snprintf(own, sizeof own, "own.partial.%ld", (long)getpid());
+  assert_int_equal(mkdir(in_dir(own), 0755), 0);
+  snprintf(file, sizeof file, "%s/own.png", own);
+  write_file(in_dir(file), "half", 4);
+  owned_result o;
+  make_result(&o, 100);
+  vr_error err = {0};
+  assert_int_equal(vr_film_write(&o.r, in_dir("own"), NULL, &err), VR_OK);
+  assert_false(exists(in_dir(own)));
+  assert_true(exists(in_dir("own.png")));
+}
+
+/* --exposure auto: the log-average luminance to mid grey, 18 cd/m2 at EV 0
+ * (display 0.18). */
+static void auto_exposure(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 36);
+  double ev = 99;
+  assert_true(vr_film_auto_exposure(&o.r, &ev));
+  assert_near(ev, -1.0, 1e-12);
+  /* Half at 4, half at 16 cd/m2: log average 8; black pixels do not count. */
+  for (int p = 0; p < W * H; p++)
+    for (int c = 0; c < 3; c++) o.xyz[3 * p + c] *= (p % 2 ? 4.0 : 16.0) / 36.0;
+  assert_true(vr_film_auto_exposure(&o.r, &ev));
+  assert_near(ev, log2(18.0 / 8.0), 1e-12);
+  o.xyz[1] = 0, o.xyz[4] = 0; /* pixels 0 (16) and 1 (4) black */
+  assert_true(vr_film_auto_exposure(&o.r, &ev));
+  assert_near(ev, log2(18.0 / 8.0), 1e-12);
+  for (int k = 0; k < W * H * 3; k++) o.xyz[k] = 0;
+  ev = 7;
+  assert_false(vr_film_auto_exposure(&o.r, &ev));
+  assert_near(ev, 7, 0);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(png_white_ev0_is_255),
@@ -462,6 +593,9 @@ int main(void) {
       cmocka_unit_test(stats_json_parses_and_has_the_keys),
       cmocka_unit_test(nan_pixel_writes_nothing),
       cmocka_unit_test(failed_output_removes_the_others),
+      cmocka_unit_test(manifest_and_verify),
+      cmocka_unit_test(stale_staging_is_removed),
+      cmocka_unit_test(auto_exposure),
   };
   return cmocka_run_group_tests(tests, make_test_dir, remove_test_dir);
 }

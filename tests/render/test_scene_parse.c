@@ -586,6 +586,19 @@ static void text_robustness(void **state) {
   assert_string_equal(s->dir, "/");
   assert_string_equal(s->objects[0].mesh_path, "/x.ply");
   vr_scene_destroy(s);
+  /* A UTF-8 byte order mark (Windows editors write one) is not text, and
+   * columns on the first line count from after it. */
+  static const char BOM[] = "\xEF\xBB\xBF"
+                            "camera pinhole from=0,0,0 to=0,1,0 fov=200\n";
+  assert_int_equal(vr_scene_parse(BOM, sizeof BOM - 1, "room.scn", &s, &err), VR_E_PARSE);
+  assert_contains(err.message, "room.scn:1:36: ");
+  assert_int_equal(vr_scene_parse(BOM, 3, "room.scn", &s, &err), VR_E_PARSE);
+  assert_contains(err.message, "nothing to render");
+  static const char BOM_OK[] = "\xEF\xBB\xBF"
+                               "camera pinhole from=0,0,0 to=0,1,0\n";
+  assert_int_equal(vr_scene_parse(BOM_OK, sizeof BOM_OK - 1, "room.scn", &s, &err), VR_OK);
+  assert_true(s->camera.given);
+  vr_scene_destroy(s);
   /* Text cut short in the middle of a statement fails cleanly. */
   const char *full = FULL;
   for (size_t n = 0; n < strlen(full); n += 7) {

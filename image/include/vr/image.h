@@ -86,6 +86,40 @@ vr_status vr_image_write_png(const char *path, const vr_image *img, int bits, vr
  * they are; atomically like vr_image_write_png. */
 vr_status vr_image_write_exr(const char *path, const vr_image *img, vr_error *err);
 
+/* What a viewer needs to show the R, G, B of an OpenEXR as they were meant:
+ *   chromaticities  (OpenEXR standard optional attribute) the CIE 1931 x, y
+ *                   of the red, green and blue primaries and of the white;
+ *                   without it a reader assumes Rec. 709 / sRGB primaries
+ *                   and D65, so it says what was meant instead of leaving
+ *                   it to a default;
+ *   whiteLuminance  (standard) the luminance in cd/m² of RGB (1, 1, 1):
+ *                   with the chromaticities, a reader turns pixels into
+ *                   absolute CIE XYZ.  1 for pixels that are cd/m² already;
+ *   exposure        (float, in stops; not an OpenEXR standard attribute,
+ *                   which has none for this) the exposure to apply for
+ *                   display, as the exposure control of EXR viewers does:
+ *                   pixel x 2^exposure, then 1.0 is display white.
+ * Each is written only when set; a zeroed struct writes none. */
+typedef struct vr_exr_colour {
+  int has_chromaticities;
+  float chromaticities[8]; /* red x, y, green x, y, blue x, y, white x, y */
+  double white_luminance;  /* cd/m²; > 0 writes whiteLuminance, 0 none */
+  int has_exposure;
+  double exposure;         /* stops */
+} vr_exr_colour;
+
+/* Linear sRGB: the primaries of ITU-R BT.709-6 (those of IEC 61966-2-1:
+ * red 0.640, 0.330, green 0.300, 0.600, blue 0.150, 0.060) and the D65
+ * white 0.3127, 0.3290, with whiteLuminance and exposure as given. */
+vr_exr_colour vr_exr_colour_srgb(double white_luminance, double exposure);
+
+/* vr_image_write_exr with the attributes of colour (NULL: none).  A
+ * chromaticity or exposure that is not finite, a chromaticity outside
+ * [0, 1], a white y of 0, or a white luminance that is negative or not
+ * finite is VR_E_ARG and nothing is written. */
+vr_status vr_image_write_exr_with(const char *path, const vr_image *img,
+                                  const vr_exr_colour *colour, vr_error *err);
+
 /* Writes by the file name's extension (case-insensitive):
  *   .png          bits 8 or 16, as vr_image_write_png
  *   .tif / .tiff  bits 8 or 16, same quantisation, LZW (lossless)

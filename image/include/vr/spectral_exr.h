@@ -27,6 +27,13 @@
 extern "C" {
 #endif
 
+/* The emissiveUnits of spectral radiance as the layout's reference code
+ * spells it: the writer of the layout's authors (ART's OpenEXR wrapper)
+ * and pbrt-v4's spectral film both write "W.m^-2.sr^-1" beside S0 channels
+ * that hold radiance per nanometre of wavelength, so a reader comparing
+ * the string finds the unit it knows. */
+#define VR_SPECTRAL_EMISSIVE_UNITS "W.m^-2.sr^-1"
+
 typedef enum {
   VR_SPECTRAL_EMISSIVE,  /* channels S0.<λ>nm: radiance-like quantities */
   VR_SPECTRAL_REFLECTIVE /* channels T.<λ>nm: reflectance or transmittance */
@@ -57,7 +64,7 @@ void vr_spectral_image_free(vr_spectral_image *img);
  *
  * rgb, when not NULL, must have img's size and adds R, G, B channels (a
  * preview for viewers that know no spectra; the caller computes it).
- * emissive_units (for example "W.m^-2.sr^-1.nm^-1") goes into the
+ * emissive_units (for example VR_SPECTRAL_EMISSIVE_UNITS) goes into the
  * emissiveUnits attribute; NULL writes none.  It is VR_E_ARG on a
  * reflective image, where the layout gives it no meaning.
  *
@@ -66,6 +73,14 @@ void vr_spectral_image_free(vr_spectral_image *img);
  * whole or not at all (temporary file beside it, then rename). */
 vr_status vr_spectral_exr_write(const char *path, const vr_spectral_image *img,
                                 const vr_image *rgb, const char *emissive_units, vr_error *err);
+
+/* vr_spectral_exr_write with the colour attributes of the R, G, B channels
+ * (vr/image.h, vr_exr_colour: chromaticities, whiteLuminance, exposure),
+ * checked as vr_image_write_exr_with does.  colour needs rgb (VR_E_ARG
+ * otherwise: the attributes describe those channels); NULL writes none. */
+vr_status vr_spectral_exr_write_with(const char *path, const vr_spectral_image *img,
+                                     const vr_image *rgb, const char *emissive_units,
+                                     const vr_exr_colour *colour, vr_error *err);
 
 /* Streaming, multi-threaded writing, for images too large to hold twice
  * (a 12-megapixel, 31-band texture is 1.5 GB as floats).  The caller fills
@@ -108,6 +123,8 @@ typedef struct vr_spectral_exr_layout {
   vr_exr_compression compression;
   int zip_level;                  /* ZIP/ZIPS: 1 (fast) .. 9 (small); 0: OpenEXR's default */
   int threads;                    /* workers, 1 .. 256 */
+  const vr_exr_colour *colour;    /* NULL, or the colour attributes of the R, G, B
+                                     channels (needs rgb; see vr_spectral_exr_write_with) */
 } vr_spectral_exr_layout;
 
 /* Fills rows y0 <= y < y1 of the image: spectra receives (y1 - y0) * width *

@@ -15,12 +15,14 @@
  *                          1 at EV 0), tone mapped, sRGB encoded;
  *   out/room.sensors.csv   one row per sensor point, when there are readings;
  *   out/room.falsecolour.png  with vr_film_write_with and a false-colour
- *                          scale: the luminance map of vr/falsecolour.h.
+ *                          scale: the luminance map of vr/falsecolour.h;
+ *   out/room.manifest.json the run's id and each file's size and SHA-256.
  * The images are left out when the film is empty (width or height 0: a
  * sensors-only render), the spectral EXR when the film has no bins.
  *
- * All or nothing: every file is written under a staging name beside its
- * target, and only when all have been written are they renamed into place.
+ * All or nothing: every file is written into a staging folder beside its
+ * target, and only when all have been written are they renamed into place
+ * (then PREFIX.manifest.json, last; see vr_film_write_with).
  * If anything fails, no staging file is left, the files of this call that
  * were already renamed are removed, and earlier files of the same names that
  * were not reached keep their old contents.
@@ -29,6 +31,7 @@
 #ifndef VR_FILM_H
 #define VR_FILM_H
 
+#include <stdio.h>
 #include "vr/error.h"
 #include "vr/render.h"
 
@@ -64,13 +67,55 @@ typedef struct vr_film_options {
   const char *tonemap;         /* "clip" (NULL), "reinhard" */
   double falsecolour_lo_cd_m2; /* both > 0: PREFIX.falsecolour.png on that log scale; */
   double falsecolour_hi_cd_m2; /* 0: none */
+  const char *stats_path;      /* non-NULL: the statistics (vr_stats_write_json), one of the set */
+  const char *run_id;          /* the manifest's run id; NULL: a new one (vr_film_run_id) */
 } vr_film_options;
 
 /* vr_film_write with options: the same files, all or nothing, and the
- * false-colour map when asked for (VR_E_ARG for a scale without
- * 0 < lo < hi, or for a map asked of a film without an image). */
+ * false-colour map and the statistics when asked for (VR_E_ARG for a scale
+ * without 0 < lo < hi, or for a map asked of a film without an image).
+ *
+ * The set is written into a staging folder PREFIX.partial.<pid> beside the
+ * outputs (the statistics, when they go to another folder, beside their
+ * target as FILE.partial.<pid>), each file is then moved into place, and
+ * PREFIX.manifest.json is written last, atomically: {"run_id": ...,
+ * "files": [{"name", "bytes", "sha256"}, ...]}, names relative to the
+ * manifest's folder (absolute for a file elsewhere).  A process killed
+ * while the files are moved leaves new files beside the old manifest, and
+ * vr_film_verify finds them. */
 vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
                              const vr_film_options *o, vr_error *err);
+
+/* A new run id: "20261128T013000Z-<pid>-<8 random hex digits>". */
+#define VR_FILM_RUN_ID_MAX 64
+void vr_film_run_id(char out[VR_FILM_RUN_ID_MAX]);
+
+/* Removes what killed runs left of a set named `name` (a prefix, or the
+ * statistics' path): NAME.partial.<pid> folders or files in its folder
+ * whose process no longer exists on this machine (a live run's are kept).
+ * Returns how many were removed; their paths, space-separated, in removed
+ * (may be NULL). */
+size_t vr_film_clean_stale(const char *name, char *removed, size_t cap);
+
+/* Checks the files PREFIX.manifest.json lists against their size and
+ * SHA-256.  `line` (may be NULL) receives one line per file ("ok       F",
+ * "differs  F: ...", "missing  F ..."); out has the counts and the run id.
+ * VR_E_RANGE "PREFIX: N of M files do not match ...: a mixed or altered
+ * set" when any differs or is missing; VR_E_IO without a manifest;
+ * VR_E_PARSE for a damaged one. */
+typedef struct vr_film_check {
+  char run_id[VR_FILM_RUN_ID_MAX];
+  int files, bad;
+} vr_film_check;
+typedef void (*vr_film_verify_line)(void *user, const char *line);
+vr_status vr_film_verify(const char *prefix, vr_film_verify_line line, void *user,
+                         vr_film_check *out, vr_error *err);
+
+/* The exposure (EV) that maps the film's log-average luminance
+ * exp(mean ln Y), over its pixels with 0 < Y < infinity, to mid grey
+ * (display value 0.18, PNG 118): EV = log2(18 / Y_log), Y in cd/m2.  false
+ * (and *ev unchanged) when no pixel has light. */
+bool vr_film_auto_exposure(const vr_render_result *r, double *ev);
 
 /* The sensor table alone (what vr_film_write writes as PREFIX.sensors.csv),
  * atomically: header "sensor,i,j,x,y,z,illuminance_lx,stderr_lx,E_<nm>..."
@@ -82,6 +127,9 @@ vr_status vr_sensors_write_csv(const vr_render_result *r, const char *path, vr_e
  * readings, the photochromic state range, the peak resident memory of the
  * process so far (getrusage) and the total time. */
 vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_error *err);
+/* The passes of a render as a JSON array (name, ran, reason, seconds; null
+ * seconds for a pass that did not run), for the statistics and --json. */
+void vr_passes_write_json(FILE *f, const vr_render_result *r);
 
 /* Peak resident set size of this process so far, in bytes (0 if unknown). */
 long long vr_peak_rss_bytes(void);
