@@ -134,6 +134,25 @@ cv::Mat display_copy(const vr_image *img, bool linear) {
     lut[(size_t)k] = (unsigned char)std::lround(255.0 * (linear ? vr_srgb_encode(v) : v));
   }
   cv::Mat bgr(img->height, img->width, CV_8UC3);
+  if (!img->data) { /* codes (vr_image_read_codes): a byte per code, as below */
+    const bool eight = img->bit_depth == 8;
+    std::vector<unsigned char> byte(eight ? 256 : 65536);
+    for (size_t k = 0; k < byte.size(); ++k) {
+      const float v = (float)k / (eight ? 255.0f : 65535.0f); /* the decoder's value */
+      byte[k] = lut[(size_t)std::lround(v * 65535.0f)];
+    }
+    for (int y = 0; y < img->height; ++y) {
+      const size_t at = (size_t)y * (size_t)img->width * 3;
+      unsigned char *dst = bgr.ptr<unsigned char>(y);
+      for (int x = 0; x < img->width; ++x, dst += 3)
+        for (int c = 0; c < 3; ++c) {
+          const size_t i = at + 3 * (size_t)x + (size_t)(2 - c);
+          dst[c] = byte[eight ? static_cast<const unsigned char *>(img->codes)[i]
+                              : static_cast<const unsigned short *>(img->codes)[i]];
+        }
+    }
+    return bgr;
+  }
   for (int y = 0; y < img->height; ++y) {
     const float *src = img->data + (size_t)y * (size_t)img->width * 3;
     unsigned char *dst = bgr.ptr<unsigned char>(y);
@@ -153,7 +172,7 @@ extern "C" vr_status vr_chart_detect(const vr_image *img, bool linear, vr_chart 
                                      vr_error *err) {
   if (!out) return vr_error_set(err, VR_E_ARG, "vr_chart_detect: out is NULL");
   std::memset(out, 0, sizeof *out);
-  vr_status st = vr_image_check(img, "vr_chart_detect", err);
+  vr_status st = vr_image_check_any(img, "vr_chart_detect", err);
   if (st != VR_OK) return st;
   try {
     const cv::Mat bgr = display_copy(img, linear);
@@ -192,7 +211,7 @@ extern "C" vr_status vr_chart_from_grid(const vr_image *img, const double corner
                                         double fraction, vr_chart *out, vr_error *err) {
   if (!out) return vr_error_set(err, VR_E_ARG, "vr_chart_from_grid: out is NULL");
   std::memset(out, 0, sizeof *out);
-  vr_status st = vr_image_check(img, "vr_chart_from_grid", err);
+  vr_status st = vr_image_check_any(img, "vr_chart_from_grid", err);
   if (st != VR_OK) return st;
   if (!corners) return vr_error_set(err, VR_E_ARG, "vr_chart_from_grid: corners is NULL");
   if (fraction == 0.0) fraction = VR_CHART_DEFAULT_FRACTION;

@@ -21,6 +21,7 @@
  * clip marks (manifest encoding or the camera's stored tone curve,
  * vr_capture_decode), float photos through vr_capture_decode directly. */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -71,15 +72,39 @@ static float decode_float(const ctx *x, size_t l, int ch, float v, unsigned char
   return (float)vr_capture_decode(x->run->cap, p, ch, v, false);
 }
 
+/* The table lookups of one row of an integer photo held as its codes
+ * (vr_image_read_codes): decoded response and clip mark per code. */
+#define LOOKUP_ROW(T)                                                             \
+  do {                                                                            \
+    const T *k = (const T *)x->img[l].codes + (size_t)y * W * 3;                  \
+    for (size_t px = 0; px < W; px++, k += 3) {                                   \
+      float *c = t->crow + px * m + 3 * l;                                        \
+      unsigned char *mk = t->mrow + px * m + 3 * l;                               \
+      c[0] = lut[0][k[0]], c[1] = lut[1][k[1]], c[2] = lut[2][k[2]];              \
+      mk[0] = clip[k[0]], mk[1] = clip[k[1]], mk[2] = clip[k[2]];                 \
+      t->clrow[px] |= (mk[0] | mk[1] | mk[2]) != VR_CLIP_NONE;                    \
+    }                                                                             \
+  } while (0)
+
 /* Row y of every photo into t->crow (decoded responses), t->mrow (clip
  * marks) and t->clrow (any channel clipped), pixel by pixel.  Integer
- * photos in two simple passes per photo: their values (code / (levels -
- * 1), as read) back to codes, a loop the compiler vectorises, then the
- * table lookups. */
+ * photos kept as codes go straight through the tables; integer photos
+ * read as floats in two simple passes per photo: their values (code /
+ * (levels - 1), as read) back to codes, a loop the compiler vectorises,
+ * then the table lookups. */
 static void decode_row(const ctx *x, tstats *t, int y) {
   const size_t W = (size_t)x->width, m = x->m;
   memset(t->clrow, 0, W);
   for (size_t l = 0; l < x->L; l++) {
+    if (x->img[l].codes) {
+      /* The table marks code 0 and the codes from the first clipped one up
+       * (rg_per_pixel); loads, no branch. */
+      const unsigned char *clip = x->clip[l];
+      const float *lut[3] = {x->lut[l][0], x->lut[l][1], x->lut[l][2]};
+      if (x->img[l].bit_depth == 8) LOOKUP_ROW(uint8_t);
+      else LOOKUP_ROW(uint16_t);
+      continue;
+    }
     const float *v = x->img[l].data + (size_t)y * W * 3;
     if (!x->lut[l][0]) {
       for (size_t px = 0; px < W; px++)

@@ -118,7 +118,7 @@ static vr_status measure(rg_run *run, size_t l, const vr_image *img, double corn
       st = vr_image_rect_mean(img, d->x, d->y, d->w, d->h, rgb, sd, &cl, p->clip, err);
       clipped = cl;
       pixels = (long)d->w * d->h;
-      g->box[0] = d->x, g->box[1] = d->y, g->box[2] = d->x + d->w, g->box[3] = d->y + d->h;
+      if (l == 0) g->box[0] = d->x, g->box[1] = d->y, g->box[2] = d->x + d->w, g->box[3] = d->y + d->h;
     } else if (d->kind == VR_REGION_CHART) {
       if (!chart_read) {
         if (!*have_corners && d->chart_auto) {
@@ -142,10 +142,12 @@ static vr_status measure(rg_run *run, size_t l, const vr_image *img, double corn
        * about its centre (the side from the patch area's top edge). */
       double side = hypot(corners[1][0] - corners[0][0], corners[1][1] - corners[0][1]) / 6.5;
       int half = (int)(0.2 * side);
-      g->box[0] = (int)lround(chart.center[k][0]) - half;
-      g->box[1] = (int)lround(chart.center[k][1]) - half;
-      g->box[2] = (int)lround(chart.center[k][0]) + half + 1;
-      g->box[3] = (int)lround(chart.center[k][1]) + half + 1;
+      if (l == 0) { /* the same in every photo: the corners are photo 0's */
+        g->box[0] = (int)lround(chart.center[k][0]) - half;
+        g->box[1] = (int)lround(chart.center[k][1]) - half;
+        g->box[2] = (int)lround(chart.center[k][0]) + half + 1;
+        g->box[3] = (int)lround(chart.center[k][1]) + half + 1;
+      }
     } else {
       if (!labels.regions) st = vr_image_label_means_file(img, run->cap->labels_path, p->clip, &labels, err);
       const vr_label_region *lr = NULL;
@@ -250,13 +252,68 @@ static void *read_worker(void *arg) {
     pthread_mutex_unlock(&rd->lock);
     if (l >= rd->count) return NULL;
     vr_error e = {0};
-    vr_status st = vr_image_read(rd->run->photo[l]->path, &rd->img[l], &e);
+    /* Integer photos stay as their codes: the per-pixel path looks every
+     * code up in a table anyway, and four 12-megapixel photos as floats
+     * would be 576 MB to convert and fault in. */
+    vr_status st = vr_image_read_codes(rd->run->photo[l]->path, &rd->img[l], &e);
     if (st) {
       pthread_mutex_lock(&rd->lock);
       if (!rd->st) rd->st = st, rd->err = e;
       pthread_mutex_unlock(&rd->lock);
     }
   }
+}
+
+/* The photos after the first, measured on several threads: the first
+ * fixes the chart's corners (found by detection or given), which the others
+ * then only read, each through a copy of its own.  Each photo fills only
+ * its own entries of the regions (and photo 0 their boxes).  The error
+ * reported is that of the first photo that fails, as one thread would. */
+typedef struct measurer {
+  rg_run *run;
+  const vr_image *img;
+  double corners[4][2];
+  bool have_corners;
+  size_t next;
+  pthread_mutex_t lock;
+  vr_status st[RGB2SPEC_MAX_LIGHTS];
+  vr_error err[RGB2SPEC_MAX_LIGHTS];
+} measurer;
+
+static void *measure_worker(void *arg) {
+  measurer *ms = arg;
+  for (;;) {
+    pthread_mutex_lock(&ms->lock);
+    size_t l = ms->next++;
+    pthread_mutex_unlock(&ms->lock);
+    if (l >= ms->run->nphotos) return NULL;
+    double corners[4][2];
+    bool have = ms->have_corners;
+    memcpy(corners, ms->corners, sizeof corners);
+    ms->st[l] = measure(ms->run, l, &ms->img[l], corners, &have, &ms->err[l]);
+  }
+}
+
+static vr_status measure_photos(rg_run *run, const vr_image *img, int threads, vr_error *err) {
+  measurer ms = {.run = run, .img = img, .next = 1};
+  vr_status st = measure(run, 0, &img[0], ms.corners, &ms.have_corners, err);
+  if (st) return st;
+  pthread_mutex_init(&ms.lock, NULL);
+  pthread_t tid[RGB2SPEC_MAX_LIGHTS];
+  int started = 0;
+  for (int t = 1; t < threads && (size_t)t + 1 < run->nphotos; t++) {
+    if (pthread_create(&tid[started], NULL, measure_worker, &ms)) break;
+    started++;
+  }
+  measure_worker(&ms);
+  for (int t = 0; t < started; t++) pthread_join(tid[t], NULL);
+  pthread_mutex_destroy(&ms.lock);
+  for (size_t l = 1; l < run->nphotos; l++)
+    if (ms.st[l]) {
+      if (err) *err = ms.err[l];
+      return ms.st[l];
+    }
+  return VR_OK;
 }
 
 /* Decoding a 12-megapixel PNG takes a third of a second: the photos are
@@ -465,10 +522,7 @@ static int cmd_recover(vr_args *a) {
   run.regions = calloc(run.nregions, sizeof *run.regions);
   if (!run.regions) goto out;
   for (size_t i = 0; i < run.nregions; i++) run.regions[i].def = &cap->regions[i];
-  double corners[4][2];
-  bool have_corners = false;
-  for (size_t l = 0; l < run.nphotos; l++)
-    if (measure(&run, l, &img[l], corners, &have_corners, &err)) goto out;
+  if (measure_photos(&run, img, threads, &err)) goto out;
   /* Recovery and the round trip.  CIEDE2000 against the photo is a colour
    * difference only where the photo holds a colour: a light with a clipped
    * channel is left out of the mean and max and counted apart. */

@@ -7,6 +7,7 @@
 
 #include "vr/atomic_file.h"
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include <openexr.h>
@@ -14,14 +15,36 @@
 #include "vr/error.h"
 #include "vr/image.h"
 
+typedef struct exr_direct exr_direct;
+
 typedef struct exr_stream {
   const unsigned char *buf; /* reading: the whole file */
   size_t len;
   FILE *fp;                 /* writing: the temporary file */
   vr_atomic_file *af;       /* writing: if set, its writeback is started as chunks land */
+  exr_direct *direct;       /* writing: if set, bytes are staged and written past the page cache */
   int write_errno;
   char message[256];        /* first error OpenEXR reported while reading */
 } exr_stream;
+
+/* Large outputs (expected_bytes of 64 MiB or more) past the page cache.
+ * Copying hundreds of megabytes into the kernel's page cache costs CPU time
+ * that the pixels need, and its writeback ran at about half the disk's
+ * direct speed on the 2-core guest of docs/benchmarks.md, so the final
+ * fsync waited for it.  Instead the bytes are staged in two 8 MiB buffers;
+ * each full one is written by a thread of the stream's own with O_DIRECT
+ * (aligned offsets and lengths) while the other fills.  Writes below the
+ * staged part (the chunk offset table at exr_finish) and the last partial
+ * buffer go through the stream's own descriptor, after the disk has what
+ * lies below.  Anything refused (a file system without O_DIRECT: the
+ * stream stays as it is; O_DIRECT writes refused: that buffer through the
+ * page cache) falls back to the page cache.  After begin, every write goes
+ * through vr_exr_stream_write until vr_exr_stream_direct_end. */
+void vr_exr_stream_direct_begin(exr_stream *s, const char *tmp_path, uint64_t expected_bytes);
+/* Writes what is still staged, waits for the writer thread and closes the
+ * O_DIRECT descriptor; the first failure's errno goes to s->write_errno.
+ * Nothing to do when direct is NULL. */
+void vr_exr_stream_direct_end(exr_stream *s);
 
 int64_t vr_exr_stream_read(exr_const_context_t ctxt, void *user, void *buffer, uint64_t sz,
                            uint64_t offset, exr_stream_error_func_ptr_t error_cb);

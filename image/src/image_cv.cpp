@@ -44,6 +44,44 @@ const char *depth_name(int depth) {
   }
 }
 
+/* OpenCV's own allocator for the decoded picture, but with its memory from
+ * vr_image_pixels_alloc: libpng writes tens of megabytes into it once, and
+ * in 4 KiB pages each page is a fault (see image.c).  Modelled on OpenCV's
+ * StdMatAllocator (modules/core/src/matrix.cpp). */
+class PixelsAllocator final : public cv::MatAllocator {
+ public:
+  cv::UMatData *allocate(int dims, const int *sizes, int type, void *data0, size_t *step,
+                         cv::AccessFlag, cv::UMatUsageFlags) const override {
+    size_t total = CV_ELEM_SIZE(type);
+    for (int i = dims - 1; i >= 0; i--) {
+      if (step) {
+        if (data0 && step[i] != cv::Mat::AUTO_STEP) {
+          CV_Assert(total <= step[i]);
+          total = step[i];
+        } else {
+          step[i] = total;
+        }
+      }
+      total *= (size_t)sizes[i];
+    }
+    void *data = data0 ? data0 : vr_image_pixels_alloc(total);
+    if (!data) throw std::bad_alloc();
+    cv::UMatData *u = new cv::UMatData(this);
+    u->data = u->origdata = static_cast<uchar *>(data);
+    u->size = total;
+    if (data0) u->flags |= cv::UMatData::USER_ALLOCATED;
+    return u;
+  }
+  bool allocate(cv::UMatData *u, cv::AccessFlag, cv::UMatUsageFlags) const override {
+    return u != nullptr;
+  }
+  void deallocate(cv::UMatData *u) const override {
+    if (!u) return;
+    if (!(u->flags & cv::UMatData::USER_ALLOCATED)) std::free(u->origdata);
+    delete u;
+  }
+};
+
 /* Copies one decoded row (any of 1-4 channels, BGR order) into RGB floats
  * and returns how many of its pixels have an alpha below top (opaque is the
  * largest code, or 1.0 for float samples; a NaN alpha is not opaque either).
@@ -63,6 +101,44 @@ long convert_row(const T *src, int width, int nc, float top, float *dst) {
     if ((nc == 2 || nc == 4) && !((float)src[nc - 1] >= top)) ++below;
   }
   return below;
+}
+
+/* Copies one decoded row of 8- or 16-bit codes (1-4 channels, BGR order)
+ * into RGB codes and returns how many of its pixels have an alpha below
+ * top, as convert_row does. */
+template <typename T>
+long codes_row(const T *src, int width, int nc, T top, T *dst) {
+  long below = 0;
+  if (nc == 3) { /* the common case, in a loop of its own */
+    for (int x = 0; x < width; ++x, src += 3, dst += 3) {
+      const T b = src[0], g = src[1], r = src[2];
+      dst[0] = r;
+      dst[1] = g;
+      dst[2] = b;
+    }
+    return 0;
+  }
+  for (int x = 0; x < width; ++x, src += nc, dst += 3) {
+    if (nc <= 2) {
+      dst[0] = dst[1] = dst[2] = src[0];
+    } else {
+      dst[0] = src[2];
+      dst[1] = src[1];
+      dst[2] = src[0];
+    }
+    if ((nc == 2 || nc == 4) && src[nc - 1] < top) ++below;
+  }
+  return below;
+}
+
+/* BGR to RGB in place, n pixels. */
+template <typename T>
+void swap_red_blue(T *p, size_t n) {
+  for (size_t i = 0; i < n; ++i, p += 3) {
+    const T b = p[0];
+    p[0] = p[2];
+    p[2] = b;
+  }
 }
 
 /* Clamp to [0,1] and round to nearest: the one quantisation of every
@@ -90,7 +166,8 @@ void fill_bgr(const vr_image *img, cv::Mat &m, double top) {
 }  // namespace
 
 extern "C" vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, const char *path,
-                                        const char *format, vr_image *out, vr_error *err) {
+                                        const char *format, int keep_codes, vr_image *out,
+                                        vr_error *err) {
   std::memset(out, 0, sizeof *out);
   if (len > (size_t)std::numeric_limits<int>::max())
     return vr_error_at(err, VR_E_PARSE, path, 0, 0, "%s file of %zu bytes is too large (2 GiB "
@@ -99,7 +176,10 @@ extern "C" vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, co
     const cv::Mat raw(1, (int)len, CV_8U, const_cast<unsigned char *>(buf));
     /* IMREAD_UNCHANGED: keep 16 bits and the channel count, ignore EXIF
      * orientation (pixels as stored). */
-    cv::Mat m = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
+    PixelsAllocator pixels; /* declared before m: outlives it */
+    cv::Mat m;
+    m.allocator = &pixels;
+    cv::imdecode(raw, cv::IMREAD_UNCHANGED, &m);
     if (m.empty())
       return vr_error_at(err, VR_E_PARSE, path, 0, 0,
                          "cannot decode this %s file (truncated, corrupt, or a variant "
@@ -112,15 +192,56 @@ extern "C" vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, co
     if (nc < 1 || nc > 4)
       return vr_error_at(err, VR_E_PARSE, path, 0, 0, "%s with %d channels is not supported",
                          format, nc);
+    /* OpenCV hands a PNG's alpha (grey + alpha included, and a tRNS chunk
+     * of an RGB or palette PNG) and a TIFF's extra sample as the last of 2
+     * or 4 channels; JPEG never has one. */
+    long below = 0;
+    if (keep_codes && depth != CV_32F && nc == 3 && m.isContinuous() && m.u &&
+        m.u->currAllocator == &pixels && m.u->refcount == 1 && m.data == m.u->origdata) {
+      /* RGB, the usual photo: the decoded memory itself becomes the codes,
+       * blue and red swapped in place, instead of a copy of it. */
+      const size_t n = (size_t)m.cols * (size_t)m.rows;
+      if (depth == CV_8U)
+        swap_red_blue(m.data, n);
+      else
+        swap_red_blue(reinterpret_cast<unsigned short *>(m.data), n);
+      out->codes = m.u->origdata;
+      m.u->origdata = nullptr; /* ours now: the allocator frees nothing */
+      out->width = m.cols;
+      out->height = m.rows;
+      out->channels = 3;
+      out->bit_depth = depth == CV_8U ? 8 : 16;
+      return VR_OK;
+    }
+    if (keep_codes && depth != CV_32F) {
+      const size_t size = depth == CV_8U ? 1 : 2;
+      const size_t n = (size_t)m.cols * (size_t)m.rows * 3;
+      out->codes = vr_image_pixels_alloc(n * size);
+      if (!out->codes)
+        return vr_error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory for a %d x %d image",
+                           m.cols, m.rows);
+      out->width = m.cols;
+      out->height = m.rows;
+      out->channels = 3;
+      for (int y = 0; y < m.rows; ++y) {
+        const size_t at = (size_t)y * (size_t)m.cols * 3;
+        if (depth == CV_8U)
+          below += codes_row(m.ptr<unsigned char>(y), m.cols, nc, (unsigned char)255,
+                             static_cast<unsigned char *>(out->codes) + at);
+        else
+          below += codes_row(m.ptr<unsigned short>(y), m.cols, nc, (unsigned short)65535,
+                             static_cast<unsigned short *>(out->codes) + at);
+      }
+      out->bit_depth = depth == CV_8U ? 8 : 16;
+      out->alpha = nc == 2 || nc == 4;
+      out->transparent = below;
+      return VR_OK;
+    }
     vr_status st = vr_image_alloc(out, m.cols, m.rows, err);
     if (st != VR_OK) {
       vr_error_prefix(err, "%s: ", path);
       return st;
     }
-    /* OpenCV hands a PNG's alpha (grey + alpha included, and a tRNS chunk
-     * of an RGB or palette PNG) and a TIFF's extra sample as the last of 2
-     * or 4 channels; JPEG never has one. */
-    long below = 0;
     for (int y = 0; y < m.rows; ++y) {
       float *dst = out->data + (size_t)y * (size_t)m.cols * 3;
       if (depth == CV_8U)

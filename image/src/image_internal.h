@@ -11,9 +11,14 @@
 extern "C" {
 #endif
 
-/* Decodes a PNG, TIFF or JPEG held in memory (format names it in messages). */
+/* Decodes a PNG, TIFF or JPEG held in memory (format names it in messages);
+ * with keep_codes, 8- and 16-bit files are kept as codes (vr_image.codes). */
 vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, const char *path,
-                             const char *format, vr_image *out, vr_error *err);
+                             const char *format, int keep_codes, vr_image *out, vr_error *err);
+
+/* malloc for pixel buffers, offering large ones to transparent huge pages
+ * (image.c); freed with free(). */
+void *vr_image_pixels_alloc(size_t bytes);
 
 /* Encodes img for ext (".png", ".tif", ".jpg") at 8 or 16 bits, values
  * clamped to [0,1] and rounded; *bytes is malloc'ed and owned by the caller. */

@@ -5,13 +5,34 @@
  * of losing it to the cancellation of sum(x^2) - n mean^2. */
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "vr/image.h"
 
-static const float *pixel(const vr_image *img, long x, long y) {
-  return img->data + ((size_t)y * (size_t)img->width + (size_t)x) * 3;
+/* The value of each 8-bit code, k / 255 rounded to float once by the
+ * compiler (IEEE division, the decoder's own at run time). */
+#define CODE8(k) ((float)(k) / 255.0f)
+#define CODE8_4(k) CODE8(k), CODE8((k) + 1), CODE8((k) + 2), CODE8((k) + 3)
+#define CODE8_16(k) CODE8_4(k), CODE8_4((k) + 4), CODE8_4((k) + 8), CODE8_4((k) + 12)
+#define CODE8_64(k) CODE8_16(k), CODE8_16((k) + 16), CODE8_16((k) + 32), CODE8_16((k) + 48)
+static const float k_code8[256] = {CODE8_64(0), CODE8_64(64), CODE8_64(128), CODE8_64(192)};
+
+/* Pixel (x, y) as floats, from either form of vr/image.h: for codes the
+ * same true division as the decoder's, so the values are those of
+ * vr_image_read. */
+static void pixel(const vr_image *img, long x, long y, float p[3]) {
+  const size_t i = ((size_t)y * (size_t)img->width + (size_t)x) * 3;
+  if (img->data) {
+    p[0] = img->data[i], p[1] = img->data[i + 1], p[2] = img->data[i + 2];
+  } else if (img->bit_depth == 8) {
+    const uint8_t *c = (const uint8_t *)img->codes + i;
+    for (int k = 0; k < 3; k++) p[k] = k_code8[c[k]];
+  } else {
+    const uint16_t *c = (const uint16_t *)img->codes + i;
+    for (int k = 0; k < 3; k++) p[k] = (float)c[k] / 65535.0f;
+  }
 }
 
 static int is_clipped(const float *p, double clip_level) {
@@ -20,7 +41,7 @@ static int is_clipped(const float *p, double clip_level) {
 
 vr_status vr_image_rect_mean(const vr_image *img, int x, int y, int w, int h, double rgb[3],
                              double sd[3], int *clipped, double clip_level, vr_error *err) {
-  vr_status st = vr_image_check(img, "vr_image_rect_mean", err);
+  vr_status st = vr_image_check_any(img, "vr_image_rect_mean", err);
   if (st != VR_OK) return st;
   if (!rgb) return vr_error_set(err, VR_E_ARG, "vr_image_rect_mean: rgb is NULL");
   if (w < 1 || h < 1)
@@ -32,7 +53,8 @@ vr_status vr_image_rect_mean(const vr_image *img, int x, int y, int w, int h, do
   int nclip = 0;
   for (long j = y; j < (long)y + h; j++)
     for (long i = x; i < (long)x + w; i++) {
-      const float *p = pixel(img, i, j);
+      float p[3];
+      pixel(img, i, j, p);
       for (int c = 0; c < 3; c++) sum[c] += p[c];
       nclip += is_clipped(p, clip_level);
     }
@@ -42,7 +64,8 @@ vr_status vr_image_rect_mean(const vr_image *img, int x, int y, int w, int h, do
     double ss[3] = {0, 0, 0};
     for (long j = y; j < (long)y + h; j++)
       for (long i = x; i < (long)x + w; i++) {
-        const float *p = pixel(img, i, j);
+        float p[3];
+      pixel(img, i, j, p);
         for (int c = 0; c < 3; c++) ss[c] += (p[c] - rgb[c]) * (p[c] - rgb[c]);
       }
     for (int c = 0; c < 3; c++) sd[c] = n > 1 ? sqrt(ss[c] / (n - 1)) : 0.0;
@@ -58,7 +81,8 @@ typedef struct label_acc {
 
 /* Label of pixel (x,y), or -1 when its channels disagree or leave 0..scale. */
 static long label_at(const vr_image *labels, long x, long y, double scale) {
-  const float *p = pixel(labels, x, y);
+  float p[3];
+      pixel(labels, x, y, p);
   for (int c = 0; c < 3; c++)
     if (!(p[c] >= 0.0f && p[c] <= 1.0f)) return -1;
   long v0 = lround(p[0] * scale), v1 = lround(p[1] * scale), v2 = lround(p[2] * scale);
@@ -71,8 +95,8 @@ vr_status vr_image_label_means(const vr_image *img, const vr_image *labels,
   const char *name = labels_name ? labels_name : "label image";
   if (!out) return vr_error_set(err, VR_E_ARG, "vr_image_label_means: out is NULL");
   memset(out, 0, sizeof *out);
-  vr_status st = vr_image_check(img, "vr_image_label_means: photo", err);
-  if (st == VR_OK) st = vr_image_check(labels, name, err);
+  vr_status st = vr_image_check_any(img, "vr_image_label_means: photo", err);
+  if (st == VR_OK) st = vr_image_check_any(labels, name, err);
   if (st != VR_OK) return st;
   if (labels->bit_depth != 8 && labels->bit_depth != 16)
     return vr_error_at(err, VR_E_ARG, name, 0, 0,
@@ -89,7 +113,8 @@ vr_status vr_image_label_means(const vr_image *img, const vr_image *labels,
     for (long x = 0; x < w; x++) {
       long l = label_at(labels, x, y, scale);
       if (l < 0) {
-        const float *p = pixel(labels, x, y);
+        float p[3];
+      pixel(labels, x, y, p);
         return vr_error_at(err, VR_E_PARSE, name, 0, 0,
                            "pixel (%ld, %ld) is not grey (R, G, B = %g, %g, %g): a label "
                            "image holds one region id per pixel as a grey level",
@@ -103,7 +128,8 @@ vr_status vr_image_label_means(const vr_image *img, const vr_image *labels,
     for (long x = 0; x < w; x++) {
       long l = label_at(labels, x, y, scale);
       if (l == 0) continue;
-      const float *p = pixel(img, x, y);
+      float p[3];
+      pixel(img, x, y, p);
       acc[l].n++;
       acc[l].clipped += is_clipped(p, clip_level);
       for (int c = 0; c < 3; c++) acc[l].sum[c] += p[c];
@@ -112,7 +138,8 @@ vr_status vr_image_label_means(const vr_image *img, const vr_image *labels,
     for (long x = 0; x < w; x++) {
       long l = label_at(labels, x, y, scale);
       if (l == 0) continue;
-      const float *p = pixel(img, x, y);
+      float p[3];
+      pixel(img, x, y, p);
       for (int c = 0; c < 3; c++) {
         double d = p[c] - acc[l].sum[c] / (double)acc[l].n;
         acc[l].ss[c] += d * d;
@@ -174,7 +201,7 @@ vr_status vr_region_quad_stats(const vr_image *img, const double quad[4][2],
                                vr_region_stats *out, vr_error *err) {
   memset(out, 0, sizeof *out);
   out->max = -HUGE_VAL;
-  vr_status st = vr_image_check(img, "patch sampling", err);
+  vr_status st = vr_image_check_any(img, "patch sampling", err);
   if (st != VR_OK) return st;
   double area2 = 0, lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
   for (int k = 0; k < 4; k++) {
@@ -198,7 +225,8 @@ vr_status vr_region_quad_stats(const vr_image *img, const double quad[4][2],
   for (long y = y0; y <= y1; y++)
     for (long x = x0; x <= x1; x++) {
       if (!inside(quad, sign, x + 0.5, y + 0.5)) continue;
-      const float *p = pixel(img, x, y);
+      float p[3];
+      pixel(img, x, y, p);
       out->pixels++;
       for (int c = 0; c < 3; c++) {
         sum[c] += p[c];
@@ -212,7 +240,8 @@ vr_status vr_region_quad_stats(const vr_image *img, const double quad[4][2],
   for (long y = y0; y <= y1; y++)
     for (long x = x0; x <= x1; x++) {
       if (!inside(quad, sign, x + 0.5, y + 0.5)) continue;
-      const float *p = pixel(img, x, y);
+      float p[3];
+      pixel(img, x, y, p);
       for (int c = 0; c < 3; c++) ss[c] += (p[c] - out->mean[c]) * (p[c] - out->mean[c]);
     }
   for (int c = 0; c < 3; c++) out->sd[c] = n > 1 ? sqrt(ss[c] / (n - 1)) : 0.0;

@@ -232,6 +232,12 @@ vr_status vr_spectral_exr_write_rows(const char *path, const vr_spectral_exr_lay
     return st;
   }
   exr_stream s = {.fp = af.fp, .af = &af};
+  /* The pixels uncompressed: a large texture goes past the page cache. */
+  const uint64_t channels = layout->nbands + (layout->rgb ? 3u : 0u);
+  vr_exr_stream_direct_begin(&s, af.tmp,
+                             (uint64_t)layout->width * (uint64_t)layout->height *
+                                 (channels * (layout->half ? 2u : 4u) +
+                                  (layout->flags_channel ? 4u : 0u)));
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.user_data = &s;
   init.write_fn = vr_exr_stream_write;
@@ -251,6 +257,7 @@ vr_status vr_spectral_exr_write_rows(const char *path, const vr_spectral_exr_lay
     exr_result_t fin = exr_finish(&ctxt);
     if (rv == EXR_ERR_SUCCESS) rv = fin;
   }
+  vr_exr_stream_direct_end(&s);
   free(names);
   if (st != VR_OK) {
     vr_atomic_file_abort(&af);

@@ -295,6 +295,64 @@ static void label_means(void **state) {
   vr_image_free(&img);
 }
 
+/* The region means of a photo kept as its codes (vr_image_read_codes) are
+ * those of the same photo read as floats, bit for bit: a rectangle, the
+ * regions of a label image (itself read either way) and a quadrilateral;
+ * 8 and 16 bits. */
+static void regions_from_codes(void **state) {
+  (void)state;
+  enum { w = 53, h = 41 };
+  vr_image labels;
+  vr_error err = {0};
+  assert_int_equal(vr_image_alloc(&labels, w, h, &err), VR_OK);
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++)
+      for (int c = 0; c < 3; c++) px(&labels, x, y)[c] = (float)((x / 10 + 6 * (y / 10)) % 7) / 255.0f;
+  assert_int_equal(vr_image_write_png(in_dir("rc_labels.png"), &labels, 8, &err), VR_OK);
+  vr_image_free(&labels);
+  vr_image lf, lc;
+  assert_int_equal(vr_image_read(in_dir("rc_labels.png"), &lf, &err), VR_OK);
+  assert_int_equal(vr_image_read_codes(in_dir("rc_labels.png"), &lc, &err), VR_OK);
+  for (int bits = 8; bits <= 16; bits += 8) {
+    vr_image img, f, c;
+    make_coded_image(&img, w, h, bits == 8 ? 255 : 65535);
+    assert_int_equal(vr_image_write_png(in_dir("rc.png"), &img, bits, &err), VR_OK);
+    assert_int_equal(vr_image_read(in_dir("rc.png"), &f, &err), VR_OK);
+    assert_int_equal(vr_image_read_codes(in_dir("rc.png"), &c, &err), VR_OK);
+    assert_null(c.data);
+    assert_int_equal(c.bit_depth, bits);
+    double m1[3], m2[3], d1[3], d2[3];
+    int k1, k2;
+    assert_int_equal(vr_image_rect_mean(&f, 3, 5, 31, 17, m1, d1, &k1, 0.6, &err), VR_OK);
+    assert_int_equal(vr_image_rect_mean(&c, 3, 5, 31, 17, m2, d2, &k2, 0.6, &err), VR_OK);
+    assert_memory_equal(m1, m2, sizeof m1);
+    assert_memory_equal(d1, d2, sizeof d1);
+    assert_int_equal(k1, k2);
+    assert_true(k1 > 0);
+    vr_label_means a, b;
+    assert_int_equal(vr_image_label_means(&f, &lf, "labels", 0.6, &a, &err), VR_OK);
+    assert_int_equal(vr_image_label_means(&c, &lc, "labels", 0.6, &b, &err), VR_OK);
+    assert_int_equal(a.count, b.count);
+    assert_int_equal(a.count, 6); /* labels 1 to 6; 0 is background */
+    assert_memory_equal(a.regions, b.regions, (size_t)a.count * sizeof *a.regions);
+    vr_label_means_free(&a);
+    vr_label_means_free(&b);
+    const double quad[4][2] = {{2.3, 4.1}, {47.9, 1.2}, {50.2, 38.7}, {6.6, 33.3}};
+    vr_region_stats q1, q2;
+    assert_int_equal(vr_region_quad_stats(&f, quad, &q1, &err), VR_OK);
+    assert_int_equal(vr_region_quad_stats(&c, quad, &q2, &err), VR_OK);
+    assert_true(q1.pixels > 1000);
+    assert_memory_equal(&q1, &q2, sizeof q1);
+    vr_image_free(&img);
+    vr_image_free(&f);
+    vr_image_free(&c);
+  }
+  vr_image_free(&lf);
+  vr_image_free(&lc);
+  unlink(in_dir("rc.png"));
+  unlink(in_dir("rc_labels.png"));
+}
+
 static void expect_error(vr_status got, vr_status want, const vr_error *err, const char *part1,
                          const char *part2) {
   assert_int_equal(got, want);
@@ -403,6 +461,7 @@ int main(void) {
       cmocka_unit_test(written_png_has_the_image_size),
       cmocka_unit_test(rect_mean_and_clipping),
       cmocka_unit_test(label_means),
+      cmocka_unit_test(regions_from_codes),
       cmocka_unit_test(bad_files),
       cmocka_unit_test(region_errors),
   };

@@ -388,11 +388,114 @@ static void formats_of_written_files(void **state) {
   vr_image_free(&src);
 }
 
+/* vr_image_read_codes: the same file, the same facts (size, depth, format,
+ * alpha, transparent pixels: grey tRNS levels are counted on the codes),
+ * the same refusals, and codes that vr_image_to_float turns into exactly
+ * the floats of vr_image_read, as the region means see them too.  An image
+ * of codes is refused where floats are needed, with what to do. */
+static void compare_forms(const char *path) {
+  vr_image f, c;
+  vr_error e1 = {0}, e2 = {0};
+  vr_status s1 = vr_image_read(path, &f, &e1), s2 = vr_image_read_codes(path, &c, &e2);
+  assert_int_equal(s2, s1);
+  if (s1 != VR_OK) {
+    assert_string_equal(e2.message, e1.message);
+    return;
+  }
+  assert_int_equal(c.width, f.width);
+  assert_int_equal(c.height, f.height);
+  assert_int_equal(c.channels, 3);
+  assert_int_equal(c.bit_depth, f.bit_depth);
+  assert_int_equal(c.format, f.format);
+  assert_int_equal(c.alpha, f.alpha);
+  assert_int_equal(c.transparent, f.transparent);
+  const size_t n = (size_t)f.width * (size_t)f.height * 3;
+  if (f.bit_depth == 32) {
+    assert_non_null(c.data);
+    assert_null(c.codes);
+  } else {
+    assert_null(c.data);
+    assert_non_null(c.codes);
+    double m1[3], m2[3], d1[3], d2[3];
+    int k1, k2;
+    assert_int_equal(vr_image_rect_mean(&f, 0, 0, f.width, f.height, m1, d1, &k1, 0.9, &e1), VR_OK);
+    assert_int_equal(vr_image_rect_mean(&c, 0, 0, c.width, c.height, m2, d2, &k2, 0.9, &e2), VR_OK);
+    assert_memory_equal(m2, m1, sizeof m1);
+    assert_memory_equal(d2, d1, sizeof d1);
+    assert_int_equal(k2, k1);
+    assert_int_equal(vr_image_check(&c, "the photo", &e2), VR_E_ARG);
+    assert_contains(e2.message, "vr_image_to_float");
+    assert_int_equal(vr_image_check_any(&c, "the photo", &e2), VR_OK);
+    int before = test_dir_entries();
+    assert_int_equal(vr_image_write_png(in_dir("codes.png"), &c, 8, &e2), VR_E_ARG);
+    assert_int_equal(test_dir_entries(), before);
+    assert_int_equal(vr_image_to_float(&c, &e2), VR_OK);
+    assert_null(c.codes);
+    assert_non_null(c.data);
+    assert_memory_equal(c.data, f.data, n * sizeof(float));
+  }
+  vr_image_free(&c);
+  vr_image_free(&f);
+}
+
+static void codes_agree_with_floats(void **state) {
+  (void)state;
+  static const struct {
+    const char *name;
+    const unsigned char *bytes;
+    size_t len;
+  } files[] = {
+      {"c_ga8.png", k_grey_alpha8_png, sizeof k_grey_alpha8_png},
+      {"c_ga16.png", k_grey_alpha16_png, sizeof k_grey_alpha16_png},
+      {"c_rgba16.png", k_rgba16_png, sizeof k_rgba16_png},
+      {"c_rgba8.png", k_rgba8_opaque_png, sizeof k_rgba8_opaque_png},
+      {"c_g8t.png", k_grey8_trns_png, sizeof k_grey8_trns_png},
+      {"c_g1t.png", k_grey1_trns_png, sizeof k_grey1_trns_png},
+      {"c_g16t.png", k_grey16_trns_png, sizeof k_grey16_trns_png},
+      {"c_rgb8t.png", k_rgb8_trns_png, sizeof k_rgb8_trns_png},
+      {"c_palt.png", k_palette_trns_png, sizeof k_palette_trns_png},
+      {"c_rgba8.tif", k_rgba8_tif, sizeof k_rgba8_tif},
+      {"c_rgba16.tif", k_rgba16_tif, sizeof k_rgba16_tif},
+      {"c_ga8.tif", k_grey_alpha8_tif, sizeof k_grey_alpha8_tif},
+      {"c_ga16.tif", k_grey_alpha16_tif, sizeof k_grey_alpha16_tif},
+      {"c_extra8.tif", k_rgb_extra8_tif, sizeof k_rgb_extra8_tif},
+  };
+  for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+    write_file(in_dir(files[i].name), files[i].bytes, files[i].len);
+    compare_forms(in_dir(files[i].name));
+    unlink(in_dir(files[i].name));
+  }
+  static const char *const others[] = {"iphone4s_goexif.jpg", "nikon_d2h_goexif.jpg",
+                                       "gdalicon.png", "cmake_smalllogo_grey_alpha.png",
+                                       "cmake_logo_palette_trns.png"};
+  for (size_t i = 0; i < sizeof others / sizeof others[0]; i++) {
+    char path[512];
+    snprintf(path, sizeof path, IMAGES "%s", others[i]);
+    compare_forms(path);
+  }
+  /* Written by the library: 8 and 16 bits, and a float EXR (kept as floats). */
+  static const struct {
+    const char *name;
+    int bits, top;
+  } written[] = {{"c8.png", 8, 255}, {"c16.png", 16, 65535}, {"c16.tif", 16, 65535},
+                 {"c.exr", 32, 65535}};
+  for (size_t i = 0; i < sizeof written / sizeof written[0]; i++) {
+    vr_image img;
+    vr_error err = {0};
+    make_coded_image(&img, 37, 11, written[i].top);
+    assert_int_equal(vr_image_write(in_dir(written[i].name), &img, written[i].bits, &err), VR_OK);
+    compare_forms(in_dir(written[i].name));
+    vr_image_free(&img);
+    unlink(in_dir(written[i].name));
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(camera_jpegs),     cmocka_unit_test(icons_with_alpha),
       cmocka_unit_test(png_alpha_channels), cmocka_unit_test(png_trns_chunks),
       cmocka_unit_test(tiff_alpha),       cmocka_unit_test(formats_of_written_files),
+      cmocka_unit_test(codes_agree_with_floats),
   };
   return cmocka_run_group_tests(tests, make_test_dir, remove_test_dir);
 }

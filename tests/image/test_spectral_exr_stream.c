@@ -347,6 +347,64 @@ static void write_error_leaves_nothing(void **state) {
   assert_int_equal(test_dir_entries(), before);
 }
 
+/* A texture of 88 MiB (more than the 64 MiB from which the writer stages
+ * its bytes and writes them with O_DIRECT, exr_stream.h) comes back value
+ * for value, flags included, with the chunk offset table (written below
+ * the staged part at the end) good enough for the reader; and a write that
+ * fails in that mode (the size limit of write_error_leaves_nothing, now in
+ * the middle of the pixels) leaves nothing.  Where the file system refuses
+ * O_DIRECT (tmpfs), the same is checked through the page cache. */
+static void large_file_past_the_page_cache(void **state) {
+  (void)state;
+  enum { w = 2048, h = 1200 }; /* 2048 x 1200 x (8 float + flags) x 4 bytes */
+  int before = test_dir_entries();
+  const char *path = in_dir("large.exr");
+  scene s = make_scene(w, h, 2);
+  vr_spectral_exr_layout L = make_layout(&s, VR_EXR_COMPRESSION_NONE, 0);
+  vr_error err = {0};
+  assert_int_equal(vr_spectral_exr_write_rows(path, &L, fill, &s, &err), VR_OK);
+  assert_true(file_size(path) > (64L << 20));
+  vr_spectral_image img;
+  vr_image rgb;
+  assert_int_equal(vr_spectral_exr_read(path, &img, &rgb, &err), VR_OK);
+  assert_int_equal(img.width, w);
+  assert_int_equal(img.height, h);
+  size_t wrong = 0;
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) {
+      const size_t p = (size_t)y * w + (size_t)x;
+      for (int b = 0; b < NB; b++) wrong += img.data[p * NB + (size_t)b] != spectral_value(x, y, b);
+      for (int k = 0; k < 3; k++) wrong += rgb.data[p * 3 + (size_t)k] != rgb_value(x, y, k);
+    }
+  assert_int_equal(wrong, 0);
+  vr_spectral_image_free(&img);
+  vr_image_free(&rgb);
+  uint32_t *flags = malloc((size_t)w * h * sizeof *flags);
+  assert_non_null(flags);
+  read_flags(path, "flags", w, h, flags, EXR_COMPRESSION_NONE, EXR_PIXEL_FLOAT);
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) wrong += flags[(size_t)y * w + (size_t)x] != flags_value(x, y);
+  assert_int_equal(wrong, 0);
+  free(flags);
+  unlink(path);
+
+  const char *big = in_dir("large_too_big.exr");
+  struct rlimit old;
+  assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+  struct rlimit small = old;
+  small.rlim_cur = 20L << 20; /* two staged buffers and a half */
+  void (*was)(int) = signal(SIGXFSZ, SIG_IGN);
+  assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
+  s = make_scene(w, h, 2);
+  vr_status st = vr_spectral_exr_write_rows(big, &L, fill, &s, &err);
+  assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+  signal(SIGXFSZ, was);
+  assert_int_equal(st, VR_E_IO);
+  assert_contains(err.message, big);
+  assert_contains(err.message, "write failed");
+  assert_int_equal(test_dir_entries(), before);
+}
+
 /* NaN, -infinity, and values beyond half: VR_E_RANGE naming the pixel and
  * the band or channel, the lowest chunk's whatever the threads. */
 static void bad_values_name_the_pixel(void **state) {
@@ -584,6 +642,7 @@ int main(void) {
       cmocka_unit_test(same_bytes_for_any_thread_count),
       cmocka_unit_test(callback_error_leaves_nothing),
       cmocka_unit_test(write_error_leaves_nothing),
+      cmocka_unit_test(large_file_past_the_page_cache),
       cmocka_unit_test(bad_values_name_the_pixel),
       cmocka_unit_test(zip_level_is_used),
       cmocka_unit_test(bad_layouts_are_refused),

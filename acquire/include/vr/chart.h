@@ -25,7 +25,10 @@
  * the means come out exactly the drawn colours; see tests/acquire.
  * mcc needs the patches to be flat-ish and separated by a dark gap; on an
  * image without a chart it finds nothing and vr_chart_detect returns
- * VR_E_NOT_FOUND. */
+ * VR_E_NOT_FOUND.
+ *
+ * The photo may hold floats or integer codes (vr_image_read_codes): both
+ * give the same numbers (vr/image.h, "Integer codes"). */
 #ifndef VR_CHART_H
 #define VR_CHART_H
 

@@ -12,6 +12,16 @@
  * caller can refuse what it cannot use.  EXIF orientation is not applied:
  * pixels are used as stored in the file.
  *
+ * Integer codes: vr_image_read_codes keeps an 8- or 16-bit file as the codes
+ * it holds (vr_image.codes; data is NULL), a quarter or a half of the memory
+ * of floats and no conversion, for callers that look every code up in a
+ * table anyway.  Code k stands for the value (float)k / 255 or / 65535,
+ * exactly the float vr_image_read gives, so the region functions below
+ * (vr_image_rect_mean, vr_image_label_means, vr_region_quad_stats, and the
+ * chart functions of vr/chart.h) return the same numbers for either form.
+ * Every other function, and any code reading .data, needs floats:
+ * vr_image_check refuses an image of codes, vr_image_to_float converts one.
+ *
  * Coordinates: x to the right, y down, (0,0) the top-left corner of the image.
  * Pixel (i, j) covers [i, i+1) x [j, j+1), so its centre is (i+0.5, j+0.5).
  *
@@ -52,6 +62,10 @@ typedef struct vr_image {
    * an 8-bit RGBA TIFF premultiplied by OpenCV's decoder (libtiff's RGBA
    * interface) whatever the file says. */
   long transparent;
+  /* Only from vr_image_read_codes of an 8- or 16-bit file, else NULL: the
+   * codes, row-major RGB like data, uint8_t (bit_depth 8) or uint16_t (16);
+   * data is NULL then. */
+  void *codes;
 } vr_image;
 
 /* Allocates a w x h RGB image set to zero (bit_depth 32, format NONE,
@@ -75,6 +89,15 @@ void vr_image_free(vr_image *img);
  * scan (libjpeg would otherwise fill the missing rows with grey and
  * succeed).  A 2 GiB file limit applies to PNG, TIFF and JPEG. */
 vr_status vr_image_read(const char *path, vr_image *out, vr_error *err);
+
+/* vr_image_read, except that an 8- or 16-bit file (PNG, TIFF, JPEG) is kept
+ * as its codes (out->codes set, out->data NULL; see "Integer codes" above).
+ * Float files come back as floats, as from vr_image_read. */
+vr_status vr_image_read_codes(const char *path, vr_image *out, vr_error *err);
+
+/* Turns an image of codes into floats in place (the values vr_image_read
+ * would have given); nothing to do for an image of floats. */
+vr_status vr_image_to_float(vr_image *img, vr_error *err);
 
 /* Writes an RGB PNG of 8 or 16 bits per channel: values clamped to [0,1],
  * then v*255 (or v*65535) rounded to nearest.  A NaN is refused (VR_E_RANGE)
@@ -165,9 +188,12 @@ vr_status vr_image_label_means_file(const vr_image *img, const char *labels_path
                                     double clip_level, vr_label_means *out, vr_error *err);
 void vr_label_means_free(vr_label_means *m);
 
-/* Checks that img is a usable RGB image (what names it in messages):
- * VR_E_ARG for a NULL or empty image or a channel count other than 3. */
+/* Checks that img is a usable RGB image of floats (what names it in
+ * messages): VR_E_ARG for a NULL or empty image, an image of codes, or a
+ * channel count other than 3. */
 vr_status vr_image_check(const vr_image *img, const char *what, vr_error *err);
+/* The same, but an image of codes (vr_image_read_codes) is usable too. */
+vr_status vr_image_check_any(const vr_image *img, const char *what, vr_error *err);
 
 /* Statistics of the pixels whose centres lie inside a convex quadrilateral
  * (corners in order, either orientation; image coordinates, pixel centres at
