@@ -30,8 +30,7 @@ void vr_out_guard_database(vr_out_guard *g, const char *db_path) {
   }
 }
 
-/* The folder part of path ("." when it has none). */
-static void folder_of(const char *path, char *dir, size_t cap) {
+void vr_path_folder(const char *path, char *dir, size_t cap) {
   const char *slash = strrchr(path, '/');
   if (!slash) snprintf(dir, cap, ".");
   else if (slash == path) snprintf(dir, cap, "/");
@@ -57,7 +56,7 @@ vr_status vr_out_guard_check(const vr_out_guard *g, const char *path, const char
                             option, path, g->in[i].role, g->in[i].path);
   }
   char dir[4096];
-  folder_of(path, dir, sizeof dir);
+  vr_path_folder(path, dir, sizeof dir);
   if (stat(dir, &st) != 0)
     return vr_error_set(err, VR_E_IO, "%s %s: the folder %s does not exist", option, path, dir);
   if (!S_ISDIR(st.st_mode))

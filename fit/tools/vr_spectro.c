@@ -202,18 +202,11 @@ vr_status spectro_state_of(const vr_args *a, const vr_material *m, double *s, vr
   }
   if (q) {
     if (vr_parse_double(q, &x)) return vr_error_set(err, VR_E_RANGE, "--charge '%s': not a number", q);
-    /* The state model is linear in charge only over the states it was
-     * fitted on, 0 to Q_full: it is not extrapolated, and a charge outside
-     * is refused rather than taken as the nearest end. */
-    double qf = NAN;
-    for (size_t i = 0; i < m->nparams; i++)
-      if (!strcmp(m->params[i].name, "Q_full")) qf = m->params[i].value;
-    if (!isnan(qf) && !(x >= 0 && x <= qf))
-      return vr_error_set(err, VR_E_RANGE,
-                          "--charge %g mC/cm2: outside the calibrated range of %s, 0 to %g "
-                          "mC/cm2 (the charges its states were fitted on); the model is not "
-                          "extrapolated", x, m->name, qf);
-    return vr_chromo_state_of_charge(m, x, s, err);
+    /* Outside the fitted charges the library refuses (never clamps); as
+     * the option's value it is a usage error, so the message names it. */
+    vr_status r = vr_chromo_state_of_charge(m, x, s, err);
+    if (r == VR_E_RANGE) vr_error_prefix(err, "--");
+    return r;
   }
   if (uv) {
     double T = 298.15;

@@ -6,6 +6,7 @@
  * keep every bit of a double.  SQLite stores NaN as NULL, which is how
  * "unknown" (a residual, an uncertainty, a text-only property) is kept. */
 #include "matdb_internal.h"
+#include "vr/out_guard.h"
 #include "utf8.h"
 #include "vr/chromogenic.h"
 
@@ -129,14 +130,6 @@ static vr_status create_or_migrate(vr_matdb *db, vr_error *err) {
     exec(db, "ROLLBACK");
   }
   return st;
-}
-
-/* The folder part of path ("." when it has none). */
-static void folder_of(const char *path, char *dir, size_t cap) {
-  const char *slash = strrchr(path, '/');
-  if (!slash) snprintf(dir, cap, ".");
-  else if (slash == path) snprintf(dir, cap, "/");
-  else snprintf(dir, cap, "%.*s", (int)(slash - path), path);
 }
 
 /* "file:" URI of a path for sqlite3_open_v2 with SQLITE_OPEN_URI, every
@@ -276,7 +269,7 @@ vr_status vr_matdb_open(const char *path, int flags, vr_matdb **out, vr_error *e
   }
   bool want_ro = flags & VR_MATDB_READONLY;
   char dir[4096];
-  folder_of(path, dir, sizeof dir);
+  vr_path_folder(path, dir, sizeof dir);
   bool folder_writable = access(dir, W_OK | X_OK) == 0;
   vr_status st = VR_OK;
   struct stat sb;

@@ -11,6 +11,7 @@
  * its process id, so the next run can tell it from a live run's and remove
  * it (vr_film_clean_stale). */
 #include "film_set.h"
+#include "vr/out_guard.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -44,18 +45,10 @@ static const char *base_of(const char *path) {
   return slash ? slash + 1 : path;
 }
 
-/* The folder part of a path ("." when it has none). */
-static void folder_of(const char *path, char *dir, size_t cap) {
-  const char *slash = strrchr(path, '/');
-  if (!slash) snprintf(dir, cap, ".");
-  else if (slash == path) snprintf(dir, cap, "/");
-  else snprintf(dir, cap, "%.*s", (int)(slash - path), path);
-}
-
 static bool same_folder(const char *a, const char *b) {
   char da[PATH_MAX], db[PATH_MAX], ra[PATH_MAX], rb[PATH_MAX];
-  folder_of(a, da, sizeof da);
-  folder_of(b, db, sizeof db);
+  vr_path_folder(a, da, sizeof da);
+  vr_path_folder(b, db, sizeof db);
   if (!realpath(da, ra) || !realpath(db, rb)) return !strcmp(da, db);
   return !strcmp(ra, rb);
 }
@@ -146,7 +139,7 @@ static void manifest_name(const char *manifest, const char *target, char *out, s
     return;
   }
   char dir[PATH_MAX], real[PATH_MAX];
-  folder_of(target, dir, sizeof dir);
+  vr_path_folder(target, dir, sizeof dir);
   if (target[0] != '/' && realpath(dir, real)) snprintf(out, cap, "%s/%s", real, base_of(target));
   else snprintf(out, cap, "%s", target);
 }
@@ -270,7 +263,7 @@ size_t vr_film_clean_stale(const char *name, char *removed, size_t cap) {
   if (removed && cap) removed[0] = '\0';
   if (!name || !*name) return 0;
   char dir[PATH_MAX];
-  folder_of(name, dir, sizeof dir);
+  vr_path_folder(name, dir, sizeof dir);
   const char *base = base_of(name);
   DIR *d = opendir(dir);
   if (!d) return 0;
@@ -374,7 +367,7 @@ vr_status vr_film_verify(const char *prefix, vr_film_verify_line line, void *use
     goto out;
   }
   char dir[PATH_MAX];
-  folder_of(path, dir, sizeof dir);
+  vr_path_folder(path, dir, sizeof dir);
   for (const char *c = after_key(files, "name"); c; c = after_key(c, "name")) {
     char name[PATH_MAX], sha[72], msg[3 * PATH_MAX];
     long long bytes = -1;

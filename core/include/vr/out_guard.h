@@ -9,6 +9,8 @@
 #ifndef VR_OUT_GUARD_H
 #define VR_OUT_GUARD_H
 
+#include <stddef.h>
+
 #include "vr/error.h"
 
 #ifdef __cplusplus
@@ -48,6 +50,10 @@ vr_status vr_out_guard_check(const vr_out_guard *g, const char *path, const char
  * file): VR_E_ARG naming both options when they are the same file or name. */
 vr_status vr_out_guard_distinct(const char *a, const char *option_a, const char *b,
                                 const char *option_b, vr_error *err);
+
+/* The folder part of a path into dir: "." when it has none, "/" for a
+ * file at the root. */
+void vr_path_folder(const char *path, char *dir, size_t cap);
 
 #ifdef __cplusplus
 }
