@@ -11,6 +11,7 @@ packages=(
   libcmocka-dev libsqlite3-dev libyaml-dev
   libembree-dev libassimp-dev libopenmpi-dev openmpi-bin
   libcairo2-dev clang libclang-rt-14-dev
+  hyperfine
 )
 
 missing=()

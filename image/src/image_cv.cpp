@@ -1,7 +1,12 @@
 /* The OpenCV side of vr/image.h: PNG, TIFF and JPEG decoded from and encoded
  * to memory with cv::imdecode / cv::imencode.  image.c does the file I/O, so
  * OpenCV never opens a path and every message can name it.  Nothing thrown
- * in here (cv::Exception, std::bad_alloc, ...) reaches the C caller. */
+ * in here (cv::Exception, std::bad_alloc, ...) reaches the C caller.
+ *
+ * Built as the module vr-image-cv.so, which vr_image loads with dlopen when
+ * a PNG, TIFF or JPEG is first read or written (image_cv_module.h,
+ * image_codecs.c); what it needs of vr_image and vr_core comes through the
+ * host table of each call. */
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -13,23 +18,24 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "image_internal.h"
+#include "image_cv_module.h"
 
 namespace {
 
 /* Turns whatever escaped into a status naming the file; called from every
  * catch (...) of this file. */
-vr_status fail_exception(vr_error *err, const char *path, const char *what, vr_status status) {
+vr_status fail_exception(const vr_image_cv_host *host, vr_error *err, const char *path,
+                         const char *what, vr_status status) {
   try {
     throw;
   } catch (const std::bad_alloc &) {
-    return vr_error_at(err, VR_E_NOMEM, path, 0, 0, "%s: out of memory", what);
+    return host->error_at(err, VR_E_NOMEM, path, 0, 0, "%s: out of memory", what);
   } catch (const cv::Exception &e) {
-    return vr_error_at(err, status, path, 0, 0, "%s: OpenCV: %s", what, e.err.c_str());
+    return host->error_at(err, status, path, 0, 0, "%s: OpenCV: %s", what, e.err.c_str());
   } catch (const std::exception &e) {
-    return vr_error_at(err, status, path, 0, 0, "%s: %s", what, e.what());
+    return host->error_at(err, status, path, 0, 0, "%s: %s", what, e.what());
   } catch (...) {
-    return vr_error_at(err, status, path, 0, 0, "%s: unknown C++ exception", what);
+    return host->error_at(err, status, path, 0, 0, "%s: unknown C++ exception", what);
   }
 }
 
@@ -50,6 +56,7 @@ const char *depth_name(int depth) {
  * StdMatAllocator (modules/core/src/matrix.cpp). */
 class PixelsAllocator final : public cv::MatAllocator {
  public:
+  explicit PixelsAllocator(const vr_image_cv_host *host) : host_(host) {}
   cv::UMatData *allocate(int dims, const int *sizes, int type, void *data0, size_t *step,
                          cv::AccessFlag, cv::UMatUsageFlags) const override {
     size_t total = CV_ELEM_SIZE(type);
@@ -64,7 +71,7 @@ class PixelsAllocator final : public cv::MatAllocator {
       }
       total *= (size_t)sizes[i];
     }
-    void *data = data0 ? data0 : vr_image_pixels_alloc(total);
+    void *data = data0 ? data0 : host_->pixels_alloc(total);
     if (!data) throw std::bad_alloc();
     cv::UMatData *u = new cv::UMatData(this);
     u->data = u->origdata = static_cast<uchar *>(data);
@@ -80,6 +87,9 @@ class PixelsAllocator final : public cv::MatAllocator {
     if (!(u->flags & cv::UMatData::USER_ALLOCATED)) std::free(u->origdata);
     delete u;
   }
+
+ private:
+  const vr_image_cv_host *host_;
 };
 
 /* Copies one decoded row (any of 1-4 channels, BGR order) into RGB floats
@@ -163,34 +173,32 @@ void fill_bgr(const vr_image *img, cv::Mat &m, double top) {
   }
 }
 
-}  // namespace
-
-extern "C" vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, const char *path,
-                                        const char *format, int keep_codes, vr_image *out,
-                                        vr_error *err) {
+vr_status decode(const vr_image_cv_host *host, const unsigned char *buf, size_t len,
+                 const char *path, const char *format, int keep_codes, vr_image *out,
+                 vr_error *err) {
   std::memset(out, 0, sizeof *out);
   if (len > (size_t)std::numeric_limits<int>::max())
-    return vr_error_at(err, VR_E_PARSE, path, 0, 0, "%s file of %zu bytes is too large (2 GiB "
+    return host->error_at(err, VR_E_PARSE, path, 0, 0, "%s file of %zu bytes is too large (2 GiB "
                        "at most)", format, len);
   try {
     const cv::Mat raw(1, (int)len, CV_8U, const_cast<unsigned char *>(buf));
     /* IMREAD_UNCHANGED: keep 16 bits and the channel count, ignore EXIF
      * orientation (pixels as stored). */
-    PixelsAllocator pixels; /* declared before m: outlives it */
+    PixelsAllocator pixels(host); /* declared before m: outlives it */
     cv::Mat m;
     m.allocator = &pixels;
     cv::imdecode(raw, cv::IMREAD_UNCHANGED, &m);
     if (m.empty())
-      return vr_error_at(err, VR_E_PARSE, path, 0, 0,
+      return host->error_at(err, VR_E_PARSE, path, 0, 0,
                          "cannot decode this %s file (truncated, corrupt, or a variant "
                          "OpenCV does not read)", format);
     const int depth = m.depth(), nc = m.channels();
     if (depth != CV_8U && depth != CV_16U && depth != CV_32F)
-      return vr_error_at(err, VR_E_PARSE, path, 0, 0,
+      return host->error_at(err, VR_E_PARSE, path, 0, 0,
                          "%s with %s samples is not supported (8- or 16-bit integer or "
                          "32-bit float only)", format, depth_name(depth));
     if (nc < 1 || nc > 4)
-      return vr_error_at(err, VR_E_PARSE, path, 0, 0, "%s with %d channels is not supported",
+      return host->error_at(err, VR_E_PARSE, path, 0, 0, "%s with %d channels is not supported",
                          format, nc);
     /* OpenCV hands a PNG's alpha (grey + alpha included, and a tRNS chunk
      * of an RGB or palette PNG) and a TIFF's extra sample as the last of 2
@@ -216,9 +224,9 @@ extern "C" vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, co
     if (keep_codes && depth != CV_32F) {
       const size_t size = depth == CV_8U ? 1 : 2;
       const size_t n = (size_t)m.cols * (size_t)m.rows * 3;
-      out->codes = vr_image_pixels_alloc(n * size);
+      out->codes = host->pixels_alloc(n * size);
       if (!out->codes)
-        return vr_error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory for a %d x %d image",
+        return host->error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory for a %d x %d image",
                            m.cols, m.rows);
       out->width = m.cols;
       out->height = m.rows;
@@ -237,9 +245,9 @@ extern "C" vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, co
       out->transparent = below;
       return VR_OK;
     }
-    vr_status st = vr_image_alloc(out, m.cols, m.rows, err);
+    vr_status st = host->image_alloc(out, m.cols, m.rows, err);
     if (st != VR_OK) {
-      vr_error_prefix(err, "%s: ", path);
+      host->error_prefix(err, "%s: ", path);
       return st;
     }
     for (int y = 0; y < m.rows; ++y) {
@@ -256,14 +264,13 @@ extern "C" vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, co
     out->transparent = below;
     return VR_OK;
   } catch (...) {
-    vr_image_free(out);
-    return fail_exception(err, path, "decoding", VR_E_PARSE);
+    host->image_free(out);
+    return fail_exception(host, err, path, "decoding", VR_E_PARSE);
   }
 }
 
-extern "C" vr_status vr_image_encode_cv(const vr_image *img, const char *path, const char *ext,
-                                        int bits, unsigned char **bytes, size_t *len,
-                                        vr_error *err) {
+vr_status encode(const vr_image_cv_host *host, const vr_image *img, const char *path,
+                 const char *ext, int bits, unsigned char **bytes, size_t *len, vr_error *err) {
   *bytes = nullptr;
   *len = 0;
   try {
@@ -276,16 +283,26 @@ extern "C" vr_status vr_image_encode_cv(const vr_image *img, const char *path, c
     if (std::strcmp(ext, ".jpg") == 0) params = {cv::IMWRITE_JPEG_QUALITY, 95};
     std::vector<unsigned char> encoded;
     if (!cv::imencode(ext, m, encoded, params) || encoded.empty())
-      return vr_error_at(err, VR_E_IO, path, 0, 0, "OpenCV could not encode a %d-bit %s image",
+      return host->error_at(err, VR_E_IO, path, 0, 0, "OpenCV could not encode a %d-bit %s image",
                          bits, ext + 1);
     *bytes = static_cast<unsigned char *>(std::malloc(encoded.size()));
-    if (!*bytes) return vr_error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory");
+    if (!*bytes) return host->error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory");
     std::memcpy(*bytes, encoded.data(), encoded.size());
     *len = encoded.size();
     return VR_OK;
   } catch (...) {
     std::free(*bytes);
     *bytes = nullptr;
-    return fail_exception(err, path, "encoding", VR_E_IO);
+    return fail_exception(host, err, path, "encoding", VR_E_IO);
   }
+}
+
+}  // namespace
+
+/* The module's one exported symbol (the build hides every other). */
+extern "C" __attribute__((visibility("default"))) const vr_image_cv_codecs *
+vr_image_cv_module_codecs(void) {
+  static const vr_image_cv_codecs table = {VR_IMAGE_CV_ABI, sizeof(vr_image), sizeof(vr_error),
+                                           decode, encode};
+  return &table;
 }

@@ -1,5 +1,6 @@
 /* What the files of image/src share and nobody else sees: the codec entry
- * points (OpenCV in image_cv.cpp, OpenEXR in image_exr.c). */
+ * points (OpenCV in the module of image_cv.cpp, reached through
+ * image_codecs.c; OpenEXR in image_exr.c). */
 #ifndef VR_IMAGE_INTERNAL_H
 #define VR_IMAGE_INTERNAL_H
 
@@ -12,7 +13,9 @@ extern "C" {
 #endif
 
 /* Decodes a PNG, TIFF or JPEG held in memory (format names it in messages);
- * with keep_codes, 8- and 16-bit files are kept as codes (vr_image.codes). */
+ * with keep_codes, 8- and 16-bit files are kept as codes (vr_image.codes).
+ * This and vr_image_encode_cv load the OpenCV module on first use; VR_E_IO
+ * naming path and the module's paths when it cannot be loaded. */
 vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, const char *path,
                              const char *format, int keep_codes, vr_image *out, vr_error *err);
 

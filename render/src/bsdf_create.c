@@ -95,6 +95,24 @@ static vr_status make_lambert(vr_bsdf *b, const vr_scene_material *sm, const vr_
     snprintf(b->desc, sizeof b->desc, "Lambertian (reflectance spectrum)");
     return VR_OK;
   }
+  if (sm->reflectance_spectrum) {
+    /* An inline table: read as the database reads its reflectance spectra
+     * (vr_material_eval), linear between points, ends held beyond them. */
+    vr_spectrum *sp = vr_scene_inline_spectrum(sm->reflectance_spectrum, err);
+    if (!sp) return err ? err->status : VR_E_PARSE;
+    if (!(b->refl = grid_alloc(b))) {
+      vr_spectrum_destroy(sp);
+      return vr_error_set(err, VR_E_NOMEM, "out of memory");
+    }
+    for (size_t i = 0; i < b->nl; i++) {
+      double nm = node_nm(b, i);
+      if (!vr_spectrum_covers(sp, nm, nm)) b->extrapolated = true;
+      b->refl[i] = vr_bsdfi_clamp01(vr_spectrum_eval(sp, nm, VR_INTERP_LINEAR));
+    }
+    vr_spectrum_destroy(sp);
+    snprintf(b->desc, sizeof b->desc, "Lambertian (inline reflectance spectrum)");
+    return VR_OK;
+  }
   if (!(sm->reflectance >= 0.0 && sm->reflectance <= 1.0))
     return vr_error_set(err, VR_E_RANGE, "reflectance %g outside [0, 1]", sm->reflectance);
   if (!(b->refl = grid_alloc(b))) return vr_error_set(err, VR_E_NOMEM, "out of memory");

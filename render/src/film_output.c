@@ -66,7 +66,8 @@ void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonem
 
 /* ---- checks before anything is written ---- */
 
-static vr_status check_film(const vr_render_result *r, vr_error *err) {
+/* The film's XYZ, and its bins when spectral: what the files to write hold. */
+static vr_status check_film(const vr_render_result *r, bool spectral, vr_error *err) {
   static const char XYZ[] = "XYZ";
   size_t npix = (size_t)r->width * (size_t)r->height;
   for (size_t p = 0; p < npix; p++)
@@ -76,7 +77,7 @@ static vr_status check_film(const vr_render_result *r, vr_error *err) {
         return vr_error_set(err, VR_E_RANGE, "film pixel (%zu, %zu): %c is %s", p % (size_t)r->width,
                             p / (size_t)r->width, XYZ[c], isnan(v) ? "NaN" : "-infinity");
     }
-  if (r->spectral)
+  if (spectral && r->spectral)
     for (size_t p = 0; p < npix; p++)
       for (size_t b = 0; b < r->nbins; b++) {
         double v = r->spectral[p * r->nbins + b];
@@ -173,22 +174,48 @@ static void rename_in_message(vr_error *err, const film_staged *g) {
 
 /* ---- the images ---- */
 
+/* The linear sRGB of the EXRs (rgb) and the display values of the PNG
+ * (png); either may be NULL when its files are not asked for. */
 static vr_status make_images(const vr_render_result *r, vr_tonemap tm, vr_image *rgb,
                              vr_image *png, vr_error *err) {
-  vr_status st = vr_image_alloc(rgb, r->width, r->height, err);
-  if (!st) st = vr_image_alloc(png, r->width, r->height, err);
+  vr_status st = rgb ? vr_image_alloc(rgb, r->width, r->height, err) : VR_OK;
+  if (!st && png) st = vr_image_alloc(png, r->width, r->height, err);
   if (st) return st;
   size_t npix = (size_t)r->width * (size_t)r->height;
   for (size_t p = 0; p < npix; p++) {
     const double *xyz = &r->xyz[3 * p];
     double lin[3], disp[3];
     vr_xyz_to_srgb_linear(xyz, lin);
-    vr_film_display(lin, xyz[1], r->exposure_ev, tm, disp);
+    if (png) vr_film_display(lin, xyz[1], r->exposure_ev, tm, disp);
     for (int c = 0; c < 3; c++) {
-      rgb->data[3 * p + (size_t)c] = (float)lin[c];
-      png->data[3 * p + (size_t)c] = (float)vr_srgb_encode(disp[c]);
+      if (rgb) rgb->data[3 * p + (size_t)c] = (float)lin[c];
+      if (png) png->data[3 * p + (size_t)c] = (float)vr_srgb_encode(disp[c]);
     }
   }
+  return VR_OK;
+}
+
+/* The files asked for (0: all the result can give), or VR_E_ARG naming
+ * one it cannot give. */
+static vr_status chosen_outputs(const vr_render_result *r, unsigned asked, unsigned *out,
+                                vr_error *err) {
+  bool image = r->width > 0 && r->height > 0;
+  unsigned can = (image ? VR_FILM_EXR | VR_FILM_PNG : 0u) |
+                 (image && r->nbins > 0 && r->spectral ? VR_FILM_SPECTRAL : 0u) |
+                 (r->nreadings ? VR_FILM_SENSORS : 0u);
+  *out = asked ? asked : can;
+  if (asked & ~(unsigned)VR_FILM_ALL)
+    return vr_error_set(err, VR_E_ARG, "film: unknown outputs 0x%x", asked & ~(unsigned)VR_FILM_ALL);
+  unsigned cannot = asked & ~can;
+  if (cannot & (VR_FILM_EXR | VR_FILM_PNG))
+    return vr_error_set(err, VR_E_ARG, "film: the %s was asked for, but the render has no image "
+                        "(no camera pass)", cannot & VR_FILM_EXR ? "EXR" : "PNG");
+  if (cannot & VR_FILM_SPECTRAL)
+    return vr_error_set(err, VR_E_ARG, "film: the spectral EXR was asked for, but the %s",
+                        image ? "film has no spectral bins" : "render has no image (no camera pass)");
+  if (cannot & VR_FILM_SENSORS)
+    return vr_error_set(err, VR_E_ARG, "film: the sensor table was asked for, but the render has "
+                        "no sensor readings");
   return VR_OK;
 }
 
@@ -232,8 +259,12 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
   if (!prefix || !*prefix) return vr_error_set(err, VR_E_ARG, "film: no output prefix");
   if ((st = check_result(r, err)) || (st = check_sensors(r, err))) return st;
   bool image = r->width > 0 && r->height > 0;
-  bool spectral = image && r->nbins > 0 && r->spectral;
-  if (image && (st = check_film(r, err))) return st;
+  unsigned want;
+  if ((st = chosen_outputs(r, o->outputs, &want, err))) return st;
+  bool exr = want & VR_FILM_EXR, spectral = want & VR_FILM_SPECTRAL, png_file = want & VR_FILM_PNG;
+  if ((exr || spectral || png_file || falsecolour) && image &&
+      (st = check_film(r, spectral, err)))
+    return st;
   if (falsecolour && !image)
     return vr_error_set(err, VR_E_ARG, "false colour: the render has no image (no camera pass)");
 
@@ -245,27 +276,33 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
   if (!o->run_id) vr_film_run_id(run_id);
   if ((st = film_set_begin(&set, prefix, err))) goto out;
   if (image) {
-    if ((st = make_images(r, tm, &rgb, &png, err))) goto out;
-    if ((st = film_set_add(&set, ".exr", &g, err))) goto out;
+    if ((exr || spectral || png_file) &&
+        (st = make_images(r, tm, exr || spectral ? &rgb : NULL, png_file ? &png : NULL, err)))
+      goto out;
     /* For viewers: linear sRGB, pixels in cd/m2 (RGB (1,1,1) is 1 cd/m2),
      * and the exposure that makes the PNG's white (100 cd/m2 at EV 0) 1.0. */
     vr_exr_colour colour = vr_exr_colour_srgb(1.0, r->exposure_ev - log2(100.0));
-    if ((st = vr_image_write_exr_with(g->stage, &rgb, &colour, err))) goto fail;
+    if (exr) {
+      if ((st = film_set_add(&set, ".exr", &g, err))) goto out;
+      if ((st = vr_image_write_exr_with(g->stage, &rgb, &colour, err))) goto fail;
+    }
     if (spectral) {
       if ((st = make_spectral(r, &sp, err))) goto out;
       if ((st = film_set_add(&set, ".spectral.exr", &g, err))) goto out;
       if ((st = vr_spectral_exr_write_with(g->stage, &sp, &rgb, EMISSIVE_UNITS, &colour, err)))
         goto fail;
     }
-    if ((st = film_set_add(&set, ".png", &g, err))) goto out;
-    if ((st = vr_image_write_png(g->stage, &png, 8, err))) goto fail;
+    if (png_file) {
+      if ((st = film_set_add(&set, ".png", &g, err))) goto out;
+      if ((st = vr_image_write_png(g->stage, &png, 8, err))) goto fail;
+    }
     if (falsecolour) {
       if ((st = make_falsecolour(r, o, &fc, err))) goto out;
       if ((st = film_set_add(&set, ".falsecolour.png", &g, err))) goto out;
       if ((st = vr_image_write_png(g->stage, &fc, 8, err))) goto fail;
     }
   }
-  if (r->nreadings) {
+  if (want & VR_FILM_SENSORS) {
     if ((st = film_set_add(&set, ".sensors.csv", &g, err))) goto out;
     if ((st = write_csv_to(r, g->stage, err))) goto fail;
   }

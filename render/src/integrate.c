@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "render_internal.h"
+#include "sppm.h"
 #include "vr/fisheye.h"
 
 static double dot3(const double a[3], const double b[3]) {
@@ -472,6 +473,16 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
     photon_radiance(c, hit, wo, &se, &p, MAP_CAUSTIC, c->knn, c->radius, L, NULL);
     deliver(c, &p, L);
   }
+  if (diffuse && p.target == TARGET_PIXEL && c->sppm) {
+    /* SPPM: the next-event estimate above took the direct light; the
+     * vertex is the pixel's visible point, where the photons of this
+     * iteration add the rest (sppm.c). */
+    double bw[VR_MAX_WL]; /* the sample's weight too: a pixel filter's negative lobes */
+    for (int k = 0; k < p.nwl; k++) bw[k] = p.beta[k] * p.weight;
+    vr_sppm_set_point(c->sppm, rs, p.index, hit->p, hit->ns, wo, o->material, se.state, p.nwl,
+                      bw);
+    return;
+  }
   bool photon_mode = c->integrator == VR_INT_PHOTON || c->integrator == VR_INT_PROGRESSIVE;
   if (diffuse && p.target == TARGET_PIXEL &&
       (c->integrator == VR_INT_WHITTED || photon_mode)) {
@@ -547,8 +558,8 @@ static void on_shadow_done(void *ctx, vr_flow_worker *w, const vr_ray *r, bool r
   deliver(ctx, &p, p.beta);
 }
 
-/* Camera unit: one tile of the image (vr_flow_tile), all its samples.  A
- * sample's random numbers are keyed by its pixel and sample index only, so
+/* Camera unit: one tile of the image (vr_flow_tile), one wave of its
+ * samples.  A sample's random numbers are keyed by its pixel and sample index only, so
  * the cut into units changes nothing in the image. */
 void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
   pass_ctx *c = ctx;
@@ -556,12 +567,18 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
   const vr_scene_camera *cam = &rs->s->camera;
   int W = cam->width, H = cam->height, x0, y0, x1, y1;
   double aspect = (double)H / W;
-  vr_flow_tile(W, H, unit, &x0, &y0, &x1, &y1);
+  /* A unit is one tile and one wave of its samples (camera_pass in
+   * render.c): wave w makes samples w wave_spp .. (w + 1) wave_spp - 1, so
+   * the rays a unit puts in flight are bounded whatever the spp. */
+  long tiles = vr_flow_tiles(W, H);
+  int wave_spp = c->wave_spp > 0 ? c->wave_spp : c->spp;
+  int s0 = (int)(unit / tiles) * wave_spp, s1 = s0 + wave_spp < c->spp ? s0 + wave_spp : c->spp;
+  vr_flow_tile(W, H, unit % tiles, &x0, &y0, &x1, &y1);
   int tw = x1 - x0, npix = tw * (y1 - y0);
   for (int i = 0; i < npix; i++) {
     int x = x0 + i % tw, y = y0 + i / tw;
     uint32_t pixel = (uint32_t)(y * W + x);
-    for (int s = 0; s < c->spp; s++) {
+    for (int s = s0; s < s1; s++) {
       payload p = {0};
       p.stream = pixel;
       p.sample = (uint32_t)(s + c->sample_offset);
@@ -571,10 +588,16 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
       p.nwl = (uint8_t)rs->nwl;
       p.medium = -1;
       vr_rng_key key = {rs->seed, p.stream, p.sample, 0};
-      vr_wavelengths(rs, &key, (uint32_t)c->spp, p.wl);
+      if (c->sppm)
+        memcpy(p.wl, c->sppm->wl, sizeof p.wl); /* the iteration's, shared with the photons */
+      else
+        vr_wavelengths(rs, &key, (uint32_t)c->spp, p.wl);
       p.weight = 1.0 / c->spp;
       for (int k = 0; k < p.nwl; k++) p.beta[k] = 1.0;
-      double px = x + vr_rng(&key, VR_DIM_PIXEL_X), py = y + vr_rng(&key, VR_DIM_PIXEL_Y);
+      /* The pixel filter places the sample and weighs it (vr/filter.h). */
+      double fdx, fdy;
+      p.weight *= vr_filter_sample(&cam->filter, &key, (uint32_t)s, (uint32_t)c->spp, &fdx, &fdy);
+      double px = x + 0.5 + fdx, py = y + 0.5 + fdy;
       vr_ray r = {0};
       if (cam->model == VR_CAM_FISHEYE) {
         double d[3];

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bdpt.h"
 #include "render_internal.h"
 #include "vr/colour.h"
 #include "vr/ies.h"
@@ -61,6 +62,10 @@ static double distribution(const rlight *l, const double d[3]) {
   case VR_DIST_GONIOMETRIC: return vr_ies_candela_dir(l->ies, d) / vr_ies_max_candela(l->ies);
   default: return 1.0;
   }
+}
+
+double vr_light_distribution(const rscene *rs, size_t i, const double d[3]) {
+  return distribution(&rs->lights[i], d);
 }
 
 static void cone_dir(const double axis[3], double cos_max, double u1, double u2, double out[3]) {
@@ -138,6 +143,16 @@ bool vr_light_sample_emitter(const rscene *rs, const double x[3], int nwl, const
   double y[3], ny[3];
   vr_scene_tables_sample_object(rs->t, obj, vr_rng(key, VR_DIM_LIGHT_U), vr_rng(key, VR_DIM_LIGHT_V),
                             vr_rng(key, VR_DIM_LIGHT_W), y, ny);
+  if (key->seed.sampler != VR_SAMPLER_INDEPENDENT && rs->t->is_rect && rs->t->is_rect[obj]) {
+    /* A low-discrepancy sampler's 2D point (LIGHT_V, LIGHT_W) placed on
+     * the whole rect (uniform by area, as its two triangles are), so its
+     * stratification covers the light instead of a triangle picked apart
+     * by LIGHT_U.  Independent numbers keep the triangles' way, bit for
+     * bit as before samplers existed. */
+    const double *f = rs->t->rect_frame[obj];
+    double s = vr_rng(key, VR_DIM_LIGHT_V), t = vr_rng(key, VR_DIM_LIGHT_W);
+    for (int a = 0; a < 3; a++) y[a] = f[a] + s * f[3 + a] + t * f[6 + a];
+  }
   double d[3], r2 = 0;
   for (int a = 0; a < 3; a++) {
     d[a] = y[a] - x[a];

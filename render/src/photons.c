@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "render_internal.h"
+#include "sppm.h"
 
 static double dot3(const double a[3], const double b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -38,7 +39,10 @@ static void photon_generate(void *ctx, vr_flow_worker *w, long unit) {
     p.medium = -1;
     p.weight = 1.0;
     vr_rng_key key = {rs->seed, p.stream, p.sample, 0};
-    vr_wavelengths(rs, &key, 1, p.wl);
+    if (c->sppm)
+      memcpy(p.wl, c->sppm->wl, sizeof p.wl); /* the iteration's, shared with the camera */
+    else
+      vr_wavelengths(rs, &key, 1, p.wl);
     double u = vr_rng(&key, VR_DIM_LIGHT_PICK);
     size_t s = 0;
     while (s + 1 < rs->nsources && rs->source_cdf[s] <= u) s++;
@@ -124,7 +128,15 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
   if ((p.flags & FLAG_FAR_DIRECT) && vr_portal_crossed_inward(rs, r->org, r->dir, hit->t)) return;
   const rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   unsigned lobes = vr_bsdf_lobes(m->bsdf);
-  if ((lobes & VR_LOBE_DIFFUSE) && !before_portal) {
+  if ((lobes & VR_LOBE_DIFFUSE) && !before_portal && c->sppm) {
+    /* SPPM: light that has scattered off something other than a straight
+     * pane (next-event estimation took the rest) reaches the visible
+     * points about the hit. */
+    if (p.flags & (FLAG_HAS_DIFFUSE | FLAG_HAS_SPECULAR)) {
+      double wi[3] = {-r->dir[0], -r->dir[1], -r->dir[2]};
+      vr_sppm_deposit(c->sppm, rs, hit->p, wi, p.beta);
+    }
+  } else if ((lobes & VR_LOBE_DIFFUSE) && !before_portal) {
     vr_photon_set *map = (p.flags & FLAG_HAS_DIFFUSE)    ? c->global
                          : (p.flags & FLAG_HAS_SPECULAR) ? c->caustic
                                                          : c->direct;

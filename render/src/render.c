@@ -5,6 +5,7 @@
  * and says why, so a user can see that a room without mirrors or glass
  * spheres pays nothing for caustics, and a room without photochromic glass
  * runs no UV pass. */
+#include <malloc.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -13,6 +14,8 @@
 #include <time.h>
 
 #include "render_run.h"
+#include "bdpt.h"
+#include "sppm.h"
 #include "vr/chromogenic.h"
 #include "vr/comm.h"
 #include "vr/fisheye.h"
@@ -113,28 +116,68 @@ static vr_status uv_pass(run *r, rscene *rs, pass_ctx *c, vr_error *err) {
   return st;
 }
 
+/* The camera pass's units: each tile in waves of at most CAMERA_WAVE_RAYS
+ * camera rays (unit = wave x tiles + tile), so the rays in flight, and the
+ * memory, do not grow with the samples per pixel. */
+enum { CAMERA_WAVE_RAYS = 16384 };
+
 /* The camera pass.  With several ranks owning cells, it runs in two parts:
  * every eighth tile first, whose measured cost per cell then decides who
  * owns which cell for the rest (the film does not care in which part a
  * tile was rendered). */
 static vr_status camera_pass(run *r, rscene *rs, pass_ctx *c, int W, int H, vr_error *err) {
+  if (rs->s->settings.integrator == VR_INT_BDPT) return vr_bdpt_camera_pass(r, rs, c, W, H, err);
   long tiles = vr_flow_tiles(W, H);
+  c->wave_spp = CAMERA_WAVE_RAYS / (VR_FLOW_TILE * VR_FLOW_TILE);
+  if (c->wave_spp < 1) c->wave_spp = 1;
+  if (c->wave_spp > c->spp) c->wave_spp = c->spp;
+  long waves = (c->spp + c->wave_spp - 1) / c->wave_spp, units = tiles * waves;
   if (r->nranks == 1 || r->opt->image_space || tiles < 16)
-    return vr_run_flow(r, rs, &vr_camera_ops, c, tiles, "camera", err);
-  long *list = malloc((size_t)tiles * sizeof *list), n = 0;
+    return vr_run_flow(r, rs, &vr_camera_ops, c, units, "camera", err);
+  long *list = malloc((size_t)units * sizeof *list), n = 0;
   vr_status st = list ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
   st = vr_ranks_sync(r, st, err);
   if (st) {
     free(list);
     return st;
   }
+  /* The first wave's every eighth tile probes the cells' costs first. */
   for (long t = 0; t < tiles; t += 8) list[n++] = t;
   long probe = n;
-  for (long t = 0; t < tiles; t++)
-    if (t % 8) list[n++] = t;
+  for (long u = 0; u < units; u++)
+    if (u >= tiles || u % 8) list[n++] = u;
   st = vr_run_flow_units(r, rs, &vr_camera_ops, c, list, probe, "camera", err);
   if (!st) st = vr_run_flow_units(r, rs, &vr_camera_ops, c, list + probe, n - probe, "camera", err);
   free(list);
+  return st;
+}
+
+/* The first radius of a pixel's visible point in SPPM, in pixel
+ * footprints at the point, unless the scene gives radius= (metres). */
+#define SPPM_RADIUS_PX 4.0
+
+/* One SPPM iteration (sppm.h): the visible points, their grid, the
+ * photons, the update; each step's sums added over the ranks. */
+static vr_status sppm_iteration(run *r, rscene *rs, pass_ctx *c, int W, int H, int it,
+                                int iterations, long photons, bool trace_photons,
+                                double *t_camera, double *t_photons, vr_error *err) {
+  vr_sppm *s = c->sppm;
+  vr_sppm_begin(s, rs, it, iterations);
+  double t0 = vr_run_now();
+  c->spp = 1;
+  vr_status st = camera_pass(r, rs, c, W, H, err);
+  if (!st && r->nranks > 1) st = vr_sppm_sum_points(s, r->comm, err);
+  if (!st) st = vr_sppm_build(s, err);
+  *t_camera += vr_run_now() - t0;
+  if (st || !trace_photons) return st;
+  t0 = vr_run_now();
+  c->photons_per_unit = 1024;
+  long units = (photons + c->photons_per_unit - 1) / c->photons_per_unit;
+  if (units < 1) units = 1;
+  st = vr_run_flow(r, rs, &vr_photon_ops, c, units, "photons", err);
+  if (!st && r->nranks > 1) st = vr_sppm_sum_photons(s, r->comm, err);
+  if (!st) vr_sppm_update(s, (uint64_t)units * (uint64_t)c->photons_per_unit);
+  *t_photons += vr_run_now() - t0;
   return st;
 }
 
@@ -142,6 +185,13 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
                           vr_render_result **out, vr_error *err) {
   *out = NULL;
   double t_start = vr_run_now();
+  /* Each pass's ray flow allocates its queue blocks (a few hundred KiB
+   * each, above glibc's default mmap threshold) and frees them at its end:
+   * with many passes (an SPPM iteration is two) every block came back as
+   * fresh pages, a third of the run in page faults.  Freed memory now stays
+   * in the heap for the next pass (bounded by the largest pass's queues). */
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   vr_render_result *res = calloc(1, sizeof *res);
   if (res) res->eye_illuminance_lx = res->glare.dgp = NAN; /* set by a fisheye camera pass */
   if (!res) return vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -151,6 +201,7 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   rscene *rs = NULL;
   pass_ctx c = {0};
   accum acc = {0};
+  vr_sppm vp = {0};
   double t0 = vr_run_now();
   if (opt->memory_budget && opt->image_space) {
     free(res);
@@ -160,7 +211,9 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   }
   res->subdomains = S;
   res->memory_budget = opt->memory_budget;
-  vr_status st = vr_rscene_create(s, db, opt, S, &rs, err);
+  /* BDPT needs the whole scene in one cell: refused before any work otherwise. */
+  vr_status st = vr_bdpt_check(s, opt, r.nranks, err);
+  if (!st) st = vr_rscene_create(s, db, opt, S, &rs, err);
   /* Several ranks: every one must have its scene before they compare. */
   st = vr_ranks_sync(&r, st, err);
   if (!st) st = vr_ranks_check_scene(&r, rs, err);
@@ -241,7 +294,15 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   long cphotons = opt->photons > 0 ? opt->photons : set->caustic_photons;
   bool need_global = photon_mode && nd.diffuse && set->max_depth > 1 && lights_exist;
   bool need_caustic = photon_mode && nd.specular && nd.diffuse && lights_exist;
-  if (photon_mode) {
+  if (set->integrator == VR_INT_PROGRESSIVE) {
+    bool any = need_global || need_caustic;
+    vr_run_record(&r, "photons", any, "%s",
+                  any ? "progressive photon mapping: each iteration's photons reach the visible "
+                        "points where they land (no map kept)"
+                  : !nd.diffuse ? "no diffuse surface for photons to reach"
+                  : !lights_exist ? "no light with power"
+                                  : "depth 1: no indirect light asked for");
+  } else if (photon_mode) {
     vr_run_record(&r, "global photons", need_global, "%s",
            need_global ? "diffuse surfaces interreflect: global photon map for indirect light"
            : !nd.diffuse ? "no diffuse surface to store photons on"
@@ -257,22 +318,36 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
                           : "no diffuse surface or no light: caustics cannot form");
   } else {
     vr_run_record(&r, "global photons", false, "integrator %s uses no photon map",
-           set->integrator == VR_INT_PATH ? "path" : "whitted");
+           set->integrator == VR_INT_PATH   ? "path"
+           : set->integrator == VR_INT_BDPT ? "bdpt"
+                                            : "whitted");
     vr_run_record(&r, "caustic photons", false, "integrator %s uses no photon map",
-           set->integrator == VR_INT_PATH ? "path" : "whitted");
+           set->integrator == VR_INT_PATH   ? "path"
+           : set->integrator == VR_INT_BDPT ? "bdpt"
+                                            : "whitted");
   }
-  int passes = set->integrator == VR_INT_PROGRESSIVE ? (set->passes > 0 ? set->passes : 1) : 1;
-  double radius0 = isnan(set->radius_m) ? 0.05 * rs->scene_radius : set->radius_m;
-  double r2 = radius0 * radius0;
+  /* Progressive photon mapping (sppm.c): spp iterations of one camera
+   * path a pixel and `photons` photons each. */
+  bool sppm = set->integrator == VR_INT_PROGRESSIVE;
+  int passes = sppm ? spp : 1;
   double t_photons = 0, t_camera = 0;
-  int spp_pass = passes > 1 ? (spp + passes - 1) / passes : spp;
-  if (spp_pass < 1) spp_pass = 1;
+  int spp_pass = sppm ? 1 : spp;
+  if (sppm) {
+    st = vr_sppm_create(&vp, rs, W, H, isnan(set->radius_m) ? 0 : set->radius_m, SPPM_RADIUS_PX,
+                        set->alpha, err);
+    if (st) goto done;
+    c.sppm = &vp;
+  }
   for (int pass = 0; pass < passes; pass++) {
-    c.fixed_radius = set->integrator == VR_INT_PROGRESSIVE || !isnan(set->radius_m);
-    c.radius = set->integrator == VR_INT_PROGRESSIVE ? sqrt(r2)
-               : isnan(set->radius_m)                ? 0.1 * rs->scene_radius
-                                                     : set->radius_m;
+    c.fixed_radius = !isnan(set->radius_m);
+    c.radius = isnan(set->radius_m) ? 0.1 * rs->scene_radius : set->radius_m;
     c.sample_offset = pass * spp_pass;
+    if (sppm) {
+      st = sppm_iteration(&r, rs, &c, W, H, pass, passes, photons, need_global || need_caustic,
+                          &t_camera, &t_photons, err);
+      if (st) goto done;
+      continue;
+    }
     if (need_global || need_caustic) {
       t0 = vr_run_now();
       long np = need_global ? photons : cphotons;
@@ -288,8 +363,12 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
     t_camera += vr_run_now() - t0;
     vr_run_free_maps(&c);
     if (st) goto done;
-    /* Progressive radius reduction (Knaus & Zwicker 2011): r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1). */
-    r2 = r2 * (pass + set->alpha) / (pass + 1);
+  }
+  if (sppm) {
+    double rlo, rmed, rhi;
+    vr_sppm_radii(&vp, &rlo, &rmed, &rhi);
+    vr_run_say(&r, "progressive: %d iterations of %ld photons; pixel radii now %.3g to %.3g mm "
+                   "(median %.3g mm)", passes, photons, 1e3 * rlo, 1e3 * rhi, 1e3 * rmed);
   }
   if (need_global || need_caustic) {
     for (size_t i = 0; i < res->npasses; i++)
@@ -301,6 +380,7 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
                               set->integrator == VR_INT_PATH          ? "path tracing"
                               : set->integrator == VR_INT_WHITTED     ? "ray tracing with shadow rays"
                               : set->integrator == VR_INT_PROGRESSIVE ? "progressive photon mapping"
+                              : set->integrator == VR_INT_BDPT        ? "bidirectional path tracing"
                                                                       : "photon mapping");
   if (pc) pc->seconds = t_camera;
   res->width = W;
@@ -318,6 +398,8 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   if (st) goto done;
   for (size_t i = 0; i < px * 3; i++) res->xyz[i] = vr_atomic_get(&acc.xyz[i]) / passes;
   for (size_t i = 0; i < px * rs->nbins; i++) res->spectral[i] = vr_atomic_get(&acc.bins[i]) / passes;
+  /* SPPM: the photons' radiance, the same on every rank. */
+  if (sppm) vr_sppm_film(&vp, res->xyz, res->spectral);
   if (s->camera.model == VR_CAM_FISHEYE) {
     /* The vertical illuminance at the lens and the glare probability from
      * the image's luminance. */
@@ -352,6 +434,7 @@ done:
   }
   if (!st) st = vr_ranks_finish(&r, rs, res, err);
   vr_accum_destroy(&acc);
+  vr_sppm_destroy(&vp);
   vr_run_free_maps(&c);
   free(c.points);
   free(c.texel_object);

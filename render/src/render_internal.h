@@ -131,7 +131,7 @@ typedef struct rscene {
   double cam_o[3], cam_u[3], cam_v[3], cam_w[3], tan_half;
   double film_lo, film_step;
   size_t nbins;
-  uint64_t seed;
+  vr_rng_seed seed; /* the scene's seed and sampler: keys every vr_rng (vr/rng.h) */
 } rscene;
 
 /* Resolution of the scene (resolve.c): materials, lights, the sky, and the
@@ -310,6 +310,10 @@ typedef struct pass_ctx {
   accum *acc;
   vr_integrator integrator;
   int spp, sample_offset, max_depth;
+  int wave_spp;                /* camera units: samples per pixel of one unit (0: all spp) */
+  /* Stochastic progressive photon mapping (sppm.h): the visible points
+   * the camera pass makes and the photon pass adds to; NULL otherwise. */
+  struct vr_sppm *sppm;
   int sensor_samples;
   /* Sensor points, flattened. */
   size_t npoints;

@@ -83,6 +83,8 @@ vr_status vr_rscene_spectrum(const rscene *rs, vr_matdb *db, const char *ref, co
     vr_material_destroy(m);
   } else if (!strncmp(name, "bb:", 3)) {
     sp = vr_illuminant_blackbody(strtod(name + 3, NULL), err);
+  } else if (name[0] == '[') {
+    sp = vr_scene_inline_spectrum(name, err); /* checked when the scene was read */
   } else {
     sp = vr_illuminant(name, err);
   }
@@ -460,7 +462,9 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
   rs->lmax = set->lambda_max;
   rs->bins_mode = set->spectral == VR_SPECTRAL_BINS;
   rs->nwl = set->wavelengths;
-  rs->seed = set->seed;
+  /* The sampler spreads its points over a pixel's samples (vr/rng.h). */
+  int spp = opt && opt->spp > 0 ? opt->spp : set->spp;
+  rs->seed = vr_rng_seed_make(set->seed, set->sampler, spp > 0 ? (uint32_t)spp : 1u);
   rs->film_lo = set->film_min_nm;
   rs->film_step = set->film_step_nm;
   rs->nbins = (size_t)floor((set->film_max_nm - set->film_min_nm) / set->film_step_nm + 1e-9);

@@ -20,6 +20,7 @@ void vr_scene_destroy(vr_scene *s) {
     free(s->materials[i].name);
     free(s->materials[i].db_name);
     free(s->materials[i].coating_db);
+    free(s->materials[i].reflectance_spectrum);
   }
   for (size_t i = 0; i < s->nobjects; i++) {
     free(s->objects[i].name);
@@ -209,6 +210,7 @@ static void defaults(vr_scene *s) {
   vr_scene_camera *c = &s->camera;
   c->to[1] = 1, c->up[2] = 1;
   c->fov_deg = 60, c->width = 320, c->height = 240, c->focus_m = 1;
+  vr_filter_init(&c->filter, VR_FILTER_BOX, 0.5, 0);
   s->sky.sun_direction[2] = 1;
   s->sky.ground_reflectance = 0.2;
   s->sky.dew_point_c = NAN;
@@ -225,7 +227,9 @@ static void defaults(vr_scene *s) {
   a->glass = -1, a->control_sensor = -1, a->max = NAN;
 }
 
-/* Splits a line into words in place; the rest of the line after '#' is a comment. */
+/* Splits a line into words in place; the rest of the line after '#' is a
+ * comment.  A value that opens with '[' ("spectrum=[400 0.1 700 0.5]")
+ * runs to its ']', spaces and all: pbrt-v4's inline spectra have spaces. */
 static vr_status words(scn_parser *p, char *line, char **w, size_t *nw) {
   char *hash = strchr(line, '#');
   if (hash) *hash = '\0';
@@ -235,7 +239,11 @@ static vr_status words(scn_parser *p, char *line, char **w, size_t *nw) {
     if (!*q) break;
     if (*nw == SCN_MAX_WORDS) return scn_fail(p, q, "more than %d words on a line", SCN_MAX_WORDS);
     w[(*nw)++] = q;
-    while (*q && !isspace((unsigned char)*q)) q++;
+    bool bracket = false;
+    for (; *q && (bracket || !isspace((unsigned char)*q)); q++) {
+      if (*q == '[' && q > w[*nw - 1] && q[-1] == '=') bracket = true;
+      else if (*q == ']') bracket = false;
+    }
   }
   return VR_OK;
 }

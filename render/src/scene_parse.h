@@ -132,8 +132,23 @@ vr_status scn_u64(const scn_parser *p, const char *word, const char *v, unsigned
 vr_status scn_quantity(const scn_parser *p, const char *word, const char *v,
                        const vr_light_unit *allowed, vr_light_unit dflt, const char *what,
                        vr_quantity *out);
-/* db:NAME, bb:KELVIN or a CIE illuminant name; *out receives a copy. */
+/* db:NAME, bb:KELVIN, a CIE illuminant name or an inline table "[...]";
+ * *out receives a copy. */
 vr_status scn_spectrum(const scn_parser *p, const char *word, const char *v, vr_spectrum_ref *out);
+/* An inline spectrum "[W:V,...]" or "[W V ...]" (scene_spectrum.c): its
+ * points, values in [0, vmax]; false with the offset in text of the entry
+ * at fault and a message. */
+typedef struct scn_inline {
+  size_t n;
+  double *nm, *v;
+  size_t at;
+  char msg[256];
+} scn_inline;
+bool scn_inline_read(const char *text, double vmax, scn_inline *out);
+void scn_inline_free(scn_inline *s);
+/* The same checks on the value v of word ("reflectance=[...]"), an error
+ * at the entry at fault that names the option. */
+vr_status scn_inline_check(const scn_parser *p, const char *word, const char *v, double vmax);
 /* Applies translate=, rotate= or scale= (key) after *x. */
 vr_status scn_transform(const scn_parser *p, const char *word, const char *key, const char *v,
                         vr_xform *x);

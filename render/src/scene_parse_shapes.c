@@ -8,6 +8,30 @@
 
 /* ---- camera ---- */
 
+/* filter=box|tent|gaussian|mitchell [filter_radius=R] [filter_sigma=S]
+ * (vr/filter.h); the radius in pixels, sigma for a gaussian only. */
+static vr_status camera_filter(scn_stmt *t, vr_scene_camera *c) {
+  scn_parser *p = t->p;
+  const scn_opt *o = scn_get(t, "filter"), *r = scn_get(t, "filter_radius"),
+                *sg = scn_get(t, "filter_sigma");
+  vr_filter_kind kind = VR_FILTER_BOX;
+  if (o && !vr_filter_kind_of(o->val, &kind))
+    return scn_fail(p, o->word, "\"%s\": expected box, tent, gaussian or mitchell", o->word);
+  if ((r || sg) && !o)
+    return scn_fail(p, (r ? r : sg)->word, "%s needs filter= (box, tent, gaussian or mitchell)",
+                    (r ? r : sg)->word);
+  if (sg && kind != VR_FILTER_GAUSSIAN)
+    return scn_fail(p, sg->word, "\"%s\": only a gaussian filter has a sigma", sg->word);
+  double radius = 0, sigma = 0;
+  vr_status st;
+  if ((st = scn_range(t, "filter_radius", 0, VR_FILTER_MAX_RADIUS, true, false, &radius)) ||
+      (st = scn_range(t, "filter_sigma", 0, VR_FILTER_MAX_RADIUS, true, false, &sigma)))
+    return st;
+  if (!vr_filter_init(&c->filter, kind, radius, sigma))
+    return scn_fail(p, o->word, "\"%s\": not a usable filter", o->word);
+  return VR_OK;
+}
+
 vr_status scn_camera(scn_stmt *t) {
   scn_parser *p = t->p;
   vr_scene_camera *c = &p->s->camera;
@@ -15,11 +39,15 @@ vr_status scn_camera(scn_stmt *t) {
     return scn_fail(p, t->w[0], "a second camera (the first is on line %ld)", c->loc.line);
   vr_status st = scn_positional(t, 1, "a model: pinhole, thinlens or fisheye");
   if (st) return st;
-  static const char *const PINHOLE[] = {"from", "to", "up", "fov", "resolution", "exposure", NULL};
+  static const char *const PINHOLE[] = {"from",   "to",            "up",           "fov",
+                                        "resolution", "exposure", "filter", "filter_radius",
+                                        "filter_sigma", NULL};
   static const char *const THINLENS[] = {"from",     "to",       "up",    "fov", "resolution",
-                                         "exposure", "aperture", "focus", NULL};
-  static const char *const FISHEYE[] = {"from",     "to",         "up", "fov", "resolution",
-                                        "exposure", "projection", NULL};
+                                         "exposure", "aperture", "focus", "filter",
+                                         "filter_radius", "filter_sigma", NULL};
+  static const char *const FISHEYE[] = {"from",     "to",         "up",     "fov", "resolution",
+                                        "exposure", "projection", "filter", "filter_radius",
+                                        "filter_sigma", NULL};
   if (!strcmp(t->w[1], "pinhole")) c->model = VR_CAM_PINHOLE, t->what = "a pinhole camera";
   else if (!strcmp(t->w[1], "thinlens")) c->model = VR_CAM_THINLENS, t->what = "a thinlens camera";
   else if (!strcmp(t->w[1], "fisheye")) c->model = VR_CAM_FISHEYE, t->what = "a fisheye camera";
@@ -67,7 +95,7 @@ vr_status scn_camera(scn_stmt *t) {
   }
   c->focus_m = dist;
   if ((o = scn_get(t, "focus")) && (st = scn_positive_length(t, o, &c->focus_m))) return st;
-  return VR_OK;
+  return camera_filter(t, c);
 }
 
 /* ---- materials ---- */
@@ -92,7 +120,10 @@ vr_status scn_material(scn_stmt *t) {
     m->source = VR_MATSRC_LAMBERT_CONST;
     const scn_opt *o;
     if ((st = scn_options(t, 3, LAMBERT)) || (st = scn_need(t, "reflectance", &o))) return st;
-    return scn_range(t, "reflectance", 0, 1, false, false, &m->reflectance);
+    if (o->val[0] != '[') return scn_range(t, "reflectance", 0, 1, false, false, &m->reflectance);
+    /* An inline reflectance spectrum, each value in [0, 1]. */
+    if ((st = scn_inline_check(p, o->word, o->val, 1.0))) return st;
+    return (m->reflectance_spectrum = strdup(o->val)) ? VR_OK : scn_nomem(p);
   }
   if (!strcmp(src, "black")) {
     static const char *const NONE[] = {NULL};

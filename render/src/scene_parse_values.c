@@ -264,7 +264,10 @@ static bool cie_name(const char *v) {
 }
 
 vr_status scn_spectrum(const scn_parser *p, const char *word, const char *v, vr_spectrum_ref *out) {
-  if (!strncmp(v, "db:", 3)) {
+  if (v[0] == '[') {
+    vr_status st = scn_inline_check(p, word, v, HUGE_VAL);
+    if (st) return st;
+  } else if (!strncmp(v, "db:", 3)) {
     if (!v[3]) return scn_fail(p, word, "\"%s\": db: needs a name", word);
   } else if (!strncmp(v, "bb:", 3)) {
     double k;
@@ -276,7 +279,7 @@ vr_status scn_spectrum(const scn_parser *p, const char *word, const char *v, vr_
     if (!(k > 0)) return scn_fail(p, word, "\"%s\": a blackbody temperature must be positive", word);
   } else if (!cie_name(v)) {
     return scn_fail(p, word,
-                    "\"%s\": unknown spectrum \"%s\" (db:NAME, bb:KELVIN, or a CIE illuminant: A, "
+                    "\"%s\": unknown spectrum \"%s\" (db:NAME, bb:KELVIN, [W:V,...], or a CIE illuminant: A, "
                     "D50, D55, D65, D75, E, F1-F12, LED-B1-B5, LED-BH1, LED-RGB1, LED-V1, LED-V2, "
                     "D<CCT> for 4000-25000 K, BB<T>)",
                     word, v);

@@ -1,6 +1,6 @@
 /* What the files of vr-render share (render/tools/): the command line's
- * overrides of the scene (render_overrides.c), the checks of its outputs
- * against its inputs (render_outputs.c) and its results on stdout as text
+ * overrides of the scene (render_overrides.c), the choice of its outputs
+ * and their checks against its inputs (render_outputs.c) and its results on stdout as text
  * or JSON (render_report.c).  vr_render.c holds main. */
 #ifndef VR_RENDER_CLI_H
 #define VR_RENDER_CLI_H
@@ -36,11 +36,13 @@ typedef struct render_overrides {
   bool exposure_given;  /* --exposure EV */
   bool exposure_auto;   /* --exposure auto */
   double exposure_ev;
+  bool seed_given;      /* --seed N, instead of the render line's seed= */
+  unsigned long long seed;
   int nsets;            /* --set NAME.state=S, repeated */
   render_set sets[RENDER_MAX_SETS];
 } render_overrides;
 
-/* Reads --resolution, --exposure and every --set from the command line
+/* Reads --resolution, --exposure, --seed and every --set from the command line
  * (vr_args keeps one value per option, so --set, which may repeat, is read
  * from argv), and refuses any other option given twice.  0, or 2 after a
  * usage error was printed. */
@@ -48,7 +50,8 @@ int render_overrides_parse(const vr_args *a, int argc, char **argv, const vr_opt
                            size_t nopts, render_overrides *o);
 
 /* Applies them to the parsed scene: the camera's resolution and exposure,
- * the materials' states (charge= then no longer counts).  VR_E_NOT_FOUND
+ * the render line's seed, the materials' states (charge= then no longer
+ * counts).  VR_E_NOT_FOUND
  * naming a material the scene lacks, VR_E_ARG for one without a state. */
 vr_status render_overrides_apply(const render_overrides *o, vr_scene *s, vr_error *err);
 
@@ -66,6 +69,22 @@ void render_overrides_text(const render_overrides *o, char *out, size_t cap);
 
 /* ---- render_outputs.c ---- */
 
+/* --outputs LIST: the film's files (VR_FILM_EXR, ... of vr/film.h) named
+ * in a comma-separated list of exr, spectral, png, sensors, into *out (0
+ * without --outputs: all that apply).  An empty list or name, an unknown
+ * name, a name given twice, an image with --sensors-only, and --tonemap
+ * without png or --exposure without an image are usage errors: 2 after the
+ * message was printed, else 0. */
+int render_outputs_parse(const vr_args *a, unsigned *out);
+
+/* The files of the set for the scene: those asked for (0: all that apply,
+ * the images when there is a camera pass, the table when the scene has
+ * sensors).  VR_E_ARG naming the scene for a file it cannot give (an image
+ * without a camera, the table without sensors) and for any --outputs in an
+ * annual study. */
+vr_status render_outputs_choose(unsigned asked, const vr_scene *s, bool no_camera,
+                                unsigned *out, vr_error *err);
+
 /* The files one run writes, all known before any work. */
 #define RENDER_MAX_OUTPUTS 10
 typedef struct render_outputs {
@@ -74,13 +93,14 @@ typedef struct render_outputs {
   const char *option[RENDER_MAX_OUTPUTS]; /* "-o" or "--stats", for messages */
 } render_outputs;
 
-/* Lists the outputs (the prefix's files for what the scene renders, the
- * manifest, the statistics), and checks each with vr/out_guard.h against
- * the run's inputs (the scene, its meshes, IES and weather files, the
- * database and its journals) and against each other: none may be an input
- * or a folder, each folder must exist and be writable. */
+/* Lists the outputs (the prefix's files of `outputs`, a mask of
+ * render_outputs_choose, and the false-colour map, the manifest, the
+ * statistics), and checks each with vr/out_guard.h against the run's inputs
+ * (the scene, its meshes, IES and weather files, the database and its
+ * journals) and against each other: none may be an input or a folder, each
+ * folder must exist and be writable. */
 vr_status render_outputs_check(const vr_scene *s, const char *prefix, const char *stats,
-                               const char *db_path, bool image, bool falsecolour,
+                               const char *db_path, unsigned outputs, bool falsecolour,
                                render_outputs *out, vr_error *err);
 void render_outputs_free(render_outputs *o);
 

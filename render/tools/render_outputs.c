@@ -1,14 +1,83 @@
-/* vr-render's outputs, all checked before any work (render_cli.h): none may
- * replace a file the run reads (the scene, its meshes, IES and weather
- * files, the material database), two may not be the same file, and each
- * folder must exist and be writable, so that a typo costs a second, not a
- * render. */
+/* vr-render's outputs (render_cli.h): which files the user wants
+ * (--outputs), and their checks before any work: none may replace a file
+ * the run reads (the scene, its meshes, IES and weather files, the material
+ * database), two may not be the same file, and each folder must exist and
+ * be writable, so that a typo costs a second, not a render. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "render_cli.h"
 #include "vr/out_guard.h"
+
+/* ---- which files: --outputs ---- */
+
+static const struct {
+  const char *name, *suffix;
+  unsigned bit;
+} FILES[] = {{"exr", ".exr", VR_FILM_EXR},
+             {"spectral", ".spectral.exr", VR_FILM_SPECTRAL},
+             {"png", ".png", VR_FILM_PNG},
+             {"sensors", ".sensors.csv", VR_FILM_SENSORS}};
+#define NFILES (sizeof FILES / sizeof FILES[0])
+#define IMAGES (VR_FILM_EXR | VR_FILM_SPECTRAL | VR_FILM_PNG)
+
+int render_outputs_parse(const vr_args *a, unsigned *out) {
+  *out = 0;
+  const char *list = vr_args_get(a, "outputs");
+  bool sensors_only = vr_args_flag(a, "sensors-only");
+  if (!list) return 0;
+  if (!*list)
+    return render_usage_error("--outputs '': the list is empty (name one or more of exr, "
+                              "spectral, png, sensors)");
+  for (const char *at = list;; at++) {
+    size_t n = strcspn(at, ",");
+    if (n == 0)
+      return render_usage_error("--outputs '%s': an empty name in the list (names are "
+                                "separated by single commas)", list);
+    unsigned bit = 0;
+    for (size_t k = 0; k < NFILES && !bit; k++)
+      if (strlen(FILES[k].name) == n && !strncasecmp(at, FILES[k].name, n)) bit = FILES[k].bit;
+    if (!bit)
+      return render_usage_error("--outputs '%s': unknown output \"%.*s\" (choose among exr, "
+                                "spectral, png, sensors)", list, (int)n, at);
+    if (*out & bit)
+      return render_usage_error("--outputs '%s': \"%.*s\" is named twice", list, (int)n, at);
+    if (sensors_only && (bit & IMAGES))
+      return render_usage_error("--outputs '%s': \"%.*s\" is an image, and --sensors-only "
+                                "renders none", list, (int)n, at);
+    *out |= bit;
+    at += n;
+    if (!*at) break;
+  }
+  /* Options that change only files left out are refused, not ignored. */
+  if (!(*out & VR_FILM_PNG) && vr_args_get(a, "tonemap"))
+    return render_usage_error("--tonemap maps the PNG, which --outputs '%s' leaves out", list);
+  if (!(*out & IMAGES) && vr_args_get(a, "exposure"))
+    return render_usage_error("--exposure sets the images' exposure, and --outputs '%s' writes "
+                              "no image", list);
+  return 0;
+}
+
+vr_status render_outputs_choose(unsigned asked, const vr_scene *s, bool no_camera,
+                                unsigned *out, vr_error *err) {
+  unsigned can = (no_camera ? 0u : IMAGES) | (s->nsensors ? VR_FILM_SENSORS : 0u);
+  *out = asked ? asked : can;
+  if (asked && s->sky.annual)
+    return vr_error_set(err, VR_E_ARG, "%s: --outputs chooses among the files of one render; "
+                        "an annual study writes PREFIX.annual.csv and PREFIX.annual-hourly.csv",
+                        s->path);
+  for (size_t k = 0; k < NFILES; k++)
+    if (asked & FILES[k].bit & ~can)
+      return vr_error_set(err, VR_E_ARG, "%s: --outputs names \"%s\", but %s", s->path,
+                          FILES[k].name, FILES[k].bit == VR_FILM_SENSORS
+                                             ? "the scene has no sensor line"
+                                             : "the scene has no camera: there is no image");
+  return VR_OK;
+}
+
+/* ---- the files and their checks ---- */
 
 static vr_status add(render_outputs *o, const char *a, const char *b, const char *option,
                      vr_error *err) {
@@ -28,7 +97,7 @@ void render_outputs_free(render_outputs *o) {
 }
 
 vr_status render_outputs_check(const vr_scene *s, const char *prefix, const char *stats,
-                               const char *db_path, bool image, bool falsecolour,
+                               const char *db_path, unsigned outputs, bool falsecolour,
                                render_outputs *out, vr_error *err) {
   memset(out, 0, sizeof *out);
   vr_out_guard *g = malloc(sizeof *g);
@@ -43,14 +112,16 @@ vr_status render_outputs_check(const vr_scene *s, const char *prefix, const char
   vr_out_guard_database(g, db_path);
 
   vr_status st = VR_OK;
-  static const char *const IMAGE[] = {".exr", ".spectral.exr", ".png"};
   if (s->sky.annual) {
     if (!(st = add(out, prefix, ".annual.csv", "-o", err)))
       st = add(out, prefix, ".annual-hourly.csv", "-o", err);
   } else {
-    for (int i = 0; image && !st && i < 3; i++) st = add(out, prefix, IMAGE[i], "-o", err);
-    if (!st && image && falsecolour) st = add(out, prefix, ".falsecolour.png", "-o", err);
-    if (!st && s->nsensors) st = add(out, prefix, ".sensors.csv", "-o", err);
+    /* In the order the film writes them. */
+    for (size_t k = 0; !st && k < NFILES; k++) {
+      if (outputs & FILES[k].bit) st = add(out, prefix, FILES[k].suffix, "-o", err);
+      if (!st && FILES[k].bit == VR_FILM_PNG && falsecolour)
+        st = add(out, prefix, ".falsecolour.png", "-o", err);
+    }
     if (!st) st = add(out, prefix, ".manifest.json", "-o", err);
     if (!st && stats) st = add(out, stats, "", "--stats", err);
   }

@@ -1,9 +1,10 @@
 /* vr-render's overrides of the scene file (render_cli.h): one scene file
- * serves a study of resolutions, exposures and tint states.  --resolution
- * and --exposure replace the camera line's values, --set NAME.state=S a
- * material's state; all are checked before the scene is read where they
+ * serves a study of resolutions, exposures, seeds and tint states.
+ * --resolution and --exposure replace the camera line's values, --seed the
+ * render line's, --set NAME.state=S a material's state; all are checked before the scene is read where they
  * can be (a usage error, exit 2), and against the scene and the database
  * before any work (exit 1). */
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -105,6 +106,21 @@ int render_overrides_parse(const vr_args *a, int argc, char **argv, const vr_opt
       return render_usage_error("--resolution '%s': expected WIDTHxHEIGHT, each 1 to 16384", res);
     o->width = (int)w, o->height = (int)h;
   }
+  const char *seed = vr_args_get(a, "seed");
+  if (seed) {
+    /* The scene's seed= range, digits only: no sign, no exponent. */
+    size_t n = strlen(seed);
+    bool ok = n > 0 && n <= 20 && strspn(seed, "0123456789") == n;
+    if (ok) {
+      errno = 0;
+      o->seed = strtoull(seed, NULL, 10);
+      ok = errno == 0;
+    }
+    if (!ok)
+      return render_usage_error("--seed '%s': expected an integer in [0, 18446744073709551615]",
+                                seed);
+    o->seed_given = true;
+  }
   const char *ev = vr_args_get(a, "exposure");
   if (ev) {
     o->exposure_given = true;
@@ -124,6 +140,7 @@ static vr_scene_material *material_named(vr_scene *s, const char *name) {
 vr_status render_overrides_apply(const render_overrides *o, vr_scene *s, vr_error *err) {
   if (o->width) s->camera.width = o->width, s->camera.height = o->height;
   if (o->exposure_given && !o->exposure_auto) s->camera.exposure_ev = o->exposure_ev;
+  if (o->seed_given) s->settings.seed = o->seed;
   for (int i = 0; i < o->nsets; i++) {
     const render_set *set = &o->sets[i];
     vr_scene_material *m = material_named(s, set->material);
@@ -169,8 +186,9 @@ vr_status render_overrides_check_db(const render_overrides *o, const vr_scene *s
 }
 
 void render_overrides_text(const render_overrides *o, char *out, size_t cap) {
-  size_t used = (size_t)snprintf(out, cap, "res=%dx%d ev=%s%.17g", o->width, o->height,
-                                 o->exposure_auto ? "auto" : "", o->exposure_ev);
+  size_t used = (size_t)snprintf(out, cap, "res=%dx%d ev=%s%.17g seed=%d:%llu", o->width,
+                                 o->height, o->exposure_auto ? "auto" : "", o->exposure_ev,
+                                 o->seed_given, o->seed);
   for (int i = 0; i < o->nsets && used < cap; i++)
     used += (size_t)snprintf(out + used, cap - used, " set=%s:%.17g", o->sets[i].material,
                              o->sets[i].state);

@@ -23,6 +23,7 @@
 #include "vr/file.h"
 #include "vr/sha256.h"
 #include "vr/film.h"
+#include "vr/image.h"
 #include "vr/matdb.h"
 #include "vr/progress.h"
 #include "vr/render.h"
@@ -30,7 +31,8 @@
 #include "vr/sky.h"
 
 static const vr_option OPTIONS[] = {
-    {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv, .manifest.json (default: the scene's name without .scn, here); checked before any work"},
+    {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv (those that apply, or those of --outputs) and .manifest.json (default PREFIX: the scene's name without .scn, here); checked before any work"},
+    {"outputs", 0, "LIST", "which files to write: a comma-separated subset of exr, spectral, png, sensors (default: all that apply); the manifest is always written and lists them. Without png (and --falsecolour), OpenCV is never loaded"},
     {"db", 'd', "FILE", "material database, read-only (default: $VR_MATDB, else ./materials.db; made if missing and needed)"},
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
     {"memory-budget", 0, "SIZE", "hold at most SIZE (e.g. 512M, 2G) of sub-domains, ray queues and maps: sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
@@ -40,6 +42,7 @@ static const vr_option OPTIONS[] = {
     {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
     {"resolution", 0, "WxH", "image size in pixels, overriding the camera line's resolution="},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
+    {"seed", 0, "N", "random seed in [0, 2^64-1], overriding the scene's render seed= (same seed, same image)"},
     {"exposure", 0, "EV|auto", "PNG exposure in EV, overriding the camera line's exposure=; auto: the image's log-average luminance Ylog = exp(mean ln Y) over its lit pixels to mid grey (PNG 118), EV = log2(18 cd/m2 / Ylog)"},
     {"set", 0, "NAME.state=S", "a material's tint state S in [0, 1], overriding the scene (repeat for several materials)"},
     {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
@@ -54,19 +57,23 @@ static const vr_option OPTIONS[] = {
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
 
 static const char USAGE[] =
-    "SCENE.scn [-o PREFIX] [--db FILE] [--subdomains S] [--memory-budget SIZE] [--cache DIR]\n"
-    "                 [--threads P] [--image-space] [--send-batch N]\n"
-    "                 [--resolution WxH] [--spp N] [--photons N] [--exposure EV|auto]\n"
+    "SCENE.scn [-o PREFIX] [--outputs LIST] [--db FILE] [--subdomains S] [--memory-budget SIZE]\n"
+    "                 [--cache DIR] [--threads P] [--image-space] [--send-batch N]\n"
+    "                 [--resolution WxH] [--spp N] [--seed N] [--photons N] [--exposure EV|auto]\n"
     "                 [--set NAME.state=S]... [--stats FILE.json] [--tonemap clip|reinhard]\n"
     "                 [--falsecolour LO,HI] [--sensors-only] [--json] [--quiet]\n"
     "       vr-render --verify PREFIX";
 static const char ABOUT[] =
     "Renders a scene file (docs/scene-format.md) with the materials of the material database.\n"
     "Each analysis decision (which passes the scene needs, and why) is printed to stderr.\n"
+    "In the scene, as in pbrt-v4: camera ... filter=box|tent|gaussian|mitchell [filter_radius=R]\n"
+    "(pixels) [filter_sigma=S]; render sampler=independent|stratified|sobol; a spectrum or a\n"
+    "lambert reflectance inline as [400:0.12,500:0.35,700:0.7] or [400 0.12 500 0.35 700 0.7].\n"
     "Outputs: PREFIX.exr (linear sRGB, Y in cd/m2), PREFIX.spectral.exr (spectral radiance\n"
     "in W/(m2 sr nm), Fichet-Pacanowski-Wilkie layout), PREFIX.png (8-bit sRGB: 100 cd/m2\n"
     "is white at EV 0, times 2^exposure of the scene's camera), and PREFIX.sensors.csv\n"
-    "(illuminance in lx and spectral irradiance in W/(m2 nm)) when the scene has sensors.\n"
+    "(illuminance in lx and spectral irradiance in W/(m2 nm)) when the scene has sensors;\n"
+    "--outputs chooses among them (e.g. --outputs exr,sensors).\n"
     "The outputs appear together or not at all, with PREFIX.manifest.json (the run's id, each\n"
     "file's size and SHA-256) written last; 'vr-render --verify PREFIX' checks a set against it.\n"
     "Every output is checked before any work: none may replace an input of the run (the scene,\n"
@@ -375,6 +382,8 @@ static int run(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   }
   const char *given = vr_args_get(a, "output");
   if (given && !*given) return render_usage_error("-o '': expected a prefix such as out/room");
+  unsigned asked = 0, outputs = 0;
+  if (render_outputs_parse(a, &asked)) return 2;
   bool json = vr_args_flag(a, "json");
   int rank = vr_comm_rank(comm);
   /* Only rank 0 speaks (and writes). */
@@ -417,11 +426,17 @@ static int run(const vr_args *a, int argc, char **argv, vr_comm *comm) {
     vr_error_set(&err, VR_E_ARG, "%s: --sensors-only, but the scene has no sensor line", path);
     goto ready;
   }
+  if (render_outputs_choose(asked, scene, opt.no_camera, &outputs, &err)) goto ready;
   /* Every output before any work: a wrong path costs a second, not a render. */
   if (rank == 0) {
-    if (render_outputs_check(scene, prefix, stats, db_path, !opt.no_camera, fc != NULL, &outs,
-                             &err))
+    if (render_outputs_check(scene, prefix, stats, db_path, outputs, fc != NULL, &outs, &err))
       goto ready;
+    /* OpenCV, for the PNGs, now rather than after the render (vr/image.h). */
+    bool png = !scene->sky.annual && ((outputs & VR_FILM_PNG) || fc);
+    if (png && vr_image_codecs_load(&err)) {
+      vr_error_prefix(&err, "%s%s: ", prefix, outputs & VR_FILM_PNG ? ".png" : ".falsecolour.png");
+      goto ready;
+    }
     render_clean_stale(prefix, stats, ui_log, &u);
   }
   if (rank == 0) log_perez(&u, scene);
@@ -456,6 +471,7 @@ ready:
       ui_log(&u, "--exposure auto: the image has no light; exposure left at the camera's");
     fo.stats_path = stats;
     fo.run_id = run_id;
+    fo.outputs = outputs;
     if (vr_film_write_with(r, prefix, &fo, &err)) goto out;
     render_report rep = {.scene = path, .prefix = prefix, .stats = stats, .run_id = run_id,
                          .outputs = &outs, .falsecolour = fc != NULL,

@@ -98,6 +98,17 @@ done
 S=8
 check "only rank 0 wrote outputs" test -z "$(ls "$tmp" | grep -v -e '^one' -e '^ranks' -e '^cmp' -e '^batch' -e '^room' -e '\.db' -e 'vrcache')"
 
+# Progressive photon mapping (SPPM): each rank's visible points and photon
+# sums are added over the ranks after each step, so 2 ranks on 8
+# sub-domains give the image of one process.
+sed 's/^render .*/render integrator=progressive spp=3 photons=20000 depth=6 seed=3 sensor_samples=64/' "$tmp/room.scn" > "$tmp/sppm.scn"
+(cd "$tmp" && "$bin" sppm.scn --threads 1 -o sppm1 --quiet); check "SPPM: one process renders" test $? -eq 0
+(cd "$tmp" && timeout 300 "${mpi[@]}" -np 2 "$bin" sppm.scn --subdomains 8 --threads 1 -o sppm2 --quiet)
+check "SPPM: 2 ranks on 8 sub-domains render" test $? -eq 0
+"$cmp" "$tmp/sppm1.exr" "$tmp/sppm2.exr" > "$tmp/cmpsppm.txt"; rc=$?
+check "SPPM: 2 ranks give the image of one process" test $rc -eq 0
+[ $rc -eq 0 ] || sed 's/^/# /' "$tmp/cmpsppm.txt"
+
 # --send-batch bounds the rays of a message.
 runN 2 --send-batch 16 -o batch --stats batch.json; check "2 ranks, 16 rays a message: renders" test $? -eq 0
 "$cmp" "$tmp/one.exr" "$tmp/batch.exr" > /dev/null; check "2 ranks, 16 rays a message: the same image" test $? -eq 0

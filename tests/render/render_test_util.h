@@ -49,6 +49,16 @@ static inline vr_render_result *render_text_with(const char *text, int S, int P,
   return r;
 }
 
+/* The white furnace's six walls, 2 x 2 m about the origin, material M,
+ * each emitting 100 cd/m2 (of D65, the default emission spectrum). */
+#define FURNACE_WALLS(M)                                                            \
+  "rect center=0,0,-1 normal=0,0,1 size=2,2 material=" M " emission=100cd/m2\n" \
+  "rect center=0,0,1 normal=0,0,-1 size=2,2 material=" M " emission=100cd/m2\n" \
+  "rect center=-1,0,0 normal=1,0,0 size=2,2 material=" M " emission=100cd/m2\n" \
+  "rect center=1,0,0 normal=-1,0,0 size=2,2 material=" M " emission=100cd/m2\n" \
+  "rect center=0,-1,0 normal=0,1,0 size=2,2 material=" M " emission=100cd/m2\n" \
+  "rect center=0,1,0 normal=0,-1,0 size=2,2 material=" M " emission=100cd/m2\n"
+
 /* CIE 171:2006 case 5.8: a 4 m cube (floor z = 0 centred on the z axis),
  * a point source of flux phi_lm at its centre, reflectance rho.  The mean
  * over the readings (floor points) of the illuminance less the analytic

@@ -517,6 +517,57 @@ static void manifest_and_verify(void **state) {
   assert_contains(err.message, "nothing.manifest.json");
 }
 
+/* vr_film_options.outputs: each choice writes exactly its files, and the
+ * manifest lists them; a file the result cannot give writes nothing. */
+static void outputs_choose_the_files(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  static const char *const SUFFIX[] = {".exr", ".spectral.exr", ".png", ".sensors.csv"};
+  const unsigned choices[] = {VR_FILM_EXR, VR_FILM_SPECTRAL, VR_FILM_PNG, VR_FILM_SENSORS,
+                              VR_FILM_EXR | VR_FILM_SENSORS, VR_FILM_SPECTRAL | VR_FILM_PNG};
+  for (size_t c = 0; c < sizeof choices / sizeof choices[0]; c++) {
+    char prefix[32], file[64], name[72];
+    snprintf(prefix, sizeof prefix, "out%zu", c);
+    vr_film_options fo = {.outputs = choices[c]};
+    vr_error err = {0};
+    assert_int_equal(vr_film_write_with(&o.r, in_dir(prefix), &fo, &err), VR_OK);
+    vr_film_check check;
+    assert_int_equal(vr_film_verify(in_dir(prefix), NULL, NULL, &check, &err), VR_OK);
+    int n = 0;
+    for (int k = 0; k < 4; k++) {
+      snprintf(file, sizeof file, "%s%s", prefix, SUFFIX[k]);
+      snprintf(name, sizeof name, "\"%s\"", file);
+      bool want = choices[c] & (1u << k);
+      assert_int_equal(exists(in_dir(file)), want);
+      snprintf(file, sizeof file, "%s.manifest.json", prefix);
+      const char *m = slurp(in_dir(file));
+      assert_int_equal(strstr(m, name) != NULL, want);
+      n += want;
+    }
+    assert_int_equal(check.files, n);
+  }
+  /* What the result cannot give: nothing written, the file named. */
+  vr_error err = {0};
+  vr_film_options fo = {.outputs = VR_FILM_SENSORS};
+  o.r.nreadings = 0;
+  assert_int_equal(vr_film_write_with(&o.r, in_dir("none"), &fo, &err), VR_E_ARG);
+  assert_contains(err.message, "sensor table");
+  o.r.nreadings = 2;
+  o.r.width = o.r.height = 0;
+  fo.outputs = VR_FILM_PNG | VR_FILM_SENSORS;
+  assert_int_equal(vr_film_write_with(&o.r, in_dir("none"), &fo, &err), VR_E_ARG);
+  assert_contains(err.message, "PNG");
+  o.r.width = W, o.r.height = H, o.r.spectral = NULL;
+  fo.outputs = VR_FILM_SPECTRAL;
+  assert_int_equal(vr_film_write_with(&o.r, in_dir("none"), &fo, &err), VR_E_ARG);
+  assert_contains(err.message, "no spectral bins");
+  fo.outputs = 1u << 7;
+  assert_int_equal(vr_film_write_with(&o.r, in_dir("none"), &fo, &err), VR_E_ARG);
+  assert_false(exists(in_dir("none.manifest.json")));
+  assert_false(exists(in_dir("none.sensors.csv")));
+}
+
 /* A killed run's staging folder (its process gone) is removed; a live
  * process's is kept. */
 static void stale_staging_is_removed(void **state) {
@@ -594,6 +645,7 @@ int main(void) {
       cmocka_unit_test(nan_pixel_writes_nothing),
       cmocka_unit_test(failed_output_removes_the_others),
       cmocka_unit_test(manifest_and_verify),
+      cmocka_unit_test(outputs_choose_the_files),
       cmocka_unit_test(stale_staging_is_removed),
       cmocka_unit_test(auto_exposure),
   };

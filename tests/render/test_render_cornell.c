@@ -31,22 +31,13 @@
 #include "vr/matdb.h"
 #include "vr/render.h"
 #include "vr/scene.h"
+#include "cornell_import.h"
 
 static char dbpath[256];
 static vr_matdb *db;
 
 static int import(const char *file, const char *name, const char *kind) {
-  char path[1024];
-  snprintf(path, sizeof path, "%s/samples/cornell/%s", VR_SOURCE_DIR, file);
-  vr_error err = {0};
-  vr_material *m = NULL;
-  if (vr_import_file(path, name, kind, "test", &m, &err) || vr_matdb_save(db, m, &err)) {
-    fprintf(stderr, "%s: %s\n", path, err.message);
-    vr_material_destroy(m);
-    return -1;
-  }
-  vr_material_destroy(m);
-  return 0;
+  return cornell_import(db, file, name, kind);
 }
 
 static int setup(void **state) {

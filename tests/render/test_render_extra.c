@@ -25,9 +25,7 @@
  *     dispersion pass for it and not for a scene without refraction; with
  *     walls of albedo a the radiance is L_e / (1 - a), which photon mapping
  *     must find through the sphere too (caustic photons);
- *   - progressive photon mapping in the white furnace (walls of albedo a
- *     emitting L_e: radiance L_e / (1 - a) everywhere) converges: within
- *     2 % after 16 passes, and its per-pixel error falls with the passes. */
+ *   (progressive photon mapping in the white furnace: test_sppm.c). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -44,6 +42,7 @@
 #include "vr/render.h"
 #include "vr/scene.h"
 #include "vr/spectrum.h"
+#include "render_test_util.h"
 
 static vr_matdb *db;
 static char dbpath[256];
@@ -535,14 +534,6 @@ static void test_spectral_modes_indirect(void **state) {
 
 /* The six inward-facing 2 x 2 m walls of the furnace, of material M,
  * each emitting 100 cd/m². */
-#define FURNACE_WALLS(M)                                                            \
-  "rect center=0,0,-1 normal=0,0,1 size=2,2 material=" M " emission=100cd/m2\n" \
-  "rect center=0,0,1 normal=0,0,-1 size=2,2 material=" M " emission=100cd/m2\n" \
-  "rect center=-1,0,0 normal=1,0,0 size=2,2 material=" M " emission=100cd/m2\n" \
-  "rect center=1,0,0 normal=-1,0,0 size=2,2 material=" M " emission=100cd/m2\n" \
-  "rect center=0,-1,0 normal=0,1,0 size=2,2 material=" M " emission=100cd/m2\n" \
-  "rect center=0,1,0 normal=0,-1,0 size=2,2 material=" M " emission=100cd/m2\n"
-
 static const char *FURNACE_BLACK =
     "material em black\n"
     FURNACE_WALLS("em");
@@ -632,55 +623,6 @@ static void test_dispersive_furnace_photons(void **state) {
   done(r);
 }
 
-/* --------------------------------------------------------- progressive */
-
-/* Mean Y and RMS per-pixel error against the furnace's L_e / (1 - a). */
-static void furnace_progressive(int passes, double want, double *mean_err, double *rms_err) {
-  char scn[2048];
-  snprintf(scn, sizeof scn,
-           "material wall lambert reflectance=0.5\n"
-           FURNACE_WALLS("wall")
-           "camera pinhole from=0,0,0 to=0,1,0 fov=60 resolution=16x12\n"
-           "render integrator=progressive passes=%d spp=256 photons=20000 depth=64 seed=3\n",
-           passes);
-  vr_render_result *r = render_text(scn);
-  double sum = 0, sq = 0;
-  int n = r->width * r->height;
-  for (int y = 0; y < r->height; y++)
-    for (int x = 0; x < r->width; x++) {
-      double v = Y(r, x, y);
-      sum += v;
-      sq += (v - want) * (v - want);
-    }
-  *mean_err = fabs(sum / n - want) / want;
-  *rms_err = sqrt(sq / n) / want;
-  print_message("    %2d passes: mean Y %.3f cd/m2 (error %.2f %%), per-pixel rms error %.2f %%, "
-                "%zu global photons\n",
-                passes, sum / n, 100 * *mean_err, 100 * *rms_err, r->photons_global);
-  done(r);
-}
-
-/* The view covers the middle 1.15 x 0.87 m of a 2 x 2 m wall, more than a
- * gather radius (0.05 x the scene radius, 8.7 cm) from its edges, where
- * the irradiance is uniform and a disc estimate has no boundary bias.  So
- * what is left is noise: the mean over the image after 16 passes of 20000
- * photons scatters by about 0.2 % between seeds (8 seeds: 0.00 to 0.30 %),
- * and the per-pixel rms error falls from 5.3-6.0 % after one pass to
- * 2.8-3.4 % (the camera's own sampling noise, 256 paths per pixel). */
-static void test_progressive_converges(void **state) {
-  (void)state;
-  double want = 100.0 / (1 - 0.5); /* white furnace: L_e / (1 - a) */
-  double m1, r1, m16, r16;
-  furnace_progressive(1, want, &m1, &r1);
-  furnace_progressive(16, want, &m16, &r16);
-  if (m16 > 0.02) fail_msg("16 passes: mean error %.2f %%, expected within 2 %%", 100 * m16);
-  if (m1 > 0.02 && !(m16 < m1))
-    fail_msg("mean error %.2f %% after 16 passes, not below %.2f %% after 1", 100 * m16, 100 * m1);
-  if (!(r16 < r1))
-    fail_msg("per-pixel rms error %.2f %% after 16 passes, not below %.2f %% after 1", 100 * r16,
-             100 * r1);
-}
-
 /* ------------------------------------------------------- many emitters */
 
 /* Illuminance at a point facing up from a Lambertian rectangle of
@@ -739,7 +681,6 @@ int main(void) {
       cmocka_unit_test(test_spectral_modes_indirect),
       cmocka_unit_test(test_dispersive_furnace),
       cmocka_unit_test(test_dispersive_furnace_photons),
-      cmocka_unit_test(test_progressive_converges),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -95,6 +95,16 @@ vr_status vr_image_read(const char *path, vr_image *out, vr_error *err);
  * Float files come back as floats, as from vr_image_read. */
 vr_status vr_image_read_codes(const char *path, vr_image *out, vr_error *err);
 
+/* PNG, TIFF and JPEG go through OpenCV, in a module (vr-image-cv.so) loaded
+ * the first time such a file is read or written, so that a program that
+ * only reads and writes OpenEXR never loads OpenCV.  This loads it now, for
+ * a tool that would rather fail before its work than after it: VR_E_IO
+ * naming every path tried when it cannot be found or loaded.  The module is
+ * looked for at $VR_IMAGE_CV_MODULE if set, else beside the program
+ * (DIR/vr-image-cv.so, DIR/../lib/virtuelium-c/vr-image-cv.so), else where
+ * the build put it. */
+vr_status vr_image_codecs_load(vr_error *err);
+
 /* Turns an image of codes into floats in place (the values vr_image_read
  * would have given); nothing to do for an image of floats. */
 vr_status vr_image_to_float(vr_image *img, vr_error *err);

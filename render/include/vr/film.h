@@ -18,7 +18,8 @@
  *                          scale: the luminance map of vr/falsecolour.h;
  *   out/room.manifest.json the run's id and each file's size and SHA-256.
  * The images are left out when the film is empty (width or height 0: a
- * sensors-only render), the spectral EXR when the film has no bins.
+ * sensors-only render), the spectral EXR when the film has no bins;
+ * vr_film_write_with may leave out more (vr_film_options.outputs).
  *
  * All or nothing: every file is written into a staging folder beside its
  * target, and only when all have been written are they renamed into place
@@ -62,8 +63,24 @@ void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonem
 vr_status vr_film_write(const vr_render_result *r, const char *prefix, const char *tonemap,
                         vr_error *err);
 
+/* The files of the set, for vr_film_options.outputs. */
+enum {
+  VR_FILM_EXR = 1 << 0,      /* PREFIX.exr */
+  VR_FILM_SPECTRAL = 1 << 1, /* PREFIX.spectral.exr */
+  VR_FILM_PNG = 1 << 2,      /* PREFIX.png */
+  VR_FILM_SENSORS = 1 << 3,  /* PREFIX.sensors.csv */
+  VR_FILM_ALL = (1 << 4) - 1
+};
+
 /* What vr_film_write_with writes besides the defaults. */
 typedef struct vr_film_options {
+  /* Which of the files above; 0: all that apply (the images when the film
+   * has them, the table when there are readings).  A file asked for that
+   * the result cannot give (an image of a film without one, the spectral
+   * EXR of a film without bins, the table without readings) is VR_E_ARG
+   * and nothing is written.  PNG, TIFF and JPEG load OpenCV (vr/image.h):
+   * a set without them never does. */
+  unsigned outputs;
   const char *tonemap;         /* "clip" (NULL), "reinhard" */
   double falsecolour_lo_cd_m2; /* both > 0: PREFIX.falsecolour.png on that log scale; */
   double falsecolour_hi_cd_m2; /* 0: none */

@@ -16,7 +16,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include "vr/error.h"
+#include "vr/filter.h"
 #include "vr/perez.h"
+#include "vr/rng.h"
+#include "vr/spectrum.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -61,13 +64,16 @@ typedef struct vr_scene_camera {
   double exposure_ev;           /* multiplies the image by 2^exposure_ev, default 0 */
   vr_fisheye_projection projection; /* fisheye: default equisolid; fov is the circle's,
                                        default 180, up to 360 */
+  vr_filter filter;             /* pixel filter (filter=, filter_radius=, filter_sigma=),
+                                   default box of radius 0.5 (vr/filter.h) */
   bool given;
   vr_scene_loc loc;
 } vr_scene_camera;
 
 /* A material alias: a scene name for a database material plus per-object
- * settings.  Constant spectra (for analytic test scenes) are allowed for
- * Lambertian reflectors: "material grey lambert reflectance=0.5". */
+ * settings.  Lambertian reflectors may be written in the scene: a constant
+ * ("material grey lambert reflectance=0.5", for analytic test scenes) or
+ * an inline spectrum ("reflectance=[400:0.12,500:0.35,700:0.7]"). */
 typedef enum vr_mat_source { VR_MATSRC_DB = 0, VR_MATSRC_LAMBERT_CONST, VR_MATSRC_BLACK } vr_mat_source;
 
 typedef enum vr_pane_model {
@@ -81,6 +87,9 @@ typedef struct vr_scene_material {
   vr_mat_source source;
   char *db_name;         /* VR_MATSRC_DB: the database name (after "db:") */
   double reflectance;    /* VR_MATSRC_LAMBERT_CONST: in [0,1]; 0 for the others */
+  char *reflectance_spectrum; /* VR_MATSRC_LAMBERT_CONST: an inline spectrum "[...]"
+                                 (vr_scene_inline_spectrum) instead of the constant,
+                                 or NULL */
   double roughness;      /* GGX alpha; NAN when not given (smooth) */
   double thickness_m;    /* pane thickness; NAN when not given */
   vr_pane_model pane;
@@ -118,8 +127,9 @@ typedef struct vr_quantity {
 } vr_quantity;
 
 /* A spectrum reference: "db:NAME" (an illuminant or reflectance in the
- * database), a CIE illuminant name known to the core (D65, A, ...), or
- * "bb:T" for a blackbody; NULL for the default of the element. */
+ * database), a CIE illuminant name known to the core (D65, A, ...), "bb:T"
+ * for a blackbody, or an inline table "[W:V,W:V,...]" or "[W V W V ...]"
+ * (vr_scene_inline_spectrum); NULL for the default of the element. */
 typedef char *vr_spectrum_ref;
 
 typedef struct vr_scene_object {
@@ -232,7 +242,8 @@ typedef enum vr_integrator {
   VR_INT_PATH = 0,       /* reference path tracer */
   VR_INT_WHITTED,        /* the paper's local illumination: shadow rays + specular */
   VR_INT_PHOTON,         /* Jensen: global + caustic photon maps */
-  VR_INT_PROGRESSIVE     /* progressive photon mapping, shrinking radius */
+  VR_INT_PROGRESSIVE,    /* progressive photon mapping, shrinking radius */
+  VR_INT_BDPT            /* bidirectional path tracing (bdpt.c) */
 } vr_integrator;
 
 typedef enum vr_spectral_mode { VR_SPECTRAL_HERO = 0, VR_SPECTRAL_BINS } vr_spectral_mode;
@@ -269,6 +280,8 @@ typedef struct vr_scene_settings {
   int sensor_samples;         /* paths per sensor point, default 4096 */
   vr_sensor_estimator sensors;/* default path */
   unsigned long long seed;    /* default 1 */
+  vr_sampler_kind sampler;    /* sampler=: independent (default), stratified or sobol
+                                 (vr/rng.h) */
   /* Spectral film: bins of the spectral EXR. */
   double film_min_nm, film_max_nm, film_step_nm; /* default 400, 700, 10 */
   vr_scene_loc loc;
@@ -331,6 +344,12 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
                          vr_error *err);
 vr_status vr_scene_read(const char *path, vr_scene **out, vr_error *err);
 void vr_scene_destroy(vr_scene *s);
+
+/* The spectrum of an inline table as a scene file writes it (a reference
+ * or a reflectance starting with '['): "[W:V,W:V,...]" or pbrt-v4's pairs
+ * "[W V W V ...]", wavelengths in nm strictly increasing, at least two
+ * points, values finite and not negative.  NULL (VR_E_PARSE) otherwise. */
+vr_spectrum *vr_scene_inline_spectrum(const char *text, vr_error *err);
 
 #ifdef __cplusplus
 }
