@@ -3,7 +3,7 @@
  * box lit by a point light through a slab of N-BK7
  * (bench/scenes/cornell_bk7.scn; pbrt-v4's copy is cornell_bk7.pbrt).
  *
- *   bench_photon [--threads N] [--reference FILE.exr] [--keep DIR]
+ *   bench_photon [--threads N] [--reference FILE.exr] [--keep DIR] [--resolution WxH]
  *                [--iterations LIST] [--photons N] [--ref-iterations N]
  *   bench_photon compare A.exr B.exr
  *   bench_photon --rss [--threads N]
@@ -19,7 +19,7 @@
  * `compare` prints the same error of A against B, the mean Y of both, and
  * the colour noise ratio: relative RMSE of X and Z over that of Y.
  * `--rss` renders the scene at 16 x 16 pixels with 256 to 16384 samples
- * per pixel (path) or iterations (progressive, 20000 photons each) and
+ * per pixel (path) or iterations (progressive, 1024 photons each) and
  * prints each run's peak RSS: what the issue asks to be independent of
  * spp within 10 %. */
 #include <math.h>
@@ -102,7 +102,8 @@ static void write_scene(const char *from, const char *to, const char *integrator
   if (fclose(out)) bench_die(to);
 }
 
-/* --rss: every run at this resolution instead of the scene's. */
+/* --resolution (and --rss): every run at this resolution instead of the
+ * scene's. */
 static const char *g_resolution;
 
 /* Runs vr-render on the scene with extra options; its wall time and peak
@@ -127,6 +128,7 @@ static int render(const char *dir, const char *scene, const char *prefix, int th
     argv[17] = "--resolution";
     argv[18] = (char *)g_resolution;
   }
+  fflush(stdout); /* or the child's freopen writes our buffered lines again */
   double t0 = bench_now();
   pid_t pid = fork();
   if (pid < 0) bench_die("fork");
@@ -188,9 +190,11 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--photons") && i + 1 < argc) photons = atol(argv[++i]);
     else if (!strcmp(argv[i], "--ref-iterations") && i + 1 < argc) ref_iterations = atol(argv[++i]);
     else if (!strcmp(argv[i], "--rss")) rss = true;
+    else if (!strcmp(argv[i], "--resolution") && i + 1 < argc) g_resolution = argv[++i];
     else {
       fprintf(stderr, "usage: bench_photon [--threads N] [--reference FILE.exr] [--keep DIR] "
-                      "[--iterations LIST] [--photons N] [--ref-iterations N]\n"
+                      "[--resolution WxH] [--iterations LIST] [--photons N] [--ref-iterations N]\n"
+                      "       bench_photon --rss [--threads N]\n"
                       "       bench_photon compare A.exr B.exr\n");
       return 2;
     }
@@ -218,7 +222,7 @@ int main(int argc, char **argv) {
       for (int k = 0; k < 4; k++) {
         char prefix[64];
         snprintf(prefix, sizeof prefix, "rss_%s_%ld", ints[g], spps[k]);
-        if (render(dir, scene, prefix, threads, ints[g], spps[k], 20000, &wall, &mib)) return 1;
+        if (render(dir, scene, prefix, threads, ints[g], spps[k], 1024, &wall, &mib)) return 1;
         printf("%-12s %8ld %9.2f %9.1f\n", ints[g], spps[k], wall, mib);
         fflush(stdout);
       }
