@@ -254,7 +254,7 @@ void vr_sppm_deposit(vr_sppm *s, const rscene *rs, const double x[3], const doub
       ;
     for (int k = 0; k < s->nwl; k++) q->phi[k] += add[k];
     /* M counts the photons that reached the disc, whatever f gave them
-     * (Knaus & Zwicker's statistics count photons, not their weight). */
+     * (the statistics count photons, not their weight). */
     q->m++;
     atomic_store_explicit(&q->lock, 0, memory_order_release);
   }

@@ -1,5 +1,6 @@
 /* Stochastic progressive photon mapping (Hachisuka & Jensen 2009, with the
- * radius and flux statistics of Knaus & Zwicker 2011), spectral: the
+ * per-pixel radius and flux statistics of Hachisuka, Ogaki & Jensen 2008),
+ * spectral: the
  * renderer's `integrator=progressive` (alias `sppm`).
  *
  * Each iteration i:
@@ -17,8 +18,8 @@
  *     straight pane (light that next-event estimation cannot reach) adds
  *     f(wo, wi) Φ at its wavelengths to every visible point within that
  *     point's radius, found through a hash grid of the visible points;
- *  4. updates each pixel that received M photons (Knaus & Zwicker 2011,
- *     eq. 9-10, pbrt-v4's SPPM): N' = N + γ M, R' = R sqrt(N' / (N + M)),
+ *  4. updates each pixel that received M photons (Hachisuka, Ogaki &
+ *     Jensen 2008, as pbrt-v4's SPPM does): N' = N + γ M, R' = R sqrt(N' / (N + M)),
  *     τ' = (τ + β Φ) R'^2 / R^2, with γ = alpha (2/3 by default).
  * The pixel's photon radiance after I iterations of Np photons each is
  * τ / (I Np π R^2), held as CIE XYZ and film bins (each iteration's
