@@ -1,4 +1,4 @@
-/* Shared by the render tests that use the measured Cornell box: one of its
+/* Shared by the render tests that use the measured Cornell box: its
  * spectra (samples/cornell) imported into a test database.  Include after
  * cmocka.h and the vr headers it names. */
 #ifndef VR_CORNELL_IMPORT_H
@@ -23,6 +23,14 @@ static inline int cornell_import(vr_matdb *db, const char *file, const char *nam
   }
   vr_material_destroy(m);
   return 0;
+}
+
+/* The box's four spectra under the names samples/cornell/cornell.scn uses. */
+static inline int cornell_import_all(vr_matdb *db) {
+  return cornell_import(db, "cornell_white.csv", "cornell-white", "reflectance") ||
+         cornell_import(db, "cornell_red.csv", "cornell-red", "reflectance") ||
+         cornell_import(db, "cornell_green.csv", "cornell-green", "reflectance") ||
+         cornell_import(db, "cornell_light.csv", "cornell-light", "illuminant");
 }
 
 #endif

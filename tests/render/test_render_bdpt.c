@@ -73,10 +73,6 @@
 static char dbpath[256];
 static vr_matdb *db;
 
-static int import(const char *file, const char *name, const char *kind) {
-  return cornell_import(db, file, name, kind);
-}
-
 static vr_spectrum *flat(double v) {
   double nm[2] = {250, 2500}, val[2] = {v, v};
   return vr_spectrum_create(2, nm, val, NULL);
@@ -109,10 +105,7 @@ static int setup(void **state) {
     if (vr_matdb_save(db, m, &err)) return -1;
     vr_material_destroy(m);
   }
-  return import("cornell_white.csv", "cornell-white", "reflectance") ||
-         import("cornell_red.csv", "cornell-red", "reflectance") ||
-         import("cornell_green.csv", "cornell-green", "reflectance") ||
-         import("cornell_light.csv", "cornell-light", "illuminant");
+  return cornell_import_all(db);
 }
 
 static int teardown(void **state) {

@@ -36,20 +36,13 @@
 static char dbpath[256];
 static vr_matdb *db;
 
-static int import(const char *file, const char *name, const char *kind) {
-  return cornell_import(db, file, name, kind);
-}
-
 static int setup(void **state) {
   (void)state;
   snprintf(dbpath, sizeof dbpath, "/tmp/vr_test_cornell_%d.db", (int)getpid());
   unlink(dbpath);
   vr_error err = {0};
   if (vr_matdb_open(dbpath, 0, &db, &err)) return -1;
-  return import("cornell_white.csv", "cornell-white", "reflectance") ||
-         import("cornell_red.csv", "cornell-red", "reflectance") ||
-         import("cornell_green.csv", "cornell-green", "reflectance") ||
-         import("cornell_light.csv", "cornell-light", "illuminant");
+  return cornell_import_all(db);
 }
 
 static int teardown(void **state) {
