@@ -1,6 +1,6 @@
 /* The set of files one render writes, staged together and moved into place
  * together, with a manifest written last (film_set.c; vr/film.h says what
- * a user sees of it).  Internal to film_output.c. */
+ * a user sees of it).  Internal to film_output.c and annual_write.c. */
 #ifndef VR_FILM_SET_H
 #define VR_FILM_SET_H
 

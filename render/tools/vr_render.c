@@ -80,7 +80,7 @@ static const char ABOUT[] =
     "its meshes, IES and weather files, the database), and its folder must exist.\n"
     "A scene whose sky is a whole weather file (sky perez weather=FILE, no date) is an annual\n"
     "study instead: PREFIX.annual.csv (DA, UDI, direct-sun hours per point) and\n"
-    "PREFIX.annual-hourly.csv (every occupied hour), sDA and ASE on stdout.\n"
+    "PREFIX.annual-hourly.csv (every occupied hour), with their manifest; sDA and ASE on stdout.\n"
     "Under mpirun (mpirun -np N vr-render ...) the ranks share the sub-domains and pass rays\n"
     "to each other; rank 0 prints and writes the outputs.";
 
@@ -299,7 +299,8 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
              100 * pt->udi_useful, 100 * pt->udi_above, pt->direct_hours, pt->glare_hours,
              pt->mean_lx);
     }
-    printf("wrote    %s.annual.csv %s.annual-hourly.csv\n", prefix, prefix);
+    printf("wrote    %s.annual.csv %s.annual-hourly.csv %s.manifest.json\n", prefix, prefix,
+           prefix);
   }
   vr_annual_result_destroy(res);
   return st;

@@ -265,6 +265,12 @@ check "it prints sDA and ASE" grep -q "^annual   sDA300/50% 100.0 % of points, A
 check "it writes the point table" grep -q "^top,0,0," "$tmp/year.annual.csv"
 check "the hourly table has a line per occupied hour" test "$(wc -l < "$tmp/year.annual-hourly.csv")" -eq $((365 * 6 + 1))
 check "no images for a year" test ! -e "$tmp/year.png"
+check "the two tables are a set with a manifest" "$bin" --verify "$tmp/year"
+check "the manifest lists both tables" grep -q '"year.annual-hourly.csv"' "$tmp/year.manifest.json"
+check "and leaves no staging folder" test -z "$(ls -d "$tmp"/year.partial.* 2>/dev/null)"
+echo "x" >> "$tmp/year.annual.csv"
+"$bin" --verify "$tmp/year" > /dev/null 2>&1; rc=$?
+check "an altered table fails --verify (1)" test $rc -eq 1
 printf 'light sun\nsky perez weather=%s/tests/data/weather/chicago.wea\nsensor s point position=0,0,1 normal=0,0,1\nannual glass=g\n' "$src" > "$tmp/noglass.scn"
 "$bin" "$tmp/noglass.scn" -o "$tmp/ng" > /dev/null 2> "$tmp/err"; rc=$?
 check "an unknown glass exits 1" test $rc -eq 1
