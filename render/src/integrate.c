@@ -480,7 +480,7 @@ static void on_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_h
     double bw[VR_MAX_WL]; /* the sample's weight too: a pixel filter's negative lobes */
     for (int k = 0; k < p.nwl; k++) bw[k] = p.beta[k] * p.weight;
     vr_sppm_set_point(c->sppm, rs, p.index, hit->p, hit->ns, wo, o->material, se.state, p.nwl,
-                      bw);
+                      bw, (p.flags & FLAG_TERMINATED) != 0);
     return;
   }
   bool photon_mode = c->integrator == VR_INT_PHOTON || c->integrator == VR_INT_PROGRESSIVE;

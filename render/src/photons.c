@@ -134,7 +134,7 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
      * points about the hit. */
     if (p.flags & (FLAG_HAS_DIFFUSE | FLAG_HAS_SPECULAR)) {
       double wi[3] = {-r->dir[0], -r->dir[1], -r->dir[2]};
-      vr_sppm_deposit(c->sppm, rs, hit->p, wi, p.beta);
+      vr_sppm_deposit(c->sppm, rs, hit->p, wi, p.beta, (p.flags & FLAG_TERMINATED) != 0);
     }
   } else if ((lobes & VR_LOBE_DIFFUSE) && !before_portal) {
     vr_photon_set *map = (p.flags & FLAG_HAS_DIFFUSE)    ? c->global

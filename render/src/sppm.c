@@ -96,7 +96,7 @@ void vr_sppm_begin(vr_sppm *s, const rscene *rs, int iteration, int iterations) 
 
 void vr_sppm_set_point(vr_sppm *s, const rscene *rs, uint32_t pixel, const double p[3],
                        const double ns[3], const double wo[3], int material, double state,
-                       int nwl, const double *beta) {
+                       int nwl, const double *beta, bool terminated) {
   if (pixel >= s->npx) return;
   double *v = s->vp + slot_of(s, pixel) * VP_DOUBLES;
   const vr_bsdf *b = rs->mat[material].bsdf;
@@ -116,6 +116,7 @@ void vr_sppm_set_point(vr_sppm *s, const rscene *rs, uint32_t pixel, const doubl
   if (!any) return;
   v[VP_VALID] = 1;
   v[VP_LAMBERT] = lambert;
+  v[VP_TERM] = terminated;
   memcpy(v + VP_P, p, 3 * sizeof *p);
   memcpy(v + VP_N, ns, 3 * sizeof *ns);
   memcpy(v + VP_WO, wo, 3 * sizeof *wo);
@@ -160,6 +161,7 @@ vr_status vr_sppm_build(vr_sppm *s, vr_error *err) {
       if (!(s->radius[i] > 0)) s->radius[i] = 1e-6;
     }
     for (int k = 0; k < VR_MAX_WL; k++) s->acc[i].w[k] = v[VP_BETA + k];
+    s->acc[i].term = v[VP_TERM] > 0.5;
     for (int a = 0; a < 3; a++) {
       lo[a] = fmin(lo[a], v[VP_P + a] - s->radius[i]);
       hi[a] = fmax(hi[a], v[VP_P + a] + s->radius[i]);
@@ -216,7 +218,7 @@ vr_status vr_sppm_build(vr_sppm *s, vr_error *err) {
 }
 
 void vr_sppm_deposit(vr_sppm *s, const rscene *rs, const double x[3], const double wi[3],
-                     const double *beta) {
+                     const double *beta, bool terminated) {
   if (!s->idx) return;
   int c[3];
   for (int a = 0; a < 3; a++) {
@@ -246,6 +248,8 @@ void vr_sppm_deposit(vr_sppm *s, const rscene *rs, const double x[3], const doub
                    (vr_vec3){wi[0], wi[1], wi[2]}, s->nwl, s->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
       for (int k = 0; k < s->nwl; k++) add[k] = q->w[k] * f[k] * beta[k];
     }
+    if (terminated && q->term)
+      for (int k = 0; k < s->nwl; k++) add[k] /= s->nwl;
     for (int k = 0; k < s->nwl; k++)
       if (!(add[k] > 0) || !isfinite(add[k])) add[k] = 0.0;
     /* One lock a point for its nwl sums and its count: two atomic

@@ -42,16 +42,18 @@
 enum {
   VP_VALID = 0, VP_P = 1, VP_N = 4, VP_WO = 7, VP_STATE = 10, VP_MATERIAL = 11,
   VP_LAMBERT = 12, /* 1: a Lambertian surface, whose f is the same for every wi on wo's side */
-  VP_BETA = 13,    /* the camera path's throughput, or for a Lambertian one beta f */
+  VP_TERM = 13,    /* 1: the camera path refracted dispersively (only the hero is left) */
+  VP_BETA = 14,    /* the camera path's throughput, or for a Lambertian one beta f */
   VP_DOUBLES = VP_BETA + VR_MAX_WL
 };
 
 /* What photons add to one visible point in an iteration, and what they
- * need of it, in one place (two cache lines): the photon pass's memory
+ * need of it, in one place (a little over two cache lines): the photon pass's memory
  * traffic is these records. */
 typedef struct sppm_acc {
   _Atomic uint32_t lock;     /* held while a photon adds */
   uint32_t m;                /* photons that reached the point */
+  uint32_t term;             /* VP_TERM's value */
   double w[VR_MAX_WL];       /* VP_BETA's values */
   double phi[VR_MAX_WL];     /* sum of w f Φ (f folded into w for a Lambertian point) */
 } sppm_acc;
@@ -94,19 +96,25 @@ void vr_sppm_destroy(vr_sppm *s);
  * the visible points and this iteration's sums. */
 void vr_sppm_begin(vr_sppm *s, const rscene *rs, int iteration, int iterations);
 
-/* The pixel's visible point (a camera path's first diffuse vertex). */
+/* The pixel's visible point (a camera path's first diffuse vertex);
+ * terminated: the path refracted dispersively on the way, so beta holds
+ * only the hero, times nwl (bsdf_dielectric.c). */
 void vr_sppm_set_point(vr_sppm *s, const rscene *rs, uint32_t pixel, const double p[3],
                        const double ns[3], const double wo[3], int material, double state,
-                       int nwl, const double *beta);
+                       int nwl, const double *beta, bool terminated);
 
 /* After the camera pass (and the ranks' sum of the points): the grid. */
 vr_status vr_sppm_build(vr_sppm *s, vr_error *err);
 
 /* A photon of power beta (at the iteration's wavelengths, before the 1/N of
  * the photon count) arriving at x from direction wi (towards where it
- * came from): adds f Φ to every visible point whose disc holds x. */
+ * came from): adds f Φ to every visible point whose disc holds x.
+ * terminated: the photon refracted dispersively (its hero alone, times
+ * nwl); where the point's camera path did too, the factor nwl counts
+ * once, since both stand for the same dropped wavelengths (the iteration
+ * shares one hero between them). */
 void vr_sppm_deposit(vr_sppm *s, const rscene *rs, const double x[3], const double wi[3],
-                     const double *beta);
+                     const double *beta, bool terminated);
 
 /* Several ranks: adds the visible points (after the camera pass) or this
  * iteration's photon sums (after the photon pass) over the ranks. */

@@ -18,7 +18,11 @@
  *     a wide slab.  The reference is a second, independent tracer written
  *     here for this one geometry (rays from the light, exact Fresnel at
  *     every face, the box's six planes by hand);
- *   - BDPT, unbiased, against the same tracer.
+ *   - BDPT, unbiased, against the same tracer;
+ *   - a floor lit through a dispersive slab and seen through it: SPPM
+ *     against the path tracer (the factor that stands for the wavelengths
+ *     a refraction drops must count once when camera path and photon both
+ *     refract, since they share the iteration's hero).
  * This geometry was once taken for a transport fault (a bright cross
  * through the light's foot under a slab, docs/benchmarks.md): it is the
  * slab's edges, and the tracer below reproduces it. */
@@ -260,11 +264,54 @@ static void test_bdpt_agrees(void **state) {
     fail_msg("BDPT %.4f and the independent tracer %.4f differ by over 2 %%", bd, want);
 }
 
+/* Light that crosses a dispersive slab and is seen through it: SPPM's
+ * camera path and photon both refract, each keeping the iteration's one
+ * hero wavelength with the weight of all nwl; the factor must count once.
+ * A glowing panel above a wide N-BK7 slab (an area light, so the path
+ * tracer, unbiased, finds it by sampling through the glass); the camera
+ * between them sees the floor only through the slab. */
+static void test_seen_through_glass(void **state) {
+  (void)state;
+  const char *scn_fmt =
+      "material floor lambert reflectance=0.5\n"
+      "material glass db:N-BK7 model=interfaces\n"
+      "material em black\n"
+      "rect center=0,0,0 normal=0,0,1 size=8,8 material=floor\n"
+      "box min=-1,-1,0.5 max=1,1,0.55 material=glass\n"
+      "rect center=0,0,1.5 normal=0,0,-1 size=1,1 material=em emission=1000cd/m2\n"
+      "camera pinhole from=0,0.5,1.0 to=0,0,0 up=0,0,1 fov=40 resolution=16x16\n"
+      "render range=400,700 depth=16 seed=7 %s\n";
+  double v[2];
+  const char *render[2] = {"integrator=path spp=8192",
+                           "integrator=progressive spp=256 photons=100000"};
+  for (int i = 0; i < 2; i++) {
+    char scn[2048];
+    snprintf(scn, sizeof scn, scn_fmt, render[i]);
+    vr_scene *s = parse_text(scn, "through.scn");
+    vr_render_result *r = render_scene_with(s, db, 1, 2, false, false);
+    double sum = 0;
+    size_t n = (size_t)r->width * (size_t)r->height;
+    for (size_t k = 0; k < n; k++) sum += r->xyz[3 * k + 1];
+    v[i] = sum / (double)n;
+    vr_render_result_destroy(r);
+    vr_scene_destroy(s);
+  }
+  print_message("    floor seen through the slab it is lit through: path %.4f cd/m2, SPPM %.4f "
+                "(%+.2f %%)\n",
+                v[0], v[1], 100 * (v[1] / v[0] - 1));
+  /* Measured over seeds: SPPM's mean varies by about 2 % at 128
+   * iterations, agrees within 0.3 % at 512; before the fix it was 4.4 x
+   * the path tracer's. */
+  if (fabs(v[1] / v[0] - 1) > 0.05)
+    fail_msg("through dispersive glass both ways SPPM gives %.4f, the path tracer %.4f", v[1], v[0]);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_plate_formula),
       cmocka_unit_test(test_slab_edges),
       cmocka_unit_test(test_bdpt_agrees),
+      cmocka_unit_test(test_seen_through_glass),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
