@@ -219,7 +219,7 @@ static void defaults(vr_scene *s) {
   g->wavelengths = 4, g->lambda_min = 360, g->lambda_max = 830;
   g->photons = g->caustic_photons = 200000, g->knn = 50, g->sensor_knn = 50, g->radius_m = NAN;
   g->final_gather = false, g->gather_rays = 32, g->passes = 16, g->alpha = 2.0 / 3.0;
-  g->sensor_samples = 4096, g->seed = 1;
+  g->sensor_samples = 4096, g->seed = 1, g->sampler = VR_SAMPLER_SOBOL;
   g->film_min_nm = 400, g->film_max_nm = 700, g->film_step_nm = 10;
   vr_scene_annual *a = &s->annual;
   a->from_h = 8, a->to_h = 18, a->da_lx = 300, a->sda_share = 0.5;

@@ -50,7 +50,7 @@ static const char ROOM[] =
     "sensor workW point position=1,3,0.8 normal=0,0,1\n"
     "sensor workE point position=3,3,0.8 normal=0,0,1\n"
     "%s"
-    "render %s\n";
+    "render sampler=independent %s\n"; /* the tolerances were set on independent samples */
 
 static const char PORTAL[] = "portal center=2,0,1.5 normal=0,1,0 size=2,1.2\n";
 

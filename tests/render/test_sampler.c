@@ -408,8 +408,9 @@ static void test_sampler_option(void **state) {
     assert_int_equal(s->settings.sampler, i);
     vr_scene_destroy(s);
   }
+  /* The default, as pbrt-v4's (its ZSobol): low discrepancy. */
   vr_scene *s = parse_text("camera pinhole from=0,0,0 to=0,1,0\n", "room.scn");
-  assert_int_equal(s->settings.sampler, VR_SAMPLER_INDEPENDENT);
+  assert_int_equal(s->settings.sampler, VR_SAMPLER_SOBOL);
   vr_scene_destroy(s);
   vr_error err = {0};
   const char *bad = "camera pinhole from=0,0,0 to=0,1,0\nrender spp=4 sampler=halton\n";
