@@ -58,6 +58,19 @@ static int teardown(void **state) {
   return 0;
 }
 
+/* The mean luminance Y (cd/m2) of the image of scene text scn, rendered
+ * with the test's database on one sub-domain and two threads. */
+static double mean_y(const char *scn) {
+  vr_scene *s = parse_text(scn, "slab.scn");
+  vr_render_result *r = render_scene_with(s, db, 1, 2, false, false);
+  double sum = 0;
+  size_t n = (size_t)r->width * (size_t)r->height;
+  for (size_t i = 0; i < n; i++) sum += r->xyz[3 * i + 1];
+  vr_render_result_destroy(r);
+  vr_scene_destroy(s);
+  return sum / (double)n;
+}
+
 /* The scene: a floor of reflectance 0.05 at z = 0 (low, so that light
  * going back and forth between floor and slab stays near 0.2 %), the
  * slab `slab` (scene lines), a 100 cd point light at (0, 0, 1), and a
@@ -76,14 +89,7 @@ static double foot_radiance(const char *glass, const char *slab, const char *lig
            "camera pinhole from=0,0,0.4 to=0,0,0 up=0,1,0 fov=%g resolution=%dx%d\n"
            "render range=400,700 depth=16 seed=5 %s\n",
            glass, slab, light, fov, res, res, render);
-  vr_scene *s = parse_text(scn, "slab.scn");
-  vr_render_result *r = render_scene_with(s, db, 1, 2, false, false);
-  double sum = 0;
-  size_t n = (size_t)r->width * (size_t)r->height;
-  for (size_t i = 0; i < n; i++) sum += r->xyz[3 * i + 1];
-  vr_render_result_destroy(r);
-  vr_scene_destroy(s);
-  return sum / (double)n;
+  return mean_y(scn);
 }
 
 /* Schott N-BK7, Sellmeier (Schott data sheet; refractiveindex.info). */
@@ -287,14 +293,7 @@ static void test_seen_through_glass(void **state) {
   for (int i = 0; i < 2; i++) {
     char scn[2048];
     snprintf(scn, sizeof scn, scn_fmt, render[i]);
-    vr_scene *s = parse_text(scn, "through.scn");
-    vr_render_result *r = render_scene_with(s, db, 1, 2, false, false);
-    double sum = 0;
-    size_t n = (size_t)r->width * (size_t)r->height;
-    for (size_t k = 0; k < n; k++) sum += r->xyz[3 * k + 1];
-    v[i] = sum / (double)n;
-    vr_render_result_destroy(r);
-    vr_scene_destroy(s);
+    v[i] = mean_y(scn);
   }
   print_message("    floor seen through the slab it is lit through: path %.4f cd/m2, SPPM %.4f "
                 "(%+.2f %%)\n",
