@@ -198,15 +198,15 @@ static char *default_cache(const char *scene, char *why, size_t nwhy) {
 static bool from_db(const char *ref) { return ref && !strncmp(ref, "db:", 3); }
 
 /* Does the scene take anything from the database?  A sun without a
- * spectrum= does: its default, ASTM G173 direct, is a database row. */
+ * spectrum= does: its default, ASTM G173 direct, is a database row (each
+ * kind of light names its default). */
 static bool scene_needs_db(const vr_scene *s) {
   for (size_t i = 0; i < s->nmaterials; i++)
     if (s->materials[i].source == VR_MATSRC_DB || s->materials[i].coating_db) return true;
   for (size_t i = 0; i < s->nobjects; i++)
     if (from_db(s->objects[i].emission_spectrum)) return true;
   for (size_t i = 0; i < s->nlights; i++)
-    if (from_db(s->lights[i].spectrum) || (s->lights[i].kind == VR_LIGHT_SUN && !s->lights[i].spectrum))
-      return true;
+    if (from_db(vr_scene_light_spectrum(&s->lights[i]))) return true;
   return s->sky.present && from_db(s->sky.spectrum);
 }
 
@@ -339,7 +339,7 @@ static void digest_of(const char *path, const vr_render_options *o, const render
   }
 }
 
-static int run(const vr_args *a, int argc, char **argv, vr_comm *comm) {
+static int vr_run(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   if (vr_args_get(a, "verify")) {
     if (a->noperands)
       return render_usage_error("--verify PREFIX checks written files: it takes no scene file");
@@ -508,7 +508,7 @@ int main(int argc, char **argv) {
   }
   vr_args a;
   vr_args_outcome o = vr_args_parse(&a, "vr-render", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
-  int rc = o == VR_ARGS_EXIT_OK ? 0 : o == VR_ARGS_EXIT_USAGE ? 2 : run(&a, argc, argv, comm);
+  int rc = o == VR_ARGS_EXIT_OK ? 0 : o == VR_ARGS_EXIT_USAGE ? 2 : vr_run(&a, argc, argv, comm);
   if (o == VR_ARGS_RUN) vr_args_free(&a);
   vr_comm_finalize(comm);
   return rc;

@@ -44,14 +44,11 @@
 #define VR_MICROFACET_H
 
 #include "vr/optics.h"
+#include "vr/vec3.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-typedef struct vr_vec3 {
-  double x, y, z;
-} vr_vec3;
 
 /* Smallest roughness used; smaller values are raised to it. */
 #define VR_GGX_ALPHA_MIN 1e-4

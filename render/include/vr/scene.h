@@ -153,6 +153,9 @@ typedef struct vr_scene_object {
   vr_scene_loc loc;
 } vr_scene_object;
 
+/* The kind of a light line: its index in the registry of light kinds
+ * (render/src/lights/light.c), whose first three are these; a kind added
+ * there has the next index and needs no name here. */
 typedef enum vr_light_kind {
   VR_LIGHT_POINT = 0,
   VR_LIGHT_SPOT,
@@ -185,6 +188,8 @@ typedef struct vr_scene_light {
                               of parsing (a sun with no illuminance= has amount NAN
                               until a Perez sky sets it) */
   int day_of_year;         /* sun placed by date: its day (1..366), else 0 */
+  double shape[8];         /* the kind's own numbers, laid out by its file in
+                              render/src/lights/ (a tube's ends and radius) */
   vr_scene_loc loc;
 } vr_scene_light;
 
@@ -238,12 +243,14 @@ typedef struct vr_scene_sensor {
   vr_scene_loc loc;
 } vr_scene_sensor;
 
+/* The integrator: its index in the registry of integrators
+ * (render/src/integrators/integrator.c), whose first five are these. */
 typedef enum vr_integrator {
   VR_INT_PATH = 0,       /* reference path tracer */
   VR_INT_WHITTED,        /* the paper's local illumination: shadow rays + specular */
   VR_INT_PHOTON,         /* Jensen: global + caustic photon maps */
   VR_INT_PROGRESSIVE,    /* progressive photon mapping, shrinking radius */
-  VR_INT_BDPT            /* bidirectional path tracing (bdpt.c) */
+  VR_INT_BDPT            /* bidirectional path tracing */
 } vr_integrator;
 
 typedef enum vr_spectral_mode { VR_SPECTRAL_HERO = 0, VR_SPECTRAL_BINS } vr_spectral_mode;
@@ -344,6 +351,10 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
                          vr_error *err);
 vr_status vr_scene_read(const char *path, vr_scene **out, vr_error *err);
 void vr_scene_destroy(vr_scene *s);
+
+/* The spectrum reference light l uses: its own spectrum=, or its kind's
+ * default (D65 for lamps, db:ASTM-G173-AM1.5D for the sun). */
+const char *vr_scene_light_spectrum(const vr_scene_light *l);
 
 /* The spectrum of an inline table as a scene file writes it (a reference
  * or a reflectance starting with '['): "[W:V,W:V,...]" or pbrt-v4's pairs

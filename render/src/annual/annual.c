@@ -1,0 +1,474 @@
+/* Annual climate-based daylight metrics by daylight coefficients
+ * (vr/annual.h): the hours of the weather file, the coefficient renders
+ * (annual_coef.c), the glass's state hour by hour, the year's sums. */
+#include "vr/annual.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "annual/annual_internal.h"
+#include "lights/light.h"
+#include "vr/chromogenic.h"
+#include "vr/fisheye.h"
+#include "vr/matdb.h"
+#include "vr/perez.h"
+#include "vr/sky.h"
+#include "vr/sun.h"
+#include "vr/weather.h"
+
+#define PI 3.14159265358979323846
+
+void vr_annual_result_destroy(vr_annual_result *r) {
+  if (!r) return;
+  free(r->points);
+  free(r->hourly_lx);
+  free(r->hourly_line);
+  free(r->hourly_state);
+  free(r->hourly_uv);
+  free(r->names);
+  free(r);
+}
+
+static double now_s(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+/* A line for the options' log, if any. */
+static void say(const vr_render_options *o, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void say(const vr_render_options *o, const char *fmt, ...) {
+  if (!o->log) return;
+  char line[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(line, sizeof line, fmt, ap);
+  va_end(ap);
+  o->log(o->user, line);
+}
+
+/* The hour's Perez sky as patch luminances (cd/m2) and the ground's. */
+static void hour_sky(const vr_perez_sky *m, const double sun[3], double ground_rho, double sin_alt,
+                     double *L) {
+  double norm = 0;
+  for (int k = 0; k < VR_SKY_PATCHES; k++) {
+    double a0, a1, z0, z1;
+    vr_sky_patch_bounds(k, &a0, &a1, &z0, &z1);
+    /* Mean relative luminance over a 3 x 3 grid of the patch (equal areas
+     * in sin(altitude) and azimuth). */
+    double mean = 0;
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) {
+        double sa = sin(a0 * PI / 180) + (i + 0.5) / 3 * (sin(a1 * PI / 180) - sin(a0 * PI / 180));
+        double az = (z0 + (j + 0.5) / 3 * (z1 - z0)) * PI / 180, ca = sqrt(fmax(0, 1 - sa * sa));
+        double d[3] = {ca * sin(az), ca * cos(az), sa};
+        mean += vr_perez_relative(&m->lum, sun, d) / 9;
+      }
+    /* Integral of cos(zenith) over the patch: (z1 - z0) (sin^2 a1 - sin^2 a0) / 2. */
+    double s0 = sin(a0 * PI / 180), s1 = sin(a1 * PI / 180);
+    norm += mean * (z1 - z0) * PI / 180 * (s1 * s1 - s0 * s0) / 2;
+    L[k] = mean;
+  }
+  double scale = norm > 0 ? m->diffuse_horizontal_lx / norm : 0;
+  for (int k = 0; k < VR_SKY_PATCHES; k++) L[k] *= scale;
+  L[VR_SKY_GROUND_PATCH] =
+      ground_rho * (m->diffuse_horizontal_lx + m->direct_normal_lx * fmax(0, sin_alt)) / PI;
+}
+
+/* The sun's direction at the centre of a record's interval (a .wea has no
+ * year: 2021, as the single-record sky takes it). */
+static bool sun_at(const vr_weather *w, const vr_weather_record *r, double dir[3], double *alt) {
+  int y = r->year >= 1800 && r->year <= 2200 ? r->year : 2021;
+  vr_sun_site site;
+  vr_sun_site_default(&site, w->latitude_deg, w->longitude_deg);
+  vr_sun_position pos;
+  if (vr_sun_position_local(&site, y, r->month, r->day, 30.0 * (r->start_h + r->end_h),
+                            w->timezone_h, &pos, NULL, NULL) != VR_OK)
+    return false;
+  memcpy(dir, pos.direction, 3 * sizeof *dir);
+  *alt = pos.altitude_deg;
+  return true;
+}
+
+static bool occupied(const vr_weather_record *r, const vr_scene_annual *a) {
+  double c = 0.5 * (r->start_h + r->end_h);
+  return c >= a->from_h && c < a->to_h;
+}
+
+/* The glass of the study: its kind from the database, the states to
+ * render and the control, with the defaults of vr/annual.h filled in.  A
+ * photochromic glass's material is kept in *pc for its kinetics. */
+static vr_status glass_setup(const vr_scene *s, struct vr_matdb *db, vr_annual_result *res,
+                             vr_material **pc, vr_error *err) {
+  vr_scene_annual *a = &res->spec;
+  *a = s->annual;
+  *pc = NULL;
+  if (a->glass < 0) {
+    a->nstates = 1, a->states[0] = NAN, a->control = VR_CONTROL_FIXED;
+    return VR_OK;
+  }
+  const vr_scene_material *sm = &s->materials[a->glass];
+  res->glass_name = sm->name;
+  long line = a->loc.line, col = a->loc.col;
+  if (!db)
+    return vr_error_at(err, VR_E_NOT_FOUND, s->path, line, col,
+                       "glass=%s needs a material database", sm->name);
+  vr_material *m = NULL;
+  vr_status st = vr_matdb_load(db, sm->db_name, 0, &m, err);
+  if (st) {
+    vr_error_prefix(err, "%s:%ld:%ld: glass=%s: ", s->path, line, col, sm->name);
+    return st;
+  }
+  vr_chromo_type type;
+  if (m->kind != VR_KIND_CHROMOGENIC || vr_chromo_type_of(m, &type, NULL) != VR_OK) {
+    st = vr_error_at(err, VR_E_ARG, s->path, line, col,
+                     "glass=%s: %s is a %s material, not a chromogenic (switchable) glass",
+                     sm->name, sm->db_name, vr_kind_name(m->kind));
+    vr_material_destroy(m);
+    return st;
+  }
+  bool given_states = a->nstates > 0;
+  if (type == VR_CHROMO_PHOTO) {
+    res->glass = VR_ANNUAL_PHOTOCHROMIC;
+    if (a->control != VR_CONTROL_FIXED) {
+      vr_material_destroy(m);
+      return vr_error_at(err, VR_E_ARG, s->path, line, col,
+                         "glass=%s is photochromic: its state follows its own UV exposure, "
+                         "no control= applies",
+                         sm->name);
+    }
+    a->control = VR_CONTROL_UV;
+    if (!given_states) {
+      a->nstates = 5;
+      for (int i = 0; i < 5; i++) a->states[i] = 0.25 * i;
+    }
+    if (a->nstates < 2 || a->states[0] != 0 || a->states[a->nstates - 1] != 1) {
+      vr_material_destroy(m);
+      return vr_error_at(err, VR_E_ARG, s->path, line, col,
+                         "glass=%s is photochromic: its states= must run from 0 to 1 (the "
+                         "state each hour is interpolated between them)",
+                         sm->name);
+    }
+    *pc = m;
+    return VR_OK;
+  }
+  res->glass = VR_ANNUAL_ELECTROCHROMIC;
+  if (a->control == VR_CONTROL_FIXED) {
+    if (given_states) {
+      vr_material_destroy(m);
+      return vr_error_at(err, VR_E_ARG, s->path, line, col,
+                         "states= needs control=illuminance or control=sun: a fixed glass "
+                         "keeps its material's state=");
+    }
+    double state = 0;
+    if (!isnan(sm->state)) state = sm->state;
+    else if (!isnan(sm->charge_mC_cm2) &&
+             (st = vr_chromo_state_of_charge(m, sm->charge_mC_cm2, &state, err))) {
+      vr_material_destroy(m);
+      return st;
+    }
+    a->nstates = 1, a->states[0] = state;
+  } else {
+    if (!given_states) {
+      a->nstates = 4;
+      for (int i = 0; i < 4; i++) a->states[i] = i / 3.0;
+    }
+    if (isnan(a->max))
+      a->max = a->control == VR_CONTROL_SUN ? 1000 : a->control == VR_CONTROL_GLARE ? 0.35 : 3000;
+  }
+  vr_material_destroy(m);
+  return VR_OK;
+}
+
+/* One occupied record, ready for the sums. */
+typedef struct vr_annual_hour {
+  const vr_weather_record *r;
+  bool daylit;
+  int ks;                   /* the sun's patch, -1 without direct sun */
+  double sun[3], centre[3]; /* the true sun and its patch centre */
+  double Edn;               /* direct normal illuminance, lx */
+  double L[NPATCH];         /* patch and ground luminances, cd/m2 */
+} vr_annual_hour;
+
+/* The ratio of the cosines of the hour's true sun and its patch centre on
+ * a surface of normal n (absolute values when either face counts), held in
+ * [0, 4]; 1 where the centre grazes the surface. */
+static double sun_ratio(const vr_annual_hour *h, const double n[3], bool either_face) {
+  double ct = n[0] * h->sun[0] + n[1] * h->sun[1] + n[2] * h->sun[2];
+  double cc = n[0] * h->centre[0] + n[1] * h->centre[1] + n[2] * h->centre[2];
+  if (either_face) ct = fabs(ct), cc = fabs(cc);
+  return cc > 1e-3 ? fmin(fmax(ct, 0) / cc, 4.0) : 1.0;
+}
+
+/* The hour's illuminance at every point with the coefficients d: total
+ * and direct sun, the direct part scaled by the cosine ratio. */
+static void hour_lx(const vr_annual_hour *h, const vr_dc_set *d, const vr_annual_point *pts, size_t np,
+                    double *E, double *D) {
+  for (size_t p = 0; p < np; p++) {
+    E[p] = D[p] = 0;
+    if (!h->daylit) continue;
+    const double *dc = d->sky + p * NPATCH;
+    double e = 0;
+    for (int k = 0; k < NPATCH; k++) e += dc[k] * h->L[k];
+    if (h->ks >= 0) {
+      size_t i = p * VR_SKY_PATCHES + (size_t)h->ks;
+      double direct = h->Edn * d->sun_direct[i] * sun_ratio(h, pts[p].normal, false);
+      e += h->Edn * (d->sun_total[i] - d->sun_direct[i]) + direct;
+      D[p] = direct;
+    }
+    E[p] = e;
+  }
+}
+
+/* Between two states' readings: geometric where both are positive (the
+ * transmittance is exponential in the state), linear otherwise. */
+static double between(double a, double b, double f) {
+  return a > 0 && b > 0 ? a * pow(b / a, f) : a + f * (b - a);
+}
+
+/* The photochromic glass's mean state this hour: every texel's UV, its
+ * state from the last one's (prev, NAN: none) or the steady state. */
+static vr_status pc_state(const vr_annual_hour *h, const vr_uv_set *u, const vr_material *m, double T_K,
+                          double *texel_state, bool have_prev, double *state, double *uv,
+                          vr_error *err) {
+  double sum_s = 0, sum_uv = 0;
+  for (size_t t = 0; t < u->ntexels; t++) {
+    double E = 0;
+    if (h->daylit) {
+      for (int k = 0; k < NPATCH; k++) E += u->sky[t * NPATCH + (size_t)k] * h->L[k];
+      if (h->ks >= 0) {
+        /* The sun reaches one face of the pane or the other. */
+        E += h->Edn * u->sun[t * VR_SKY_PATCHES + (size_t)h->ks] *
+             sun_ratio(h, u->normal + 3 * t, true);
+      }
+    }
+    double s;
+    vr_status st = VR_E_NOT_FOUND;
+    if (have_prev) {
+      vr_error e = {0};
+      st = vr_chromo_state_after(m, E, T_K, texel_state[t], 3600 * (h->r->end_h - h->r->start_h),
+                                 &s, &e);
+      if (st && st != VR_E_NOT_FOUND) return *err = e, st;
+    }
+    if (st && (st = vr_chromo_steady_state(m, E, T_K, &s, err))) return st;
+    texel_state[t] = s;
+    sum_s += s, sum_uv += E;
+  }
+  double n = u->ntexels ? (double)u->ntexels : 1;
+  *state = sum_s / n, *uv = sum_uv / n;
+  return VR_OK;
+}
+
+/* The occupied records: the sun, its patch and the Perez sky of each.  A
+ * daylit record with a missing irradiance is an error naming its line. */
+static vr_status read_hours(const vr_scene *s, const vr_weather *w, vr_annual_result *res,
+                            vr_annual_hour *hours, vr_annual_job *j, vr_error *err) {
+  size_t n = 0;
+  for (size_t i = 0; i < w->nrecords; i++) {
+    const vr_weather_record *r = &w->records[i];
+    if (!occupied(r, &res->spec)) continue;
+    vr_annual_hour *h = &hours[n++];
+    memset(h, 0, sizeof *h);
+    h->r = r;
+    h->ks = -1;
+    double alt;
+    if (!sun_at(w, r, h->sun, &alt) || alt <= 0) continue;
+    if (isnan(r->direct_normal_w_m2) || isnan(r->diffuse_horizontal_w_m2))
+      return vr_error_set(err, VR_E_PARSE,
+                          "%s:%ld: the sun is up in this occupied hour but its %s irradiance is "
+                          "missing (an annual study needs every daylit hour)",
+                          w->path, r->line,
+                          isnan(r->direct_normal_w_m2) ? "direct normal" : "diffuse horizontal");
+    if (!(r->diffuse_horizontal_w_m2 > 0)) continue; /* Perez needs diffuse light: night, or none */
+    vr_perez_input in = {90 - alt, r->direct_normal_w_m2, r->diffuse_horizontal_w_m2,
+                         r->dew_point_c, vr_weather_day_of_year(r)};
+    vr_perez_sky m;
+    vr_error e = {0};
+    if (vr_perez_sky_from(&in, &m, &e) != VR_OK)
+      return vr_error_set(err, VR_E_PARSE, "%s:%ld: %s", w->path, r->line, e.message);
+    h->daylit = true;
+    res->daylit_hours++;
+    hour_sky(&m, h->sun, s->sky.ground_reflectance, sin(alt * PI / 180), h->L);
+    if (m.direct_normal_lx > 0) {
+      h->Edn = m.direct_normal_lx;
+      h->ks = vr_sky_patch_of(h->sun);
+      vr_sky_patch_centre(h->ks, h->centre);
+      j->need[h->ks] = true;
+    }
+  }
+  res->occupied_hours = n;
+  return VR_OK;
+}
+
+/* The year's sums: each hour's state, illuminance and the metrics. */
+static vr_status year(const vr_annual_hour *hours, const vr_dc_set *dcs, const vr_uv_set *uv,
+                      const vr_material *pc, double T_K, const char *control,
+                      vr_annual_result *res, vr_error *err) {
+  const vr_scene_annual *a = &res->spec;
+  size_t np = res->npoints, nh = res->occupied_hours;
+  int ns = a->nstates;
+  double *E = calloc((size_t)ns * np + 1, sizeof *E), *D = calloc((size_t)ns * np + 1, sizeof *D);
+  double *texel_state = calloc((uv ? uv->ntexels : 0) + 1, sizeof *texel_state);
+  res->hourly_lx = calloc(nh * np + 1, sizeof *res->hourly_lx);
+  res->hourly_line = calloc(nh + 1, sizeof *res->hourly_line);
+  res->hourly_state = calloc(nh + 1, sizeof *res->hourly_state);
+  res->hourly_uv = calloc(nh + 1, sizeof *res->hourly_uv);
+  vr_status st = VR_OK;
+  if (!E || !D || !texel_state || !res->hourly_lx || !res->hourly_line || !res->hourly_state ||
+      !res->hourly_uv) {
+    st = vr_error_set(err, VR_E_NOMEM, "out of memory for the year");
+    goto done;
+  }
+  double state_sum = 0;
+  for (size_t hi = 0; hi < nh; hi++) {
+    const vr_annual_hour *h = &hours[hi];
+    double *out = res->hourly_lx + hi * np, *dir = D;
+    res->hourly_line[hi] = h->r->line;
+    res->hourly_state[hi] = res->glass ? a->states[0] : NAN;
+    res->hourly_uv[hi] = NAN;
+    int pick = 0;
+    if (a->control == VR_CONTROL_UV) {
+      /* The state carries over from the record before when it is the
+       * hour just before this one. */
+      bool prev = hi > 0 && hours[hi - 1].r + 1 == h->r;
+      double s, e;
+      if ((st = pc_state(h, uv, pc, T_K, texel_state, prev, &s, &e, err))) goto done;
+      res->hourly_state[hi] = s, res->hourly_uv[hi] = e;
+      int lo = 0;
+      while (lo < ns - 2 && s > a->states[lo + 1]) lo++;
+      double f = (s - a->states[lo]) / (a->states[lo + 1] - a->states[lo]);
+      hour_lx(h, &dcs[lo], res->points, np, E, D);
+      hour_lx(h, &dcs[lo + 1], res->points, np, E + np, D + np);
+      for (size_t p = 0; p < np; p++) {
+        out[p] = between(E[p], E[np + p], f);
+        D[p] = between(D[p], D[np + p], f);
+      }
+      pick = f < 0.5 ? lo : lo + 1;
+    } else {
+      for (int k = 0; k < ns; k++) hour_lx(h, &dcs[k], res->points, np, E + (size_t)k * np, D + (size_t)k * np);
+      if (a->control != VR_CONTROL_FIXED) {
+        /* The lightest state that keeps every control point within the
+         * threshold; the darkest when none does. */
+        /* DGPs = 6.22e-5 E_v + 0.184 (Wienold 2009) at most max is E_v at
+         * most (max - 0.184) / 6.22e-5. */
+        double limit = a->control == VR_CONTROL_GLARE ? vr_dgps_limit_lx(a->max) : a->max;
+        for (pick = 0; pick < ns - 1; pick++) {
+          const double *v = (a->control == VR_CONTROL_SUN ? D : E) + (size_t)pick * np;
+          bool ok = true;
+          for (size_t p = 0; p < np && ok; p++) {
+            if (control && (!res->points[p].sensor || strcmp(res->points[p].sensor, control)))
+              continue;
+            ok = v[p] <= limit;
+          }
+          if (ok) break;
+        }
+        res->hourly_state[hi] = a->states[pick];
+      }
+      memcpy(out, E + (size_t)pick * np, np * sizeof *out);
+      dir = D + (size_t)pick * np;
+    }
+    if (h->daylit && res->glass) {
+      res->state_hours[pick] += 1;
+      state_sum += res->hourly_state[hi];
+    }
+    for (size_t p = 0; p < np; p++) {
+      vr_annual_point *pt = &res->points[p];
+      double e = out[p];
+      pt->mean_lx += e;
+      pt->da += e >= a->da_lx;
+      pt->udi_below += e < a->udi_lo;
+      pt->udi_useful += e >= a->udi_lo && e <= a->udi_hi;
+      pt->udi_above += e > a->udi_hi;
+      pt->direct_hours += dir[p] >= a->ase_lx;
+      pt->glare_hours += vr_dgps(e) >= 0.35;
+    }
+  }
+  res->mean_state = res->glass && res->daylit_hours ? state_sum / (double)res->daylit_hours : NAN;
+  /* Shares over the occupied hours; sDA and ASE over the points. */
+  double occ = nh ? (double)nh : 1;
+  size_t sda = 0, ase = 0;
+  for (size_t p = 0; p < np; p++) {
+    vr_annual_point *pt = &res->points[p];
+    pt->mean_lx /= occ;
+    pt->da /= occ, pt->udi_below /= occ, pt->udi_useful /= occ, pt->udi_above /= occ;
+    sda += pt->da >= a->sda_share;
+    ase += pt->direct_hours > a->ase_hours;
+  }
+  res->sda = np ? (double)sda / (double)np : 0;
+  res->ase = np ? (double)ase / (double)np : 0;
+done:
+  free(E), free(D), free(texel_state);
+  return st;
+}
+
+vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_options *o,
+                        vr_annual_result **out, vr_error *err) {
+  *out = NULL;
+  if (!s->sky.present || !s->sky.annual || !s->sky.weather_path)
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: an annual study needs 'sky perez weather=FILE' with no date and time",
+                        s->path);
+  if (!s->nsensors) return vr_error_set(err, VR_E_ARG, "%s: an annual study needs sensors", s->path);
+  vr_annual_job j = {.s = s, .db = db, .o = o};
+  for (size_t i = 0; i < s->nlights; i++)
+    if (vr_light_kind_ops((size_t)s->lights[i].kind)->flags & VR_LF_SUN) j.sun = &s->lights[i];
+  if (!j.sun) return vr_error_set(err, VR_E_ARG, "%s: an annual study needs a 'light sun' line", s->path);
+  double t0 = now_s();
+  vr_annual_result *res = calloc(1, sizeof *res);
+  if (!res) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  vr_material *pc = NULL;
+  vr_weather *w = NULL;
+  vr_annual_hour *hours = NULL;
+  vr_dc_set dcs[VR_ANNUAL_MAX_STATES] = {{0}};
+  vr_uv_set uv = {0};
+  vr_status st = glass_setup(s, db, res, &pc, err);
+  if (!st) st = vr_weather_read(s->sky.weather_path, &w, err);
+  if (st) goto done;
+  for (size_t i = 0; i < s->nsensors; i++) j.npoints += (size_t)s->sensors[i].nu * (size_t)s->sensors[i].nv;
+  res->npoints = j.npoints;
+  res->records = w->nrecords;
+  res->points = calloc(j.npoints + 1, sizeof *res->points);
+  hours = calloc(w->nrecords + 1, sizeof *hours);
+  if (!res->points || !hours) {
+    st = vr_error_set(err, VR_E_NOMEM, "out of memory for the annual study");
+    goto done;
+  }
+  j.res = res;
+  if ((st = read_hours(s, w, res, hours, &j, err))) goto done;
+  for (int k = 0; k < VR_SKY_PATCHES; k++) res->sun_patches += j.need[k];
+  for (int k = 0; k < res->spec.nstates && !st; k++) {
+    st = annual_dc(&j, res->spec.states[k], &dcs[k], err);
+    if (!st) say(o, "annual: %s: 1 sky and %zu sun renders (%zu in all, %.1f s)",
+                 res->glass ? "a tint state rendered" : "the coefficients rendered", res->sun_patches,
+                 res->renders, now_s() - t0);
+  }
+  if (!st && res->spec.control == VR_CONTROL_UV) {
+    st = annual_uv(&j, &uv, err);
+    if (!st) say(o, "annual: the glass's UV coefficients rendered (%zu renders in all, %.1f s)",
+                 res->renders, now_s() - t0);
+  }
+  if (st) goto done;
+  const char *control =
+      res->spec.control_sensor >= 0 ? s->sensors[res->spec.control_sensor].name : NULL;
+  double T_K = NAN;
+  if (res->glass_name) T_K = s->materials[res->spec.glass].temperature_K;
+  if (isnan(T_K)) T_K = 298.15;
+  st = year(hours, dcs, &uv, pc, T_K, control, res, err);
+  res->seconds = now_s() - t0;
+done:
+  for (int k = 0; k < VR_ANNUAL_MAX_STATES; k++) annual_dc_free(&dcs[k]);
+  annual_uv_free(&uv);
+  free(hours);
+  vr_material_destroy(pc);
+  vr_weather_free(w);
+  if (st) {
+    vr_annual_result_destroy(res);
+    return st;
+  }
+  *out = res;
+  return VR_OK;
+}

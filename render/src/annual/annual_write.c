@@ -1,0 +1,93 @@
+/* The annual study's two CSV files (vr/annual.h), written as one set: both
+ * staged, moved into place together, then PREFIX.manifest.json (the run's
+ * id, each file's size and SHA-256) written last, as a render's images are
+ * (film_set.c), so `vr-render --verify PREFIX` checks a year's tables too
+ * and a failed run leaves neither table. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "film/film_set.h"
+#include "vr/annual.h"
+#include "vr/csv.h"
+#include "vr/film.h"
+
+/* A number, or an empty field for NAN. */
+static void num(FILE *f, double v) {
+  if (!isnan(v)) fprintf(f, "%.6g", v);
+}
+
+static vr_status open_staged(const vr_film_staged *g, FILE **f, vr_error *err) {
+  *f = fopen(g->stage, "w");
+  if (!*f)
+    return vr_error_set(err, VR_E_IO, "%s: cannot write: %s", g->target, strerror(errno));
+  return VR_OK;
+}
+
+static vr_status close_staged(const vr_film_staged *g, FILE *f, vr_error *err) {
+  bool bad = ferror(f) != 0;
+  if (fclose(f) || bad)
+    return vr_error_set(err, VR_E_IO, "%s: write failed: %s", g->target, strerror(errno));
+  return VR_OK;
+}
+
+static void write_points(const vr_annual_result *r, FILE *f) {
+  const vr_scene_annual *a = &r->spec;
+  fprintf(f,
+          "sensor,i,j,x,y,z,mean_lx,da_%g_pct,udi_below_%g_pct,udi_%g_%g_pct,udi_above_%g_pct,"
+          "direct_sun_hours_%g_lx,dgps_0.35_hours\n",
+          a->da_lx, a->udi_lo, a->udi_lo, a->udi_hi, a->udi_hi, a->ase_lx);
+  for (size_t p = 0; p < r->npoints; p++) {
+    const vr_annual_point *pt = &r->points[p];
+    vr_csv_write_field(f, pt->sensor ? pt->sensor : "");
+    fprintf(f, ",%d,%d,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g\n", pt->i, pt->j,
+            pt->position[0], pt->position[1], pt->position[2], pt->mean_lx, 100 * pt->da,
+            100 * pt->udi_below, 100 * pt->udi_useful, 100 * pt->udi_above, pt->direct_hours,
+            pt->glare_hours);
+  }
+}
+
+static void write_hourly(const vr_annual_result *r, FILE *f) {
+  fputs("weather_line,glass_state,glass_uv_w_m2", f);
+  for (size_t p = 0; p < r->npoints; p++) {
+    fputc(',', f);
+    char name[300];
+    snprintf(name, sizeof name, "%s(%d;%d)", r->points[p].sensor ? r->points[p].sensor : "",
+             r->points[p].i, r->points[p].j);
+    vr_csv_write_field(f, name);
+  }
+  fputc('\n', f);
+  for (size_t h = 0; h < r->occupied_hours; h++) {
+    fprintf(f, "%ld,", r->hourly_line[h]);
+    num(f, r->hourly_state[h]);
+    fputc(',', f);
+    num(f, r->hourly_uv[h]);
+    for (size_t p = 0; p < r->npoints; p++) fprintf(f, ",%.6g", r->hourly_lx[h * r->npoints + p]);
+    fputc('\n', f);
+  }
+}
+
+vr_status vr_annual_write(const vr_annual_result *r, const char *prefix, vr_error *err) {
+  vr_film_set set = {0};
+  vr_film_staged *g = NULL;
+  FILE *f = NULL;
+  char run_id[VR_FILM_RUN_ID_MAX];
+  vr_film_run_id(run_id);
+  vr_status st = film_set_begin(&set, prefix, err);
+  if (!st) st = film_set_add(&set, ".annual.csv", &g, err);
+  if (!st) st = open_staged(g, &f, err);
+  if (!st) {
+    write_points(r, f);
+    st = close_staged(g, f, err);
+  }
+  if (!st) st = film_set_add(&set, ".annual-hourly.csv", &g, err);
+  if (!st) st = open_staged(g, &f, err);
+  if (!st) {
+    write_hourly(r, f);
+    st = close_staged(g, f, err);
+  }
+  if (!st) st = film_set_commit(&set, run_id, err);
+  if (st && set.dir) film_set_abort(&set);
+  return st;
+}

@@ -1,0 +1,72 @@
+/* Accumulators that many workers add into at once (accum.c): the film (XYZ
+ * and spectral bins per pixel), the sensors (illuminance per batch of
+ * samples, by daylight component and sky patch, spectral irradiance) and
+ * the photochromic texels (UV irradiance). */
+#ifndef VR_FILM_ACCUM_H
+#define VR_FILM_ACCUM_H
+
+#include <stdatomic.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "vr/error.h"
+#include "vr/render.h"
+#include "vr/skypatch.h"
+
+/* The sky's patches and the ground glow: a sensor's tallies by patch. */
+#define VR_SENSOR_PATCHES (VR_SKY_PATCHES + 1)
+
+typedef struct vr_accum {
+  int width, height, spp;
+  size_t nbins;
+  double bin_lo, bin_step;
+  _Atomic uint64_t *xyz;      /* doubles stored as bits, width*height*3 */
+  _Atomic uint64_t *bins;     /* width*height*nbins */
+  size_t npoints;             /* sensor points */
+  int groups;                 /* batches for the standard error */
+  _Atomic uint64_t *sensor_lx;  /* npoints*groups */
+  _Atomic uint64_t *sensor_bins;/* npoints*nbins */
+  _Atomic uint64_t *sensor_parts;/* npoints*VR_SENSOR_PARTS: illuminance by component (lx, summed
+                                    over the groups' samples) */
+  _Atomic uint64_t *sensor_patches;/* npoints*VR_SENSOR_PATCHES: the sky's and the ground glow's
+                                    illuminance by the patch it came from (lx, summed) */
+  size_t ntexels;
+  _Atomic uint64_t *texel_uv;   /* W/m2 in the UV band, summed */
+  _Atomic uint64_t *texel_patches;/* ntexels*VR_SENSOR_PATCHES: the sky's and the ground glow's
+                                    share of texel_uv by the patch it came from */
+  /* Fixed-bins mode: the CMFs averaged over each of the cmf_n bins of
+   * [cmf_lo, cmf_lo + cmf_n cmf_step], used for a wavelength in that bin
+   * instead of their value at it (NULL in hero mode). */
+  double (*cmf_avg)[3];
+  double cmf_lo, cmf_step;
+  int cmf_n;
+} vr_accum;
+
+vr_status vr_accum_create(vr_accum *a, int width, int height, size_t nbins, double bin_lo,
+                          double bin_step, size_t npoints, int groups, size_t ntexels,
+                          vr_error *err);
+void vr_accum_destroy(vr_accum *a);
+/* Fixed-bins mode: weight each of the n bins of [lo, hi] by the CMFs'
+ * mean over the bin, so a spectrum flat within each bin integrates
+ * exactly (the midpoint rule with 4 bins of 117 nm is 17 % off for D65). */
+vr_status vr_accum_set_bins(vr_accum *a, double lo, double hi, int n, vr_error *err);
+void vr_atomic_add(_Atomic uint64_t *cell, double v);
+double vr_atomic_get(_Atomic uint64_t *cell);
+/* Adds radiance samples (already divided by their wavelength pdf) of a pixel. */
+void vr_accum_pixel(vr_accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,
+                    double wl_weight);
+/* Returns the illuminance (lx) it added. */
+/* Adds lx to the illuminance point received from sky patch (or the ground). */
+void vr_accum_sensor_patch_lx(vr_accum *a, uint32_t point, int patch, double lx);
+double vr_accum_sensor(vr_accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,
+                       const double *E, double wl_weight);
+/* Adds lx, or the illuminance of E, to part `part` (VR_PART_*) of point. */
+void vr_accum_sensor_part_lx(vr_accum *a, uint32_t point, int part, double lx);
+void vr_accum_sensor_part(vr_accum *a, uint32_t point, int part, int nwl, const double *wl,
+                          const double *E, double wl_weight);
+/* Adds the illuminance of E to slot `slot` (< groups) of point only, not
+ * to its spectrum: for side sums such as a photon sensor's bias probe. */
+void vr_accum_sensor_lx(vr_accum *a, uint32_t point, uint32_t slot, int nwl, const double *wl,
+                        const double *E, double wl_weight);
+
+#endif

@@ -1,0 +1,476 @@
+/* The files of a render (vr/film.h): RGB and spectral OpenEXR, the PNG for
+ * the eye, the sensor table and the statistics.  Nothing here knows how the
+ * result was computed, so the tests build results by hand.
+ *
+ * All or nothing across files: each output is first written whole (by the
+ * image library's own atomic writers) into a staging folder beside its
+ * target, and the staged files are renamed into place only once every one
+ * of them exists, then described by a manifest written last (film_set.c).
+ * A failure before that point leaves the previous outputs untouched; a
+ * failed rename (rare: the folder became unwritable) removes the outputs of
+ * this call already renamed. */
+#include "vr/film.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "vr/atomic_file.h"
+#include "vr/csv.h"
+#include "vr/falsecolour.h"
+#include "vr/colour.h"
+#include "vr/image.h"
+#include "vr/json.h"
+#include "vr/spectral_exr.h"
+#include "vr/version.h"
+
+#include "film/film_set.h"
+
+/* The unit the spectral EXR declares, spelt as the layout's reference
+ * writer does (the channels hold W/(m2 sr nm)). */
+static const char EMISSIVE_UNITS[] = VR_SPECTRAL_EMISSIVE_UNITS;
+
+vr_status vr_tonemap_parse(const char *text, vr_tonemap *out, vr_error *err) {
+  if (!text || !strcasecmp(text, "clip")) *out = VR_TONEMAP_CLIP;
+  else if (!strcasecmp(text, "reinhard")) *out = VR_TONEMAP_REINHARD;
+  else return vr_error_set(err, VR_E_ARG, "tone mapping '%s': expected clip or reinhard", text);
+  return VR_OK;
+}
+
+static double clamp01(double v) { return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0; }
+
+void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonemap tm,
+                     double out[3]) {
+  /* At EV 0, 100 cd/m² (a white wall under a few hundred lux) is display
+   * white: the convention of docs/vr-render.md. */
+  double k = exp2(exposure_ev) / 100.0;
+  double s = k;
+  if (tm == VR_TONEMAP_REINHARD) {
+    double L = Y * k;
+    if (isinf(L) && L > 0) {
+      out[0] = out[1] = out[2] = 1.0;
+      return;
+    }
+    /* Scaling all three channels by L'/L keeps the chromaticity; channels
+     * of saturated colours may still pass 1 and are clamped below. */
+    if (L > 0) s = k / (1.0 + L);
+  }
+  for (int c = 0; c < 3; c++) out[c] = clamp01(rgb[c] * s);
+}
+
+/* ---- checks before anything is written ---- */
+
+/* The film's XYZ, and its bins when spectral: what the files to write hold. */
+static vr_status check_film(const vr_render_result *r, bool spectral, vr_error *err) {
+  static const char XYZ[] = "XYZ";
+  size_t npix = (size_t)r->width * (size_t)r->height;
+  for (size_t p = 0; p < npix; p++)
+    for (int c = 0; c < 3; c++) {
+      double v = r->xyz[3 * p + (size_t)c];
+      if (isnan(v) || (isinf(v) && v < 0))
+        return vr_error_set(err, VR_E_RANGE, "film pixel (%zu, %zu): %c is %s", p % (size_t)r->width,
+                            p / (size_t)r->width, XYZ[c], isnan(v) ? "NaN" : "-infinity");
+    }
+  if (spectral && r->spectral)
+    for (size_t p = 0; p < npix; p++)
+      for (size_t b = 0; b < r->nbins; b++) {
+        double v = r->spectral[p * r->nbins + b];
+        if (isnan(v) || (isinf(v) && v < 0))
+          return vr_error_set(err, VR_E_RANGE, "film pixel (%zu, %zu): the %g nm bin is %s",
+                              p % (size_t)r->width, p / (size_t)r->width, r->bin_nm[b],
+                              isnan(v) ? "NaN" : "-infinity");
+      }
+  return VR_OK;
+}
+
+static const char *sensor_name(const vr_sensor_reading *s) { return s->sensor ? s->sensor : ""; }
+
+static vr_status check_sensors(const vr_render_result *r, vr_error *err) {
+  for (size_t k = 0; k < r->nreadings; k++) {
+    const vr_sensor_reading *s = &r->readings[k];
+    const char *bad = isnan(s->illuminance_lx) ? "illuminance" : isnan(s->stderr_lx) ? "standard error" : NULL;
+    for (size_t b = 0; !bad && r->sensor_spectral && b < r->nbins; b++)
+      if (isnan(r->sensor_spectral[k * r->nbins + b])) bad = "spectral irradiance";
+    if (bad)
+      return vr_error_set(err, VR_E_RANGE, "sensor %s (%d, %d): the %s is NaN", sensor_name(s), s->i,
+                          s->j, bad);
+  }
+  return VR_OK;
+}
+
+static vr_status check_result(const vr_render_result *r, vr_error *err) {
+  if (!r) return vr_error_set(err, VR_E_ARG, "film: no render result");
+  if (r->width < 0 || r->height < 0 || (r->width > 0 && r->height > 0 && !r->xyz))
+    return vr_error_set(err, VR_E_ARG, "film: a %dx%d film without pixels", r->width, r->height);
+  if (r->nbins && !r->bin_nm && (r->spectral || r->sensor_spectral))
+    return vr_error_set(err, VR_E_ARG, "film: %zu bins without their wavelengths", r->nbins);
+  if (r->nreadings && !r->readings)
+    return vr_error_set(err, VR_E_ARG, "film: %zu sensor readings missing", r->nreadings);
+  return VR_OK;
+}
+
+/* ---- the sensor table ---- */
+
+static vr_status write_csv_to(const vr_render_result *r, const char *path, vr_error *err) {
+  vr_atomic_file af;
+  vr_status st = vr_atomic_file_open(&af, path, err);
+  if (st) return st;
+  FILE *f = af.fp;
+  bool spectral = r->sensor_spectral && r->nbins;
+  fputs("sensor,i,j,x,y,z,illuminance_lx,stderr_lx", f);
+  for (size_t b = 0; spectral && b < r->nbins; b++) fprintf(f, ",E_%g", r->bin_nm[b]);
+  fputs(",sky_component_lx,sun_direct_lx,externally_reflected_sky_lx,externally_reflected_sun_lx,"
+        "internally_reflected_sky_lx,internally_reflected_sun_lx,electric_lx,"
+        "daylight_factor_pct,df_sky_component_pct,df_externally_reflected_pct,"
+        "df_internally_reflected_pct\n",
+        f);
+  for (size_t k = 0; k < r->nreadings; k++) {
+    const vr_sensor_reading *s = &r->readings[k];
+    vr_csv_write_field(f, sensor_name(s));
+    fprintf(f, ",%d,%d,%.9g,%.9g,%.9g,%.9g,%.9g", s->i, s->j, s->position[0], s->position[1],
+            s->position[2], s->illuminance_lx, s->stderr_lx);
+    for (size_t b = 0; spectral && b < r->nbins; b++)
+      fprintf(f, ",%.9g", r->sensor_spectral[k * r->nbins + b]);
+    /* The parts and the daylight factor; an empty field where they do not
+     * apply (photon sensors, no sky). */
+    const double more[] = {s->part_lx[0], s->part_lx[1], s->part_lx[2], s->part_lx[3],
+                           s->part_lx[4], s->part_lx[5], s->part_lx[6], s->df_pct,
+                           s->df_sc_pct,  s->df_erc_pct, s->df_irc_pct};
+    for (size_t q = 0; q < sizeof more / sizeof more[0]; q++)
+      if (isnan(more[q]))
+        fputc(',', f);
+      else
+        fprintf(f, ",%.9g", more[q]);
+    fputc('\n', f);
+  }
+  return vr_atomic_file_commit(&af, err);
+}
+
+vr_status vr_sensors_write_csv(const vr_render_result *r, const char *path, vr_error *err) {
+  vr_status st = check_result(r, err);
+  if (!st) st = check_sensors(r, err);
+  if (!st) st = write_csv_to(r, path, err);
+  return st;
+}
+
+/* ---- staging: film_set.c ---- */
+
+/* An error from a writer names the staging file: name the target instead. */
+static void rename_in_message(vr_error *err, const vr_film_staged *g) {
+  if (!err) return;
+  char *at = strstr(err->message, g->stage);
+  if (!at) return;
+  char buf[VR_ERROR_MESSAGE_MAX];
+  snprintf(buf, sizeof buf, "%.*s%s%s", (int)(at - err->message), err->message, g->target,
+           at + strlen(g->stage));
+  strcpy(err->message, buf);
+}
+
+/* ---- the images ---- */
+
+/* The linear sRGB of the EXRs (rgb) and the display values of the PNG
+ * (png); either may be NULL when its files are not asked for. */
+static vr_status make_images(const vr_render_result *r, vr_tonemap tm, vr_image *rgb,
+                             vr_image *png, vr_error *err) {
+  vr_status st = rgb ? vr_image_alloc(rgb, r->width, r->height, err) : VR_OK;
+  if (!st && png) st = vr_image_alloc(png, r->width, r->height, err);
+  if (st) return st;
+  size_t npix = (size_t)r->width * (size_t)r->height;
+  for (size_t p = 0; p < npix; p++) {
+    const double *xyz = &r->xyz[3 * p];
+    double lin[3], disp[3];
+    vr_xyz_to_srgb_linear(xyz, lin);
+    if (png) vr_film_display(lin, xyz[1], r->exposure_ev, tm, disp);
+    for (int c = 0; c < 3; c++) {
+      if (rgb) rgb->data[3 * p + (size_t)c] = (float)lin[c];
+      if (png) png->data[3 * p + (size_t)c] = (float)vr_srgb_encode(disp[c]);
+    }
+  }
+  return VR_OK;
+}
+
+/* The files asked for (0: all the result can give), or VR_E_ARG naming
+ * one it cannot give. */
+static vr_status chosen_outputs(const vr_render_result *r, unsigned asked, unsigned *out,
+                                vr_error *err) {
+  bool image = r->width > 0 && r->height > 0;
+  unsigned can = (image ? VR_FILM_EXR | VR_FILM_PNG : 0u) |
+                 (image && r->nbins > 0 && r->spectral ? VR_FILM_SPECTRAL : 0u) |
+                 (r->nreadings ? VR_FILM_SENSORS : 0u);
+  *out = asked ? asked : can;
+  if (asked & ~(unsigned)VR_FILM_ALL)
+    return vr_error_set(err, VR_E_ARG, "film: unknown outputs 0x%x", asked & ~(unsigned)VR_FILM_ALL);
+  unsigned cannot = asked & ~can;
+  if (cannot & (VR_FILM_EXR | VR_FILM_PNG))
+    return vr_error_set(err, VR_E_ARG, "film: the %s was asked for, but the render has no image "
+                        "(no camera pass)", cannot & VR_FILM_EXR ? "EXR" : "PNG");
+  if (cannot & VR_FILM_SPECTRAL)
+    return vr_error_set(err, VR_E_ARG, "film: the spectral EXR was asked for, but the %s",
+                        image ? "film has no spectral bins" : "render has no image (no camera pass)");
+  if (cannot & VR_FILM_SENSORS)
+    return vr_error_set(err, VR_E_ARG, "film: the sensor table was asked for, but the render has "
+                        "no sensor readings");
+  return VR_OK;
+}
+
+static vr_status make_spectral(const vr_render_result *r, vr_spectral_image *sp, vr_error *err) {
+  vr_status st = vr_spectral_image_alloc(sp, r->width, r->height, r->nbins, r->bin_nm,
+                                         VR_SPECTRAL_EMISSIVE, err);
+  if (st) {
+    vr_error_prefix(err, "film bins: ");
+    return st;
+  }
+  size_t n = (size_t)r->width * (size_t)r->height * r->nbins;
+  for (size_t i = 0; i < n; i++) sp->data[i] = (float)r->spectral[i];
+  return VR_OK;
+}
+
+/* The luminance map on the options' scale, the film's Y. */
+static vr_status make_falsecolour(const vr_render_result *r, const vr_film_options *o,
+                                  vr_image *fc, vr_error *err) {
+  size_t npix = (size_t)r->width * (size_t)r->height;
+  double *Y = malloc((npix + 1) * sizeof *Y);
+  if (!Y) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t p = 0; p < npix; p++) Y[p] = r->xyz[3 * p + 1];
+  vr_status st = vr_falsecolour_image(Y, r->width, r->height, o->falsecolour_lo_cd_m2,
+                                      o->falsecolour_hi_cd_m2, fc, err);
+  free(Y);
+  return st;
+}
+
+vr_status vr_film_write(const vr_render_result *r, const char *prefix, const char *tonemap,
+                        vr_error *err) {
+  vr_film_options o = {.tonemap = tonemap};
+  return vr_film_write_with(r, prefix, &o, err);
+}
+
+vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
+                             const vr_film_options *o, vr_error *err) {
+  vr_tonemap tm = VR_TONEMAP_CLIP;
+  vr_status st = vr_tonemap_parse(o->tonemap, &tm, err);
+  if (st) return st;
+  bool falsecolour = o->falsecolour_lo_cd_m2 != 0 || o->falsecolour_hi_cd_m2 != 0;
+  if (!prefix || !*prefix) return vr_error_set(err, VR_E_ARG, "film: no output prefix");
+  if ((st = check_result(r, err)) || (st = check_sensors(r, err))) return st;
+  bool image = r->width > 0 && r->height > 0;
+  unsigned want;
+  if ((st = chosen_outputs(r, o->outputs, &want, err))) return st;
+  bool exr = want & VR_FILM_EXR, spectral = want & VR_FILM_SPECTRAL, png_file = want & VR_FILM_PNG;
+  if ((exr || spectral || png_file || falsecolour) && image &&
+      (st = check_film(r, spectral, err)))
+    return st;
+  if (falsecolour && !image)
+    return vr_error_set(err, VR_E_ARG, "false colour: the render has no image (no camera pass)");
+
+  vr_image rgb = {0}, png = {0}, fc = {0};
+  vr_spectral_image sp = {0};
+  vr_film_set set = {0};
+  vr_film_staged *g = NULL;
+  char run_id[VR_FILM_RUN_ID_MAX];
+  if (!o->run_id) vr_film_run_id(run_id);
+  if ((st = film_set_begin(&set, prefix, err))) goto out;
+  if (image) {
+    if ((exr || spectral || png_file) &&
+        (st = make_images(r, tm, exr || spectral ? &rgb : NULL, png_file ? &png : NULL, err)))
+      goto out;
+    /* For viewers: linear sRGB, pixels in cd/m2 (RGB (1,1,1) is 1 cd/m2),
+     * and the exposure that makes the PNG's white (100 cd/m2 at EV 0) 1.0. */
+    vr_exr_colour colour = vr_exr_colour_srgb(1.0, r->exposure_ev - log2(100.0));
+    if (exr) {
+      if ((st = film_set_add(&set, ".exr", &g, err))) goto out;
+      if ((st = vr_image_write_exr_with(g->stage, &rgb, &colour, err))) goto fail;
+    }
+    if (spectral) {
+      if ((st = make_spectral(r, &sp, err))) goto out;
+      if ((st = film_set_add(&set, ".spectral.exr", &g, err))) goto out;
+      if ((st = vr_spectral_exr_write_with(g->stage, &sp, &rgb, EMISSIVE_UNITS, &colour, err)))
+        goto fail;
+    }
+    if (png_file) {
+      if ((st = film_set_add(&set, ".png", &g, err))) goto out;
+      if ((st = vr_image_write_png(g->stage, &png, 8, err))) goto fail;
+    }
+    if (falsecolour) {
+      if ((st = make_falsecolour(r, o, &fc, err))) goto out;
+      if ((st = film_set_add(&set, ".falsecolour.png", &g, err))) goto out;
+      if ((st = vr_image_write_png(g->stage, &fc, 8, err))) goto fail;
+    }
+  }
+  if (want & VR_FILM_SENSORS) {
+    if ((st = film_set_add(&set, ".sensors.csv", &g, err))) goto out;
+    if ((st = write_csv_to(r, g->stage, err))) goto fail;
+  }
+  if (o->stats_path) {
+    if ((st = film_set_add_path(&set, o->stats_path, &g, err))) goto out;
+    if ((st = vr_stats_write_json(r, g->stage, err))) goto fail;
+  }
+  st = film_set_commit(&set, o->run_id ? o->run_id : run_id, err);
+  goto out;
+fail:
+  rename_in_message(err, g);
+out:
+  if (st && set.dir) film_set_abort(&set);
+  vr_image_free(&rgb);
+  vr_image_free(&png);
+  vr_image_free(&fc);
+  vr_spectral_image_free(&sp);
+  return st;
+}
+
+/* ---- statistics ---- */
+
+long long vr_peak_rss_bytes(void) {
+  struct rusage ru;
+  if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
+  return (long long)ru.ru_maxrss * 1024; /* Linux reports KiB */
+}
+
+static void json_key(FILE *f, const char *indent, const char *key) {
+  fprintf(f, "%s", indent);
+  vr_json_string(f, key);
+  fputs(": ", f);
+}
+
+void vr_passes_write_json(FILE *f, const vr_render_result *r) {
+  fputc('[', f);
+  size_t np = r->npasses < VR_MAX_PASSES ? r->npasses : VR_MAX_PASSES;
+  for (size_t i = 0; i < np; i++) {
+    const vr_pass_record *p = &r->passes[i];
+    fprintf(f, "%s\n    {\"name\": ", i ? "," : "");
+    vr_json_string(f, p->name);
+    fprintf(f, ", \"ran\": %s, \"reason\": ", p->ran ? "true" : "false");
+    vr_json_string(f, p->reason);
+    fputs(", \"seconds\": ", f);
+    vr_json_number(f, p->ran ? p->seconds : NAN);
+    fputc('}', f);
+  }
+  fputs(np ? "\n  ]" : "]", f);
+}
+
+vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_error *err) {
+  vr_status st = check_result(r, err);
+  if (st) return st;
+  if (!path) return vr_error_set(err, VR_E_ARG, "stats: no path");
+  vr_atomic_file af;
+  if ((st = vr_atomic_file_open(&af, path, err))) return st;
+  FILE *f = af.fp;
+  fputs("{\n", f);
+  json_key(f, "  ", "version");
+  vr_json_string(f, vr_version());
+  fputs(",\n", f);
+
+  json_key(f, "  ", "image");
+  fprintf(f, "{\"width\": %d, \"height\": %d, \"bins\": %zu, \"bin_first_nm\": ", r->width,
+          r->height, r->nbins);
+  vr_json_number(f, r->nbins && r->bin_nm ? r->bin_nm[0] : NAN);
+  fputs(", \"bin_last_nm\": ", f);
+  vr_json_number(f, r->nbins && r->bin_nm ? r->bin_nm[r->nbins - 1] : NAN);
+  fputs(", \"bin_width_nm\": ", f);
+  vr_json_number(f, r->nbins ? r->bin_width_nm : NAN);
+  fputs(", \"exposure_ev\": ", f);
+  vr_json_number(f, r->exposure_ev);
+  fputs("},\n", f);
+
+  json_key(f, "  ", "passes");
+  vr_passes_write_json(f, r);
+  fputs(",\n", f);
+
+  json_key(f, "  ", "rays");
+  fprintf(f,
+          "{\"camera\": %" PRIu64 ", \"shadow\": %" PRIu64 ", \"photon\": %" PRIu64
+          ", \"other\": %" PRIu64 ", \"crossings\": %" PRIu64 ", \"created\": %" PRIu64
+          ", \"finished\": %" PRIu64 "},\n",
+          r->rays_camera, r->rays_shadow, r->rays_photon, r->rays_other, r->crossings,
+          r->rays_created, r->rays_finished);
+  json_key(f, "  ", "photons");
+  fprintf(f, "{\"global\": %zu, \"caustic\": %zu, \"direct\": %zu},\n", r->photons_global,
+          r->photons_caustic, r->photons_direct);
+
+  json_key(f, "  ", "sensors");
+  fputs("[", f);
+  for (size_t k = 0; k < r->nreadings; k++) {
+    const vr_sensor_reading *s = &r->readings[k];
+    fprintf(f, "%s\n    {\"name\": ", k ? "," : "");
+    vr_json_string(f, sensor_name(s));
+    fprintf(f, ", \"i\": %d, \"j\": %d, \"position\": [", s->i, s->j);
+    for (int c = 0; c < 3; c++) {
+      if (c) fputs(", ", f);
+      vr_json_number(f, s->position[c]);
+    }
+    fputs("], \"illuminance_lx\": ", f);
+    vr_json_number(f, s->illuminance_lx);
+    fputs(", \"stderr_lx\": ", f);
+    vr_json_number(f, s->stderr_lx);
+    fputs(", \"daylight_factor_pct\": ", f);
+    vr_json_number(f, s->df_pct);
+    fputs("}", f);
+  }
+  fputs(r->nreadings ? "\n  ],\n" : "],\n", f);
+
+  json_key(f, "  ", "photochromic");
+  fprintf(f, "{\"texels\": %zu, \"state_min\": ", r->photochromic_texels);
+  vr_json_number(f, r->photochromic_texels ? r->photochromic_state_min : NAN);
+  fputs(", \"state_max\": ", f);
+  vr_json_number(f, r->photochromic_texels ? r->photochromic_state_max : NAN);
+  fputs("},\n", f);
+
+  json_key(f, "  ", "degenerate_triangles");
+  fprintf(f, "%zu,\n", r->degenerate_triangles);
+  /* Sub-domains, the geometry cache and what was held against the budget
+   * (docs/ddm.md). */
+  json_key(f, "  ", "subdomains");
+  fprintf(f,
+          "{\"count\": %d, \"loads\": %" PRIu64 ", \"unloads\": %" PRIu64
+          ", \"bytes_read\": %" PRIu64 ", \"load_seconds\": ",
+          r->subdomains, r->cell_loads, r->cell_unloads, r->cell_bytes_read);
+  vr_json_number(f, r->cell_load_seconds);
+  fprintf(f, ", \"rays_spilled\": %" PRIu64 "},\n", r->rays_spilled);
+  json_key(f, "  ", "cache");
+  fprintf(f, "{\"built\": %s, \"reason\": ", r->cache_built ? "true" : "false");
+  vr_json_string(f, r->cache_reason);
+  fputs(", \"seconds\": ", f);
+  vr_json_number(f, r->cache_seconds);
+  fprintf(f, ", \"bytes\": %" PRIu64 "},\n", r->cache_bytes);
+  json_key(f, "  ", "cells");
+  fputs("[", f);
+  for (size_t c = 0; r->cell_seconds && c < r->ncells; c++) {
+    fprintf(f, "%s{\"seconds\": ", c ? ", " : "");
+    vr_json_number(f, r->cell_seconds[c]);
+    fprintf(f, ", \"owner\": %d}", r->cell_owner ? r->cell_owner[c] : 0);
+  }
+  fputs("],\n", f);
+  json_key(f, "  ", "ranks");
+  fputs("[", f);
+  for (int k = 0; r->rank_stats && k < r->ranks; k++) {
+    const vr_rank_stats *q = &r->rank_stats[k];
+    fprintf(f,
+            "%s\n    {\"rank\": %d, \"cells_owned\": %d, \"rays_traced\": %" PRIu64
+            ", \"rays_sent\": %" PRIu64 ", \"rays_received\": %" PRIu64 ", \"messages\": %" PRIu64
+            ", \"bytes_sent\": %" PRIu64 ", \"waves\": %" PRIu64 ", \"idle_seconds\": ",
+            k ? "," : "", k, q->cells_owned, q->rays_traced, q->rays_sent, q->rays_received,
+            q->messages, q->bytes_sent, q->waves);
+    vr_json_number(f, q->idle_seconds);
+    fprintf(f, ", \"cell_loads\": %" PRIu64 ", \"peak_cells_bytes\": %zu, \"peak_rss_bytes\": %lld}",
+            q->cell_loads, q->peak_cells_bytes, q->peak_rss_bytes);
+  }
+  fputs(r->rank_stats && r->ranks ? "\n  ],\n" : "],\n", f);
+  json_key(f, "  ", "memory");
+  fprintf(f,
+          "{\"budget_bytes\": %zu, \"peak_cells_bytes\": %zu, \"peak_geometry_bytes\": %zu, "
+          "\"peak_embree_bytes\": %zu, \"peak_queue_bytes\": %zu, \"peak_map_bytes\": %zu, "
+          "\"peak_spill_bytes\": %zu},\n",
+          r->memory_budget, r->peak_cells_bytes, r->peak_geometry_bytes, r->peak_embree_bytes,
+          r->peak_queue_bytes, r->peak_map_bytes, r->peak_spill_bytes);
+  json_key(f, "  ", "peak_rss_bytes");
+  fprintf(f, "%lld,\n", vr_peak_rss_bytes());
+  json_key(f, "  ", "seconds_total");
+  vr_json_number(f, r->seconds_total);
+  fputs("\n}\n", f);
+  return vr_atomic_file_commit(&af, err);
+}

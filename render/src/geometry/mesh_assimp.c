@@ -1,0 +1,215 @@
+/* Mesh files through Assimp's C API.  Assimp triangulates polygons, bakes
+ * the node transforms into the vertices and joins identical vertices; it is
+ * not asked to generate normals (a mesh without normals is shaded flat by
+ * the renderer) nor to drop degenerate triangles (geometry.c counts those,
+ * so the user hears about them). */
+#include "geometry/mesh_assimp.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <assimp/cimport.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+void vr_mesh_data_free(vr_mesh_data *m) {
+  if (!m) return;
+  free(m->pos);
+  free(m->nrm);
+  free(m->uv);
+  free(m->tris);
+  memset(m, 0, sizeof *m);
+}
+
+static bool file_opens(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return false;
+  fclose(f);
+  return true;
+}
+
+static vr_status copy_scene(const struct aiScene *sc, const char *path, vr_mesh_data *out,
+                            vr_error *err) {
+  size_t nverts = 0, ntris = 0;
+  bool any_nrm = false, any_uv = false;
+  for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+    const struct aiMesh *m = sc->mMeshes[i];
+    size_t tri = 0;
+    for (unsigned f = 0; f < m->mNumFaces; f++) tri += m->mFaces[f].mNumIndices == 3;
+    if (tri == 0) continue; /* points or lines only */
+    nverts += m->mNumVertices;
+    ntris += tri;
+    any_nrm |= m->mNormals != NULL;
+    any_uv |= m->mTextureCoords[0] != NULL;
+  }
+  if (ntris == 0) return vr_error_set(err, VR_E_PARSE, "mesh '%s': no triangles", path);
+  if (nverts >= UINT32_MAX || ntris >= UINT32_MAX / 3)
+    return vr_error_set(err, VR_E_RANGE, "mesh '%s': %zu vertices, %zu triangles: too large",
+                        path, nverts, ntris);
+  out->pos = malloc(3 * nverts * sizeof *out->pos);
+  out->nrm = any_nrm ? calloc(3 * nverts, sizeof *out->nrm) : NULL;
+  out->uv = any_uv ? calloc(2 * nverts, sizeof *out->uv) : NULL;
+  out->tris = malloc(3 * ntris * sizeof *out->tris);
+  if (!out->pos || !out->tris || (any_nrm && !out->nrm) || (any_uv && !out->uv)) {
+    vr_mesh_data_free(out);
+    return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
+  }
+  size_t v = 0, t = 0;
+  for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+    const struct aiMesh *m = sc->mMeshes[i];
+    size_t tri = 0;
+    for (unsigned f = 0; f < m->mNumFaces; f++) tri += m->mFaces[f].mNumIndices == 3;
+    if (tri == 0) continue;
+    for (unsigned k = 0; k < m->mNumVertices; k++) {
+      out->pos[3 * (v + k) + 0] = m->mVertices[k].x;
+      out->pos[3 * (v + k) + 1] = m->mVertices[k].y;
+      out->pos[3 * (v + k) + 2] = m->mVertices[k].z;
+      if (m->mNormals) {
+        out->nrm[3 * (v + k) + 0] = m->mNormals[k].x;
+        out->nrm[3 * (v + k) + 1] = m->mNormals[k].y;
+        out->nrm[3 * (v + k) + 2] = m->mNormals[k].z;
+      }
+      if (m->mTextureCoords[0]) {
+        out->uv[2 * (v + k) + 0] = m->mTextureCoords[0][k].x;
+        out->uv[2 * (v + k) + 1] = m->mTextureCoords[0][k].y;
+      }
+    }
+    for (unsigned f = 0; f < m->mNumFaces; f++) {
+      const struct aiFace *face = &m->mFaces[f];
+      if (face->mNumIndices != 3) continue;
+      for (int c = 0; c < 3; c++) {
+        if (face->mIndices[c] >= m->mNumVertices) {
+          vr_mesh_data_free(out);
+          return vr_error_set(err, VR_E_PARSE, "mesh '%s': a face refers to a missing vertex",
+                              path);
+        }
+        out->tris[3 * t + (size_t)c] = (uint32_t)(v + face->mIndices[c]);
+      }
+      t++;
+    }
+    v += m->mNumVertices;
+  }
+  out->nverts = nverts;
+  out->ntris = ntris;
+  return VR_OK;
+}
+
+/* Assimp 5.2's PLY reader loops forever on a header without end_header and
+ * reads past the end of a truncated binary body (both seen with truncated
+ * files), so a PLY file's header is checked here first: it must end, its
+ * element counts must be numbers, and a binary body must be at least as
+ * long as its fixed-size part (every list taken as empty). */
+#define PLY_HEADER_MAX 65536
+
+static size_t ply_type_size(const char *t) {
+  static const struct {
+    const char *name;
+    size_t size;
+  } types[] = {{"char", 1},   {"uchar", 1},   {"int8", 1},    {"uint8", 1},  {"short", 2},
+               {"ushort", 2}, {"int16", 2},   {"uint16", 2},  {"int", 4},    {"uint", 4},
+               {"int32", 4},  {"uint32", 4},  {"float", 4},   {"float32", 4}, {"double", 8},
+               {"float64", 8}};
+  for (size_t i = 0; i < sizeof types / sizeof *types; i++)
+    if (strcmp(t, types[i].name) == 0) return types[i].size;
+  return 0;
+}
+
+static vr_status ply_precheck(const char *path, vr_error *err) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return VR_OK; /* Assimp reports it */
+  char *buf = malloc(PLY_HEADER_MAX + 1);
+  if (!buf) {
+    fclose(f);
+    return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
+  }
+  size_t n = fread(buf, 1, PLY_HEADER_MAX, f);
+  long long file_size = -1;
+  if (fseek(f, 0, SEEK_END) == 0) file_size = ftell(f);
+  fclose(f);
+  buf[n] = '\0';
+  vr_status st = VR_OK;
+  if (n < 4 || strncmp(buf, "ply", 3) != 0 || (buf[3] != '\n' && buf[3] != '\r')) goto done;
+  char *end = strstr(buf, "\nend_header");
+  if (!end) {
+    st = vr_error_set(err, VR_E_PARSE, "mesh '%s': PLY header has no end_header line within "
+                      "%d bytes (truncated file?)", path, PLY_HEADER_MAX);
+    goto done;
+  }
+  char *body = strchr(end + 1, '\n');
+  long long header_len = body ? (long long)(body + 1 - buf) : (long long)n;
+  end[1] = '\0';
+  bool binary = false;
+  unsigned long long min_body = 0, count = 0, row = 0;
+  long line = 1;
+  for (char *save = NULL, *ln = strtok_r(buf, "\n", &save); ln; ln = strtok_r(NULL, "\n", &save)) {
+    line++;
+    char w[4][32] = {{0}};
+    int k = sscanf(ln, "%31s %31s %31s %31s", w[0], w[1], w[2], w[3]);
+    if (k >= 2 && strcmp(w[0], "format") == 0) {
+      binary = strncmp(w[1], "binary", 6) == 0;
+    } else if (k >= 1 && strcmp(w[0], "element") == 0) {
+      min_body += count * row;
+      char *e = NULL;
+      count = k >= 3 ? strtoull(w[2], &e, 10) : 0;
+      if (k < 3 || !e || *e || w[2][0] == '-' || count > (1ULL << 40)) {
+        st = vr_error_set(err, VR_E_PARSE, "mesh '%s': PLY header: element '%s' has no valid "
+                          "count", path, k >= 2 ? w[1] : "");
+        goto done;
+      }
+      row = 0;
+    } else if (k >= 2 && strcmp(w[0], "property") == 0) {
+      row += ply_type_size(w[1]) ? ply_type_size(w[1])
+                                 : strcmp(w[1], "list") == 0 && k >= 3 ? ply_type_size(w[2]) : 0;
+    }
+  }
+  min_body += count * row;
+  if (binary && file_size >= 0 && (unsigned long long)(file_size - header_len) < min_body)
+    st = vr_error_set(err, VR_E_PARSE, "mesh '%s': PLY body has %lld bytes, its header needs at "
+                      "least %llu (truncated file?)", path, file_size - header_len, min_body);
+done:
+  free(buf);
+  return st;
+}
+
+/* Assimp's JoinIdenticalVertices merges a NaN vertex into another one, so
+ * non-finite positions are looked for before joining. */
+static vr_status check_finite(const struct aiScene *sc, const char *path, vr_error *err) {
+  for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+    const struct aiMesh *m = sc->mMeshes[i];
+    for (unsigned k = 0; k < m->mNumVertices; k++) {
+      const struct aiVector3D *p = &m->mVertices[k];
+      if (!isfinite(p->x) || !isfinite(p->y) || !isfinite(p->z))
+        return vr_error_set(err, VR_E_RANGE, "mesh '%s': a vertex is not finite (%g, %g, %g)",
+                            path, (double)p->x, (double)p->y, (double)p->z);
+    }
+  }
+  return VR_OK;
+}
+
+vr_status vr_mesh_read(const char *path, vr_mesh_data *out, vr_error *err) {
+  memset(out, 0, sizeof *out);
+  if (!path || !*path) return vr_error_set(err, VR_E_ARG, "mesh: no file name");
+  vr_status st = ply_precheck(path, err);
+  if (st != VR_OK) return st;
+  const struct aiScene *sc =
+      aiImportFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices);
+  if (!sc) {
+    const char *why = aiGetErrorString();
+    bool opens = file_opens(path);
+    return vr_error_set(err, opens ? VR_E_PARSE : VR_E_IO, "mesh '%s': %s", path,
+                        why && *why ? why : (opens ? "cannot be read" : "cannot be opened"));
+  }
+  if ((st = check_finite(sc, path, err)) != VR_OK) {
+    aiReleaseImport(sc);
+    return st;
+  }
+  /* On failure Assimp has released the scene itself. */
+  sc = aiApplyPostProcessing(sc, aiProcess_JoinIdenticalVertices);
+  if (!sc) return vr_error_set(err, VR_E_PARSE, "mesh '%s': %s", path, aiGetErrorString());
+  st = copy_scene(sc, path, out, err);
+  aiReleaseImport(sc);
+  return st;
+}

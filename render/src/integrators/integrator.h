@@ -1,0 +1,68 @@
+/* An integrator behind one interface: a table of operations (its name in
+ * the scene's render line, its own rules for that line, the renders it
+ * refuses, and the camera image it makes) registered in one place,
+ * integrators/registry.c.  Adding an integrator is one new file holding its
+ * table and one line there.
+ *
+ * vr_render_scene (render.c) resolves the scene, runs the UV and sensor
+ * passes, then hands the camera image to the scene's integrator: render()
+ * records its decisions (which photon passes, and why), runs its passes
+ * through vr_camera_pass or its own loop, and leaves the image's sums in
+ * job->acc; the caller adds them over the ranks, divides by job->passes and
+ * lets add_film() add what the integrator kept apart (SPPM's photon
+ * radiance). */
+#ifndef VR_INTEGRATORS_INTEGRATOR_H
+#define VR_INTEGRATORS_INTEGRATOR_H
+
+#include "integrators/pass.h"
+#include "scene/scene_parse.h"
+#include "world/analysis.h"
+
+/* The camera image an integrator makes. */
+typedef struct vr_camera_job {
+  vr_run *run;
+  vr_rscene *rs;
+  vr_accum *acc;              /* the image's sums */
+  int W, H, spp;
+  long photons, caustic_photons; /* per pass, with the command line's override */
+  vr_scene_needs needs;       /* what the scene's materials call for */
+  bool lights_exist;          /* a light with power: photons have a source */
+  /* Set by render(): */
+  int passes;                 /* the sums are over this many passes (divide by it) */
+  double seconds;             /* the camera passes' time */
+  void *state;                /* what add_film() and free_state() work on */
+  void (*add_film)(const void *state, double *xyz, double *spectral);
+  void (*free_state)(void *state);
+} vr_camera_job;
+
+typedef struct vr_integrator_ops {
+  const char *name;           /* render integrator=NAME */
+  const char *what;           /* the camera pass's record: "path tracing" */
+  /* Its own rules for the render line (scene/scene_parse.h), or NULL. */
+  vr_scn_settings_rule settings;
+  /* Refuses, before any work, a render it cannot do (VR_E_ARG naming the
+   * reason); NULL: it can do any. */
+  vr_status (*check)(const vr_scene *s, const vr_render_options *opt, int nranks,
+                     vr_error *err);
+  vr_status (*render)(vr_camera_job *job, vr_error *err);
+} vr_integrator_ops;
+
+/* Integrator i (vr_scene_settings.integrator; the values of vr_integrator in
+ * vr/scene.h are the first five), NULL past the last. */
+const vr_integrator_ops *vr_integrator_ops_of(size_t i);
+
+/* Records that integrator `name` uses no photon map (the records the
+ * photon integrators make with their decisions). */
+void vr_integrator_no_photons(vr_run *r, const char *name);
+/* Which photon passes the job's scene calls for: a global map (diffuse
+ * surfaces interreflect, depth above 1, a light with power) and caustics
+ * (specular or glossy surfaces and diffuse ones to land on). */
+void vr_integrator_photon_needs(const vr_camera_job *job, bool *global, bool *caustic);
+/* A pass for the job: its scene, accumulators, spp and depth. */
+vr_pass vr_integrator_pass(const vr_camera_job *job);
+/* A pass over the whole camera job's image through ops with c's settings
+ * (spp, the integrator's hook), the seconds it took added to job->seconds. */
+vr_status vr_integrator_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *ops,
+                               vr_error *err);
+
+#endif

@@ -1,0 +1,144 @@
+/* Stochastic progressive photon mapping (render integrator=progressive,
+ * alias sppm; sppm.h): spp iterations, each of one camera path a pixel to
+ * its visible point (paths.c, with this integrator's say at the first
+ * diffuse vertex) and `photons` photons landing on the visible points
+ * (photon_trace.c); each step's sums are added over the ranks. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "integrators/integrator.h"
+#include "integrators/photon_maps.h"
+#include "integrators/sppm.h"
+#include "vr/comm.h"
+
+/* The first radius of a pixel's visible point, in pixel footprints at the
+ * point, unless the scene gives radius= (metres). */
+#define SPPM_RADIUS_PX 4.0
+
+/* Progressive photon mapping renders spp iterations of one camera path a
+ * pixel each; passes= is the older name of that count.  Each iteration's
+ * wavelengths serve every pixel, so one iteration's spectral quadrature
+ * must be good: 4 wavelengths 75 nm apart left Z (the narrowest
+ * colour-matching function) 1.2 x noisier than Y in the white furnace
+ * (tests/render/test_sppm.c), 8 do not. */
+static vr_status settings(const vr_scn_stmt *t, vr_scene_settings *g, long long *spp,
+                          long long *wavelengths) {
+  (void)g;
+  const vr_scn_opt *o = scn_get(t, "passes");
+  if (o) {
+    if (scn_get(t, "spp"))
+      return scn_fail(t->p, o->word,
+                      "spp= and passes= both given: integrator=progressive renders spp iterations "
+                      "of one camera path a pixel and `photons` photons each (passes= is the "
+                      "older name of spp=)");
+    vr_status st = scn_int_opt(t, "passes", 1, 1 << 20, spp);
+    if (st) return st;
+  }
+  if (!scn_get(t, "wavelengths")) *wavelengths = VR_SCENE_MAX_WAVELENGTHS;
+  return VR_OK;
+}
+
+/* SPPM: the next-event estimate took the direct light; the vertex is the
+ * pixel's visible point, where the photons of this iteration add the rest. */
+static bool at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr_hit *hit,
+                       const vr_surface *se, const double wo[3]) {
+  (void)w;
+  if (p->target != VR_TARGET_PIXEL) return false;
+  double bw[VR_MAX_WL]; /* the sample's weight too: a pixel filter's negative lobes */
+  for (int k = 0; k < p->nwl; k++) bw[k] = p->beta[k] * p->weight;
+  vr_sppm_set_point(c->state, c->rs, p->index, hit->p, hit->ns, wo,
+                    c->rs->obj[hit->object].material, se->state, p->nwl, bw,
+                    (p->flags & VR_PF_TERMINATED) != 0);
+  return true;
+}
+
+/* Light that has scattered off something other than a straight pane
+ * (next-event estimation took the rest) reaches the visible points about
+ * the hit. */
+static void land(vr_pass *c, const vr_payload *p, const vr_hit *hit, const double dir[3]) {
+  if (!(p->flags & (VR_PF_HAS_DIFFUSE | VR_PF_HAS_SPECULAR))) return;
+  double wi[3] = {-dir[0], -dir[1], -dir[2]};
+  vr_sppm_deposit(c->state, c->rs, hit->p, wi, p->beta, (p->flags & VR_PF_TERMINATED) != 0);
+}
+
+/* One iteration: the visible points, their grid, the photons, the update;
+ * each step's sums added over the ranks. */
+static vr_status iteration(vr_camera_job *job, vr_pass *c, int it, int iterations,
+                           bool trace_photons, double *t_photons, vr_error *err) {
+  vr_run *r = job->run;
+  vr_sppm *s = c->state;
+  vr_sppm_begin(s, job->rs, it, iterations);
+  c->sample_offset = it;
+  vr_status st = vr_integrator_camera(job, c, &vr_camera_path_ops, err);
+  double t0 = vr_run_now();
+  if (!st && r->nranks > 1) st = vr_sppm_sum_points(s, r->comm, err);
+  if (!st) st = vr_sppm_build(s, err);
+  job->seconds += vr_run_now() - t0;
+  if (st || !trace_photons) return st;
+  t0 = vr_run_now();
+  vr_pass pc = *c;
+  pc.land = land;
+  pc.photons_per_unit = 1024;
+  long units = (job->photons + pc.photons_per_unit - 1) / pc.photons_per_unit;
+  if (units < 1) units = 1;
+  st = vr_run_flow(r, &vr_photon_ops, &pc, units, "photons", err);
+  if (!st && r->nranks > 1) st = vr_sppm_sum_photons(s, r->comm, err);
+  if (!st) vr_sppm_update(s, (uint64_t)units * (uint64_t)pc.photons_per_unit);
+  *t_photons += vr_run_now() - t0;
+  return st;
+}
+
+static void add_film(const void *state, double *xyz, double *spectral) {
+  vr_sppm_film(state, xyz, spectral);
+}
+
+static void free_state(void *state) {
+  vr_sppm_destroy(state);
+  free(state);
+}
+
+static vr_status render(vr_camera_job *job, vr_error *err) {
+  vr_run *r = job->run;
+  const vr_scene_settings *set = &job->rs->s->settings;
+  const vr_scene_needs *nd = &job->needs;
+  bool need_global, need_caustic;
+  vr_integrator_photon_needs(job, &need_global, &need_caustic);
+  bool any = need_global || need_caustic;
+  vr_pass_record *rp =
+      vr_run_record(r, "photons", any, "%s",
+                    any ? "progressive photon mapping: each iteration's photons reach the visible "
+                          "points where they land (no map kept)"
+                    : !nd->diffuse ? "no diffuse surface for photons to reach"
+                    : !job->lights_exist ? "no light with power"
+                                         : "depth 1: no indirect light asked for");
+  vr_sppm *s = calloc(1, sizeof *s);
+  if (!s) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  vr_status st = vr_sppm_create(s, job->rs, job->W, job->H,
+                                isnan(set->radius_m) ? 0 : set->radius_m, SPPM_RADIUS_PX,
+                                set->alpha, err);
+  if (st) {
+    free(s);
+    return st;
+  }
+  job->state = s, job->add_film = add_film, job->free_state = free_state;
+  vr_pass c = vr_integrator_pass(job);
+  c.spp = 1;
+  c.at_diffuse = at_diffuse;
+  c.fixed_wl = s->wl;
+  c.state = s;
+  job->passes = job->spp;
+  double t_photons = 0;
+  for (int it = 0; !st && it < job->spp; it++)
+    st = iteration(job, &c, it, job->spp, any, &t_photons, err);
+  if (st) return st;
+  double rlo, rmed, rhi;
+  vr_sppm_radii(s, &rlo, &rmed, &rhi);
+  vr_run_say(r, "progressive: %d iterations of %ld photons; pixel radii now %.3g to %.3g mm "
+                "(median %.3g mm)", job->spp, job->photons, 1e3 * rlo, 1e3 * rhi, 1e3 * rmed);
+  if (rp && any) rp->seconds = t_photons;
+  return VR_OK;
+}
+
+const vr_integrator_ops vr_integrator_progressive = {
+    .name = "progressive", .what = "progressive photon mapping", .settings = settings,
+    .render = render};

@@ -1,0 +1,346 @@
+/* Stochastic progressive photon mapping: visible points, their hash grid,
+ * photon deposits and the per-pixel radius statistics (sppm.h). */
+#include "integrators/sppm.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vr/comm.h"
+#include "vr/rng.h"
+
+/* A grid entry: a point's position (from the grid's corner, so float
+ * keeps it to about 1e-7 of the grid's size), its radius squared (a little larger in
+ * float, never smaller), the normal of the side it is seen from (zero for a
+ * non-Lambertian point, whose BSDF decides) and its slot: what a photon's
+ * search reads, one run of memory per hash slot. */
+typedef struct vr_sppm_entry {
+  float p[3], r2;
+  float side[3];
+  uint32_t slot;
+} vr_sppm_entry;
+
+static size_t slot_of(const vr_sppm *s, uint32_t pixel) {
+  size_t x = pixel % (uint32_t)s->width, y = pixel / (uint32_t)s->width;
+  size_t tw = ((size_t)s->width + SPPM_TILE - 1) / SPPM_TILE;
+  return ((y / SPPM_TILE) * tw + x / SPPM_TILE) * SPPM_TILE * SPPM_TILE +
+         (y % SPPM_TILE) * SPPM_TILE + x % SPPM_TILE;
+}
+
+/* The pixel of a slot, or -1 for the padding of edge tiles. */
+static long pixel_of(const vr_sppm *s, size_t slot) {
+  size_t tw = ((size_t)s->width + SPPM_TILE - 1) / SPPM_TILE, t = slot / (SPPM_TILE * SPPM_TILE);
+  size_t in = slot % (SPPM_TILE * SPPM_TILE);
+  size_t x = (t % tw) * SPPM_TILE + in % SPPM_TILE, y = (t / tw) * SPPM_TILE + in / SPPM_TILE;
+  return x < (size_t)s->width && y < (size_t)s->height ? (long)(y * (size_t)s->width + x) : -1;
+}
+
+static void put(_Atomic uint64_t *cell, double v) {
+  uint64_t b;
+  memcpy(&b, &v, sizeof b);
+  atomic_store_explicit(cell, b, memory_order_relaxed);
+}
+
+vr_status vr_sppm_create(vr_sppm *s, const vr_rscene *rs, int width, int height, double radius0,
+                         double radius0_px, double gamma, vr_error *err) {
+  memset(s, 0, sizeof *s);
+  s->width = width;
+  s->height = height;
+  s->npx = (size_t)width * (size_t)height;
+  s->nslots = (((size_t)width + SPPM_TILE - 1) / SPPM_TILE) *
+              (((size_t)height + SPPM_TILE - 1) / SPPM_TILE) * SPPM_TILE * SPPM_TILE;
+  s->nwl = rs->nwl;
+  s->wl_weight = (rs->lmax - rs->lmin) / rs->nwl;
+  s->radius0 = radius0;
+  s->radius0_px = radius0_px;
+  s->gamma = gamma;
+  s->footprint = rs->cam.tan_half > 0 ? 2 * rs->cam.tan_half / width : M_PI / width;
+  memcpy(s->cam, rs->cam.o, sizeof s->cam);
+  s->hsize = s->npx ? s->npx : 1;
+  s->vp = calloc(s->nslots * VP_DOUBLES, sizeof *s->vp);
+  s->acc = calloc(s->nslots, sizeof *s->acc);
+  s->radius = calloc(s->nslots, sizeof *s->radius);
+  s->n = calloc(s->nslots, sizeof *s->n);
+  s->start = calloc(s->hsize + 1, sizeof *s->start);
+  if (!s->vp || !s->acc || !s->radius || !s->n || !s->start) {
+    vr_sppm_destroy(s);
+    return vr_error_set(err, VR_E_NOMEM, "out of memory for the visible points of %d x %d pixels",
+                        width, height);
+  }
+  vr_status st = vr_accum_create(&s->tau, width, height, rs->nbins, rs->film_lo, rs->film_step, 0,
+                                 1, 0, err);
+  if (!st && rs->bins_mode) st = vr_accum_set_bins(&s->tau, rs->lmin, rs->lmax, rs->nwl, err);
+  if (st) vr_sppm_destroy(s);
+  return st;
+}
+
+void vr_sppm_destroy(vr_sppm *s) {
+  free(s->vp);
+  free(s->acc);
+  free(s->radius);
+  free(s->n);
+  free(s->start);
+  free(s->idx);
+  vr_accum_destroy(&s->tau);
+  memset(s, 0, sizeof *s);
+}
+
+void vr_sppm_begin(vr_sppm *s, const vr_rscene *rs, int iteration, int iterations) {
+  /* The hero is stratified over the iterations (vr_wavelengths takes the
+   * stratum from the key's sample index). */
+  vr_rng_key key = {rs->seed, 0x5e5e5e5e5eull, (uint32_t)iteration, 0};
+  vr_wavelengths(rs, &key, (uint32_t)(iterations > 0 ? iterations : 1), s->wl);
+  memset(s->vp, 0, s->nslots * VP_DOUBLES * sizeof *s->vp);
+  memset(s->acc, 0, s->nslots * sizeof *s->acc);
+}
+
+void vr_sppm_set_point(vr_sppm *s, const vr_rscene *rs, uint32_t pixel, const double p[3],
+                       const double ns[3], const double wo[3], int material, double state,
+                       int nwl, const double *beta, bool terminated) {
+  if (pixel >= s->npx) return;
+  double *v = s->vp + slot_of(s, pixel) * VP_DOUBLES;
+  const vr_bsdf *b = rs->mat[material].bsdf;
+  /* A Lambertian surface's f is one value for every wi on wo's side:
+   * evaluated here once, for the mirror direction, not per photon. */
+  bool lambert = vr_bsdf_lobes(b) == VR_LOBE_DIFFUSE && !vr_bsdf_is_thin(b);
+  double f[VR_BSDF_MAX_WAVELENGTHS];
+  if (lambert) {
+    double c = ns[0] * wo[0] + ns[1] * wo[1] + ns[2] * wo[2], wi[3], pdf;
+    for (int a = 0; a < 3; a++) wi[a] = 2 * c * ns[a] - wo[a];
+    vr_bsdf_eval(b, state, (vr_vec3){ns[0], ns[1], ns[2]}, (vr_vec3){wo[0], wo[1], wo[2]},
+                 (vr_vec3){wi[0], wi[1], wi[2]}, nwl, s->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
+  }
+  bool any = false;
+  for (int k = 0; k < nwl && k < VR_MAX_WL; k++)
+    any |= (v[VP_BETA + k] = lambert ? beta[k] * f[k] : beta[k]) > 0;
+  if (!any) return;
+  v[VP_VALID] = 1;
+  v[VP_LAMBERT] = lambert;
+  v[VP_TERM] = terminated;
+  memcpy(v + VP_P, p, 3 * sizeof *p);
+  memcpy(v + VP_N, ns, 3 * sizeof *ns);
+  memcpy(v + VP_WO, wo, 3 * sizeof *wo);
+  v[VP_STATE] = state;
+  v[VP_MATERIAL] = material;
+}
+
+static size_t hash3(int x, int y, int z, size_t n) {
+  uint64_t h = (uint64_t)(uint32_t)x * 73856093u ^ (uint64_t)(uint32_t)y * 19349663u ^
+               (uint64_t)(uint32_t)z * 83492791u;
+  return (size_t)(h % n);
+}
+
+static int cell_of(const vr_sppm *s, double x, int a) {
+  double c = floor((x - s->lo[a]) / s->cell);
+  return c < 0 ? 0 : c >= s->res[a] ? s->res[a] - 1 : (int)c;
+}
+
+static void fill_entry(const vr_sppm *s, size_t i, vr_sppm_entry *e) {
+  const double *v = s->vp + i * VP_DOUBLES;
+  for (int a = 0; a < 3; a++) e->p[a] = (float)(v[VP_P + a] - s->lo[a]);
+  e->r2 = (float)(s->radius[i] * s->radius[i]) * (1 + 1e-5f);
+  double co = v[VP_N] * v[VP_WO] + v[VP_N + 1] * v[VP_WO + 1] + v[VP_N + 2] * v[VP_WO + 2];
+  double sg = v[VP_LAMBERT] > 0.5 ? (co < 0 ? -1.0 : 1.0) : 0.0;
+  for (int a = 0; a < 3; a++) e->side[a] = (float)(sg * v[VP_N + a]);
+  e->slot = (uint32_t)i;
+}
+
+vr_status vr_sppm_build(vr_sppm *s, vr_error *err) {
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  double rmax = 0;
+  size_t nvalid = 0;
+  for (size_t i = 0; i < s->nslots; i++) {
+    const double *v = s->vp + i * VP_DOUBLES;
+    if (!(v[VP_VALID] > 0.5)) continue;
+    if (!(s->radius[i] > 0)) {
+      /* The first radius: as given, or a few pixel footprints at the point. */
+      double d[3] = {v[VP_P] - s->cam[0], v[VP_P + 1] - s->cam[1], v[VP_P + 2] - s->cam[2]};
+      s->radius[i] = s->radius0 > 0
+                         ? s->radius0
+                         : s->radius0_px * s->footprint * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (!(s->radius[i] > 0)) s->radius[i] = 1e-6;
+    }
+    for (int k = 0; k < VR_MAX_WL; k++) s->acc[i].w[k] = v[VP_BETA + k];
+    s->acc[i].term = v[VP_TERM] > 0.5;
+    for (int a = 0; a < 3; a++) {
+      lo[a] = fmin(lo[a], v[VP_P + a] - s->radius[i]);
+      hi[a] = fmax(hi[a], v[VP_P + a] + s->radius[i]);
+    }
+    if (s->radius[i] > rmax) rmax = s->radius[i];
+    nvalid++;
+  }
+  free(s->idx);
+  s->idx = NULL;
+  memset(s->start, 0, (s->hsize + 1) * sizeof *s->start);
+  if (!nvalid) return VR_OK;
+  /* Cells of twice the largest radius: a point's disc reaches at most two
+   * cells along each axis. */
+  s->cell = 2 * rmax;
+  for (int a = 0; a < 3; a++) {
+    s->lo[a] = lo[a];
+    double r = ceil((hi[a] - lo[a]) / s->cell);
+    s->res[a] = r < 1 ? 1 : r > (1 << 20) ? (1 << 20) : (int)r;
+  }
+  /* Counting, then filling (compressed rows by hash slot). */
+  size_t total = 0;
+  for (int pass = 0; pass < 2; pass++) {
+    for (size_t i = 0; i < s->nslots; i++) {
+      const double *v = s->vp + i * VP_DOUBLES;
+      if (!(v[VP_VALID] > 0.5)) continue;
+      int c0[3], c1[3];
+      for (int a = 0; a < 3; a++) {
+        c0[a] = cell_of(s, v[VP_P + a] - s->radius[i], a);
+        c1[a] = cell_of(s, v[VP_P + a] + s->radius[i], a);
+      }
+      for (int z = c0[2]; z <= c1[2]; z++)
+        for (int y = c0[1]; y <= c1[1]; y++)
+          for (int x = c0[0]; x <= c1[0]; x++) {
+            size_t h = hash3(x, y, z, s->hsize);
+            if (pass == 0) {
+              s->start[h + 1]++;
+              total++;
+            } else {
+              fill_entry(s, i, &s->idx[s->start[h]++]);
+            }
+          }
+    }
+    if (pass == 0) {
+      if (total > UINT32_MAX) return vr_error_set(err, VR_E_NOMEM, "too many visible points");
+      for (size_t h = 0; h < s->hsize; h++) s->start[h + 1] += s->start[h];
+      s->idx = malloc((total ? total : 1) * sizeof *s->idx);
+      if (!s->idx) return vr_error_set(err, VR_E_NOMEM, "out of memory for the visible points' grid");
+    }
+  }
+  /* The fill advanced each start to its row's end: shift back. */
+  for (size_t h = s->hsize; h > 0; h--) s->start[h] = s->start[h - 1];
+  s->start[0] = 0;
+  return VR_OK;
+}
+
+void vr_sppm_deposit(vr_sppm *s, const vr_rscene *rs, const double x[3], const double wi[3],
+                     const double *beta, bool terminated) {
+  if (!s->idx) return;
+  int c[3];
+  for (int a = 0; a < 3; a++) {
+    double f = floor((x[a] - s->lo[a]) / s->cell);
+    if (f < 0 || f >= s->res[a]) return; /* outside every point's disc */
+    c[a] = (int)f;
+  }
+  size_t h = hash3(c[0], c[1], c[2], s->hsize);
+  float xf[3] = {(float)(x[0] - s->lo[0]), (float)(x[1] - s->lo[1]), (float)(x[2] - s->lo[2])};
+  float wf[3] = {(float)wi[0], (float)wi[1], (float)wi[2]};
+  for (uint32_t j = s->start[h]; j < s->start[h + 1]; j++) {
+    const vr_sppm_entry *e = &s->idx[j];
+    float d[3] = {xf[0] - e->p[0], xf[1] - e->p[1], xf[2] - e->p[2]};
+    if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > e->r2) continue;
+    vr_sppm_acc *q = &s->acc[e->slot];
+    double add[VR_MAX_WL];
+    if (e->side[0] != 0 || e->side[1] != 0 || e->side[2] != 0) {
+      /* Lambertian: f is in w already; nothing from the other side. */
+      if (!(e->side[0] * wf[0] + e->side[1] * wf[1] + e->side[2] * wf[2] > 0)) continue;
+      for (int k = 0; k < s->nwl; k++) add[k] = q->w[k] * beta[k];
+    } else {
+      const double *v = s->vp + (size_t)e->slot * VP_DOUBLES;
+      const vr_bsdf *b = rs->mat[(int)v[VP_MATERIAL]].bsdf;
+      double f[VR_BSDF_MAX_WAVELENGTHS], pdf;
+      vr_bsdf_eval(b, v[VP_STATE], (vr_vec3){v[VP_N], v[VP_N + 1], v[VP_N + 2]},
+                   (vr_vec3){v[VP_WO], v[VP_WO + 1], v[VP_WO + 2]},
+                   (vr_vec3){wi[0], wi[1], wi[2]}, s->nwl, s->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
+      for (int k = 0; k < s->nwl; k++) add[k] = q->w[k] * f[k] * beta[k];
+    }
+    if (terminated && q->term)
+      for (int k = 0; k < s->nwl; k++) add[k] /= s->nwl;
+    for (int k = 0; k < s->nwl; k++)
+      if (!(add[k] > 0) || !isfinite(add[k])) add[k] = 0.0;
+    /* One lock a point for its nwl sums and its count: two atomic
+     * operations instead of nwl + 1 compare-and-swap loops. */
+    while (atomic_exchange_explicit(&q->lock, 1, memory_order_acquire))
+      ;
+    for (int k = 0; k < s->nwl; k++) q->phi[k] += add[k];
+    /* M counts the photons that reached the disc, whatever f gave them
+     * (the statistics count photons, not their weight). */
+    q->m++;
+    atomic_store_explicit(&q->lock, 0, memory_order_release);
+  }
+}
+
+void vr_sppm_update(vr_sppm *s, uint64_t photons) {
+  s->photons_total += photons;
+  size_t nb = s->tau.nbins;
+  for (size_t i = 0; i < s->nslots; i++) {
+    uint64_t M = s->acc[i].m;
+    long px = pixel_of(s, i);
+    if (!M || px < 0) continue;
+    double N = s->n[i], R = s->radius[i];
+    double Nn = N + s->gamma * (double)M;
+    double Rn = R * sqrt(Nn / (N + (double)M));
+    /* τ + β Φ: this iteration's radiance samples at its wavelengths, in
+     * the film's units before the 1 / (photons π R^2). */
+    double L[VR_MAX_WL];
+    for (int k = 0; k < s->nwl; k++) L[k] = s->acc[i].phi[k] / s->wl_weight;
+    vr_accum_pixel(&s->tau, (uint32_t)px, s->nwl, s->wl, L, s->wl_weight);
+    double shrink = (Rn * Rn) / (R * R);
+    size_t p = (size_t)px;
+    for (int a = 0; a < 3; a++)
+      put(&s->tau.xyz[p * 3 + (size_t)a], vr_atomic_get(&s->tau.xyz[p * 3 + (size_t)a]) * shrink);
+    for (size_t b = 0; b < nb; b++)
+      put(&s->tau.bins[p * nb + b], vr_atomic_get(&s->tau.bins[p * nb + b]) * shrink);
+    s->n[i] = Nn;
+    s->radius[i] = Rn;
+  }
+}
+
+void vr_sppm_film(const vr_sppm *s, double *xyz, double *bins) {
+  size_t nb = s->tau.nbins;
+  if (!s->photons_total) return;
+  for (size_t i = 0; i < s->nslots; i++) {
+    double R = s->radius[i];
+    long px = pixel_of(s, i);
+    if (!(R > 0) || px < 0) continue;
+    size_t p = (size_t)px;
+    double k = 1.0 / ((double)s->photons_total * M_PI * R * R);
+    for (int a = 0; a < 3; a++) xyz[p * 3 + (size_t)a] += vr_atomic_get(&s->tau.xyz[p * 3 + (size_t)a]) * k;
+    for (size_t b = 0; b < nb; b++) bins[p * nb + b] += vr_atomic_get(&s->tau.bins[p * nb + b]) * k;
+  }
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? -1 : x > y;
+}
+
+void vr_sppm_radii(const vr_sppm *s, double *lo, double *median, double *hi) {
+  *lo = *median = *hi = 0;
+  double *r = malloc((s->nslots ? s->nslots : 1) * sizeof *r);
+  if (!r) return;
+  size_t n = 0;
+  for (size_t i = 0; i < s->nslots; i++)
+    if (s->radius[i] > 0) r[n++] = s->radius[i];
+  if (n) {
+    qsort(r, n, sizeof *r, cmp_double);
+    *lo = r[0], *median = r[n / 2], *hi = r[n - 1];
+  }
+  free(r);
+}
+
+vr_status vr_sppm_sum_points(vr_sppm *s, struct vr_comm *comm, vr_error *err) {
+  return vr_comm_sum_doubles(comm, s->vp, s->nslots * VP_DOUBLES, err);
+}
+
+vr_status vr_sppm_sum_photons(vr_sppm *s, struct vr_comm *comm, vr_error *err) {
+  size_t per = (size_t)s->nwl + 1, n = s->nslots * per;
+  double *t = malloc(n * sizeof *t);
+  if (!t) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t i = 0; i < s->nslots; i++) {
+    memcpy(t + i * per, s->acc[i].phi, (size_t)s->nwl * sizeof *t);
+    t[i * per + (size_t)s->nwl] = s->acc[i].m;
+  }
+  vr_status st = vr_comm_sum_doubles(comm, t, n, err);
+  if (!st)
+    for (size_t i = 0; i < s->nslots; i++) {
+      memcpy(s->acc[i].phi, t + i * per, (size_t)s->nwl * sizeof *t);
+      s->acc[i].m = (uint32_t)llround(t[i * per + (size_t)s->nwl]);
+    }
+  free(t);
+  return st;
+}

@@ -1,0 +1,139 @@
+/* Sky portals: next-event estimation of the sky aimed through the windows.
+ *
+ * A room lit through its windows sees the sky in a small solid angle; the
+ * sky's own importance sampler (by luminance over the whole hemisphere)
+ * then sends most shadow rays into walls.  With portals declared, a sky
+ * sample is drawn from a mixture: with probability VR_PORTAL_SHARE a point
+ * uniform on one portal's area (the portal chosen in proportion to the
+ * solid angle it roughly subtends from the shading point), otherwise the
+ * sky's sampler.  The sample is weighted by the mixture's density
+ *   p(w) = q sum_j P_j [ray hits portal j] t_j^2 / (A_j |n_j . w|) + (1 - q) p_sky(w),
+ * the one-sample balance heuristic of the two strategies (Veach 1997,
+ * section 9.2.4), so the estimate stays unbiased whatever the portals
+ * cover: light that enters another way is still found by the sky share.
+ * Portals are only a sampling hint, not geometry.
+ *
+ * Photons: the far sources (sun, sky, ground glow) also emit through the
+ * portals (sources.c, vr_lights_emit_portal_photon), from points uniform over
+ * their total area, travelling into the room (along the portal's normal),
+ * starting outside the scene on the line through that point and killed if
+ * anything but a straight pane stops them before the portal (an overhang
+ * shades it).  So that no light is counted twice, the far sources' usual
+ * photons are killed where they cross a portal inwards before any
+ * scattering (vr_portal_crossed_inward): their light in the room is the
+ * portal photons', and only what the outside reflected enters with them. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "vr/vec3.h"
+#include "lights/lights.h"
+
+vr_status vr_lights_portals_create(vr_lights *L, const vr_scene *s, vr_error *err) {
+  L->nportals = 0;
+  if (!s->nportals) return VR_OK;
+  L->portals = calloc(s->nportals, sizeof *L->portals);
+  if (!L->portals) return vr_error_set(err, VR_E_NOMEM, "out of memory for portals");
+  for (size_t i = 0; i < s->nportals; i++) {
+    const vr_scene_portal *p = &s->portals[i];
+    vr_portal *q = &L->portals[i];
+    for (int k = 0; k < 3; k++) q->corner[k] = p->corner[k], q->u[k] = p->u[k], q->v[k] = p->v[k];
+    double c[3];
+    vr_cross3(p->u, p->v, c);
+    q->area = sqrt(vr_dot3(c, c));
+    for (int k = 0; k < 3; k++) q->n[k] = c[k] / q->area;
+    q->uu = vr_dot3(p->u, p->u), q->vv = vr_dot3(p->v, p->v);
+  }
+  L->nportals = s->nportals;
+  L->portal_area_cdf = calloc(s->nportals, sizeof *L->portal_area_cdf);
+  if (!L->portal_area_cdf) return vr_error_set(err, VR_E_NOMEM, "out of memory for portals");
+  double acc = 0;
+  for (size_t i = 0; i < s->nportals; i++) L->portal_area_cdf[i] = (acc += L->portals[i].area);
+  L->portal_area = acc;
+  return VR_OK;
+}
+
+void vr_portal_point(const vr_lights *L, double u0, double u1, double u2, double y[3], size_t *which) {
+  double t = u0 * L->portal_area;
+  size_t j = 0;
+  while (j + 1 < L->nportals && L->portal_area_cdf[j] <= t) j++;
+  const vr_portal *q = &L->portals[j];
+  for (int k = 0; k < 3; k++) y[k] = q->corner[k] + u1 * q->u[k] + u2 * q->v[k];
+  *which = j;
+}
+
+/* Where the segment org + t dir, t in (0, tmax], crosses portal q (its
+ * plane within its rectangle): the t, or -1. */
+static double crossing(const vr_portal *q, const double org[3], const double dir[3], double tmax) {
+  double cn = vr_dot3(q->n, dir);
+  if (fabs(cn) <= 1e-12) return -1;
+  double t = (vr_dot3(q->n, q->corner) - vr_dot3(q->n, org)) / cn;
+  if (!(t > 0) || t > tmax) return -1;
+  double h[3];
+  for (int k = 0; k < 3; k++) h[k] = org[k] + t * dir[k] - q->corner[k];
+  double s = vr_dot3(h, q->u) / q->uu, r = vr_dot3(h, q->v) / q->vv;
+  return s < 0 || s > 1 || r < 0 || r > 1 ? -1 : t;
+}
+
+bool vr_portal_crossed_inward(const vr_lights *L, const double org[3], const double dir[3],
+                              double tmax) {
+  /* A pane in the portal's plane ends the segment at the crossing itself:
+   * count it (the next segment starts just beyond). */
+  tmax = tmax * (1 + 1e-6) + 1e-7;
+  for (size_t j = 0; j < L->nportals; j++)
+    if (vr_dot3(L->portals[j].n, dir) > 0 && crossing(&L->portals[j], org, dir, tmax) > 0) return true;
+  return false;
+}
+
+/* How much portal j is worth sampling from x: its area over the squared
+ * distance to its centre, times the cosine there (a solid-angle estimate,
+ * capped at 2 pi), 0 when x lies in its plane. */
+static double weight(const vr_portal *q, const double x[3]) {
+  double d[3], h = 0;
+  for (int k = 0; k < 3; k++) d[k] = q->corner[k] + 0.5 * (q->u[k] + q->v[k]) - x[k];
+  double d2 = vr_dot3(d, d);
+  double plane = vr_dot3(q->n, q->corner) - vr_dot3(q->n, x);
+  if (fabs(plane) <= 1e-9 * (1 + sqrt(d2))) return 0;
+  h = fabs(vr_dot3(q->n, d)) / sqrt(d2);
+  double w = q->area * h / d2;
+  return w < 2 * M_PI ? w : 2 * M_PI;
+}
+
+/* The weights of all portals at x and their sum. */
+static double weights(const vr_lights *L, const double x[3], double *w) {
+  double sum = 0;
+  for (size_t j = 0; j < L->nportals; j++) sum += w[j] = weight(&L->portals[j], x);
+  return sum;
+}
+
+bool vr_portal_sample(const vr_lights *L, const double x[3], double u0, double u1, double u2,
+                      double dir[3]) {
+  double w[VR_MAX_PORTALS], sum = weights(L, x, w);
+  if (!(sum > 0)) return false;
+  double t = u0 * sum;
+  size_t j = 0;
+  while (j + 1 < L->nportals && t >= w[j]) t -= w[j++];
+  const vr_portal *q = &L->portals[j];
+  double y[3], len2 = 0;
+  for (int k = 0; k < 3; k++) {
+    y[k] = q->corner[k] + u1 * q->u[k] + u2 * q->v[k] - x[k];
+    len2 += y[k] * y[k];
+  }
+  if (!(len2 > 0)) return false;
+  double len = sqrt(len2);
+  for (int k = 0; k < 3; k++) dir[k] = y[k] / len;
+  return fabs(vr_dot3(q->n, dir)) > 1e-12;
+}
+
+double vr_portal_pdf(const vr_lights *L, const double x[3], const double dir[3]) {
+  double w[VR_MAX_PORTALS], sum = weights(L, x, w), pdf = 0;
+  if (!(sum > 0)) return 0;
+  for (size_t j = 0; j < L->nportals; j++) {
+    if (!(w[j] > 0)) continue;
+    const vr_portal *q = &L->portals[j];
+    double cn = vr_dot3(q->n, dir);
+    double t = crossing(q, x, dir, INFINITY);
+    if (!(t > 0)) continue;
+    pdf += w[j] / sum * t * t / (q->area * fabs(cn));
+  }
+  return pdf;
+}

@@ -1,0 +1,156 @@
+/* The 'annual' statement: what the annual study of a scene whose sky is a
+ * whole weather file computes (vr/annual.h): the occupied hours, the
+ * metrics' thresholds, and the switchable glass with its tint states and
+ * the rule that picks one each hour. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene/scene_parse.h"
+
+/* Two numbers "A,B" into lo, hi, each in [min, max], lo < hi when strict. */
+static vr_status pair(const vr_scn_stmt *t, const char *key, double min, double max, bool strict,
+                      double *lo, double *hi) {
+  const vr_scn_opt *o = scn_get(t, key);
+  if (!o) return VR_OK;
+  double v[2];
+  vr_status st = scn_numbers(t->p, o->word, o->val, false, 2, v);
+  if (st) return st;
+  if (!(v[0] >= min && v[0] <= max && v[1] >= min && v[1] <= max))
+    return scn_fail(t->p, o->word, "\"%s\": each value must be in [%g, %g]", o->word, min, max);
+  if (strict ? !(v[0] < v[1]) : !(v[0] <= v[1]))
+    return scn_fail(t->p, o->word, "\"%s\": the first value must be %s the second", o->word,
+                    strict ? "below" : "at most");
+  *lo = v[0], *hi = v[1];
+  return VR_OK;
+}
+
+/* ase=LX,HOURS: an illuminance above 0 and a number of hours in a year. */
+static vr_status ase(const vr_scn_stmt *t, vr_scene_annual *a) {
+  const vr_scn_opt *o = scn_get(t, "ase");
+  if (!o) return VR_OK;
+  double v[2];
+  vr_status st = scn_numbers(t->p, o->word, o->val, false, 2, v);
+  if (st) return st;
+  if (!(v[0] > 0)) return scn_fail(t->p, o->word, "\"%s\": the illuminance must be above 0", o->word);
+  if (!(v[1] >= 0 && v[1] <= 8784))
+    return scn_fail(t->p, o->word, "\"%s\": the hours must be in [0, 8784]", o->word);
+  a->ase_lx = v[0], a->ase_hours = v[1];
+  return VR_OK;
+}
+
+/* states=S1,S2,... ascending in [0, 1], at most VR_ANNUAL_MAX_STATES. */
+static vr_status states(const vr_scn_stmt *t, vr_scene_annual *a) {
+  const vr_scn_opt *o = scn_get(t, "states");
+  if (!o) return VR_OK;
+  char buf[512];
+  if (strlen(o->val) >= sizeof buf) return scn_fail(t->p, o->word, "\"%s\": too long", o->word);
+  strcpy(buf, o->val);
+  int n = 0;
+  for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    if (n == VR_ANNUAL_MAX_STATES)
+      return scn_fail(t->p, o->word, "\"%s\": at most %d states", o->word, VR_ANNUAL_MAX_STATES);
+    double v;
+    vr_status st = scn_number(t->p, o->word, tok, &v);
+    if (st) return st;
+    if (!(v >= 0 && v <= 1))
+      return scn_fail(t->p, o->word, "\"%s\": tint state %g outside [0, 1]", o->word, v);
+    if (n && !(v > a->states[n - 1]))
+      return scn_fail(t->p, o->word, "\"%s\": states must increase", o->word);
+    a->states[n++] = v;
+  }
+  if (!n) return scn_fail(t->p, o->word, "\"%s\": no state", o->word);
+  a->nstates = n;
+  return VR_OK;
+}
+
+vr_status scn_annual(vr_scn_stmt *t) {
+  static const char *const KEYS[] = {"hours", "da",      "sda",   "udi",            "ase",
+                                     "glass", "states",  "control", "max",          "control_sensor",
+                                     NULL};
+  static const char *const CONTROLS[] = {"fixed", "illuminance", "sun", "glare", NULL};
+  vr_scn_parser *p = t->p;
+  vr_scene_annual *a = &p->s->annual;
+  if (a->given)
+    return scn_fail(p, t->w[0], "a second 'annual' line (the first is on line %ld)", a->loc.line);
+  t->what = "the annual line";
+  vr_status st = scn_options(t, 1, KEYS);
+  if (st) return st;
+  a->given = true;
+  a->loc = scn_loc(p, t->w[0]);
+  int control = -1;
+  double sda_pct = 100 * a->sda_share;
+  if ((st = pair(t, "hours", 0, 24, true, &a->from_h, &a->to_h)) ||
+      (st = scn_range(t, "da", 0, INFINITY, true, true, &a->da_lx)) ||
+      (st = scn_range(t, "sda", 0, 100, true, false, &sda_pct)) ||
+      (st = pair(t, "udi", 0, INFINITY, true, &a->udi_lo, &a->udi_hi)) ||
+      (st = ase(t, a)) || (st = states(t, a)) ||
+      (st = scn_choice(t, "control", CONTROLS, &control)) ||
+      (st = scn_range(t, "max", 0, INFINITY, true, true, &a->max)))
+    return st;
+  if (control == VR_CONTROL_GLARE && scn_get(t, "max") && !(a->max > 0.184 && a->max <= 1))
+    return scn_fail(p, scn_get(t, "max")->word,
+                    "\"%s\": a DGPs threshold lies in (0.184, 1] (0.184 is DGPs in the dark)",
+                    scn_get(t, "max")->word);
+  a->sda_share = sda_pct / 100;
+  if (control >= 0) a->control = (vr_annual_control)control;
+  const vr_scn_opt *g = scn_get(t, "glass"), *cs = scn_get(t, "control_sensor");
+  if (g) {
+    if (!(p->annual_glass = strdup(g->val))) return scn_nomem(p);
+    p->annual_glass_loc = scn_loc(p, g->word);
+  }
+  if (cs) {
+    if (!(p->annual_sensor = strdup(cs->val))) return scn_nomem(p);
+    p->annual_sensor_loc = scn_loc(p, cs->word);
+  }
+  /* Options that need a glass to mean anything are refused without one,
+   * rather than ignored. */
+  const char *needs_glass[] = {"states", "control", "max", "control_sensor"};
+  for (size_t i = 0; !g && i < sizeof needs_glass / sizeof *needs_glass; i++) {
+    const vr_scn_opt *o = scn_get(t, needs_glass[i]);
+    if (o)
+      return scn_fail(p, o->word, "\"%s\" applies to a switchable glass: give glass=MATERIAL",
+                      o->word);
+  }
+  if (cs && a->control == VR_CONTROL_FIXED)
+    return scn_fail(p, cs->word, "\"%s\": a fixed glass has no control sensor", cs->word);
+  if (scn_get(t, "max") && a->control == VR_CONTROL_FIXED)
+    return scn_fail(p, scn_get(t, "max")->word, "\"%s\": a fixed glass has no threshold",
+                    scn_get(t, "max")->word);
+  return VR_OK;
+}
+
+vr_status scn_annual_finish(vr_scn_parser *p) {
+  vr_scene *s = p->s;
+  vr_scene_annual *a = &s->annual;
+  if (a->given && !s->sky.annual)
+    return vr_error_at(p->err, VR_E_PARSE, p->file, a->loc.line, a->loc.col,
+                       "an annual study needs a year of skies: 'sky perez weather=FILE' with no "
+                       "date= and time=");
+  if (s->sky.annual && !s->nsensors)
+    return vr_error_at(p->err, VR_E_PARSE, p->file, s->sky.loc.line, s->sky.loc.col,
+                       "a year of weather is an annual study of sensors: the scene has none");
+  if (p->annual_glass) {
+    for (size_t i = 0; i < s->nmaterials; i++)
+      if (!strcmp(s->materials[i].name, p->annual_glass)) a->glass = (int)i;
+    if (a->glass < 0)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, p->annual_glass_loc.line,
+                         p->annual_glass_loc.col, "glass=%s: no material of that name",
+                         p->annual_glass);
+    const vr_scene_material *m = &s->materials[a->glass];
+    if (m->source != VR_MATSRC_DB)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, p->annual_glass_loc.line,
+                         p->annual_glass_loc.col,
+                         "glass=%s: a switchable glass is a chromogenic material of the database",
+                         p->annual_glass);
+  }
+  if (p->annual_sensor) {
+    for (size_t i = 0; i < s->nsensors; i++)
+      if (!strcmp(s->sensors[i].name, p->annual_sensor)) a->control_sensor = (int)i;
+    if (a->control_sensor < 0)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, p->annual_sensor_loc.line,
+                         p->annual_sensor_loc.col, "control_sensor=%s: no sensor of that name",
+                         p->annual_sensor);
+  }
+  return VR_OK;
+}

@@ -1,0 +1,95 @@
+/* The scene resolved for rendering: one vr_bsdf per material, the objects
+ * with their emitters and photochromic state maps, every light (lights/),
+ * the camera (camera/), the sub-domains opened through the geometry cache
+ * (ddm/, none loaded yet), the spectral sampling and the film's bins. */
+#ifndef VR_WORLD_RSCENE_H
+#define VR_WORLD_RSCENE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "camera/camera.h"
+#include "lights/lights.h"
+#include "vr/bsdf.h"
+#include "vr/domains.h"
+#include "vr/geometry.h"
+#include "vr/render.h"
+#include "vr/rng.h"
+#include "vr/scene.h"
+#include "vr/scene_tables.h"
+
+typedef struct vr_robject {
+  int material;
+  int emitter;             /* its index in the lights' emitters, -1 if it emits nothing */
+  /* Photochromic glass (a rect): its state map of nu x nv texels, held by
+   * each cell the rect reaches (vr_rcell); nu = 0: the material's own state. */
+  int nu, nv;
+  size_t texel0;           /* its first texel in the UV pass's numbering */
+  double corner[3], eu[3], ev[3], normal[3]; /* rect: point = corner + u eu + v ev */
+  bool outside;            /* an exterior surface (outside=yes) */
+} vr_robject;
+
+/* What the renderer keeps per cell besides its geometry (which vr_domains
+ * loads and unloads): the state maps of the photochromic objects in it. */
+typedef struct vr_rcell {
+  size_t nmaps;
+  uint32_t *map_object;    /* increasing */
+  double **map;            /* nu*nv states of that object */
+} vr_rcell;
+
+typedef struct vr_rmaterial {
+  vr_bsdf *bsdf;
+  double state;            /* chromogenic state from the scene (or 0) */
+  bool photochromic;
+  struct vr_material *db;  /* the database material, if any */
+  double temperature_K;
+} vr_rmaterial;
+
+typedef struct vr_rscene {
+  const vr_scene *s;
+  vr_domains *d;
+  const vr_scene_tables *t; /* the replicated tables, owned by d */
+  vr_rcell *cells;          /* one per sub-domain */
+  int *owner;               /* several ranks: the rank owning each cell */
+  uint64_t *cell_ns;        /* this rank's tracing time per cell in the last run */
+  uint64_t *cell_total_ns;  /* and in all runs */
+  size_t ntexels;           /* photochromic texels of all objects */
+  double lmin, lmax;        /* sampled range */
+  int nwl;                  /* wavelengths per path */
+  bool bins_mode;           /* fixed bins instead of hero sampling */
+  size_t nmat;
+  vr_rmaterial *mat;
+  vr_robject *obj;
+  vr_lights L;              /* the lights, emitters, sky and photon sources */
+  double scene_lo[3], scene_hi[3], scene_radius, scene_centre[3];
+  vr_camera cam;
+  double film_lo, film_step;
+  size_t nbins;
+  vr_rng_seed seed; /* the scene's seed and sampler: keys every vr_rng (vr/rng.h) */
+} vr_rscene;
+
+/* Resolution of the scene (resolve.c): materials, lights, the sky, and the
+ * sub-domains opened through the geometry cache (none loaded yet). */
+vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_options *opt,
+                           int subdomains, vr_rscene **out, vr_error *err);
+/* Bytes of the photochromic state maps held by the cells. */
+size_t vr_rscene_map_bytes(const vr_rscene *rs);
+void vr_rscene_destroy(vr_rscene *rs);
+
+/* The chromogenic state at a hit: the texel of the hit cell's own state
+ * map of the object, or the material's state. */
+double vr_hit_state(const vr_rscene *rs, const vr_hit *hit);
+/* The state map of object o held by cell c, or NULL. */
+double *vr_cell_state_map(const vr_rscene *rs, int c, uint32_t o);
+/* The emission spectrum of object o, or NULL when it emits nothing. */
+static inline const vr_rspd *vr_rscene_emission(const vr_rscene *rs, uint32_t o) {
+  int e = rs->obj[o].emitter;
+  return e >= 0 ? &rs->L.emitter[e].emission : NULL;
+}
+
+/* Wavelengths of a path (wavelengths.c): a hero wavelength, stratified
+ * over `strata` samples, and equally spaced rotations of it; or the fixed
+ * bins' centres. */
+void vr_wavelengths(const vr_rscene *rs, const vr_rng_key *key, uint32_t strata, double *wl);
+
+#endif
