@@ -185,12 +185,12 @@ bool bdpt_light_sample(const vr_bdpt *b, const vr_bdpt_sample *sm, uint32_t key_
   int li = b->L.light[j];
   bool any = false;
   if (li >= 0) {
-    /* The light's next-event sample, over the choice's probability:
-     * Le G_light / (p_light p_pos). */
+    /* The light's next-event sample (Le G_light / p_pos, for a point
+     * light Le / d^2) over the choice's probability. */
     vr_light_sample ls;
     if (!vr_lights_sample_light(&rs->L, (size_t)li, x, &key, sm->nwl, sm->wl, &ls)) return false;
     light_vertex(b, j, ls.p, ls.n, ls.pdf_pos, y);
-    for (int k = 0; k < sm->nwl; k++) any |= (contrib[k] = ls.L[k] / y->pdf_fwd) > 0;
+    for (int k = 0; k < sm->nwl; k++) any |= (contrib[k] = ls.L[k] / b->L.pmf[j]) > 0;
     return any;
   }
   emitter_vertex(b, j, vr_rng(&key, VR_DIM_LIGHT_U), vr_rng(&key, VR_DIM_LIGHT_V),

@@ -68,8 +68,9 @@ typedef struct vr_light_emission {
   double weight;       /* f / (pdf_pos pdf_dir): the photon's power is spd(λ) weight */
 } vr_light_emission;
 
-/* The random dimensions a sample draws from (vr/rng.h): next-event
- * estimation uses VR_DIM_LIGHT_U/V, photons through portals others. */
+/* The random dimensions a 2D sample draws from (vr/rng.h), a pair of the
+ * sampler (vr_rng_pair): next-event estimation uses VR_DIM_LIGHT_V/W,
+ * photons through portals VR_DIM_EMIT_W/X. */
 typedef struct vr_light_dims {
   uint32_t u, v;
 } vr_light_dims;

@@ -44,6 +44,8 @@ bool vr_lights_sample_light(const vr_lights *L, size_t i, const double x[3],
                             const vr_rng_key *key, int nwl, const double *wl,
                             vr_light_sample *out) {
   const vr_light *l = &L->light[i];
-  return l->ops->sample_li(l, x, key, (vr_light_dims){VR_DIM_LIGHT_U, VR_DIM_LIGHT_V}, nwl, wl,
+  /* A 2D sample from the sampler's pair (LIGHT_V, LIGHT_W): two first
+   * components of different pairs are not jointly uniform under sobol. */
+  return l->ops->sample_li(l, x, key, (vr_light_dims){VR_DIM_LIGHT_V, VR_DIM_LIGHT_W}, nwl, wl,
                            out);
 }
