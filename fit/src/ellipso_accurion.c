@@ -18,6 +18,7 @@
  * (NaN), each kind counted for the user.  refellips' reader averages the
  * same zones (its test vector is checked in tests/fit/test_ellipso_files.c).
  * Real files: tests/data/ellipsometry/real/README.md. */
+#define _GNU_SOURCE /* strcasestr */
 #include "ellipso_read.h"
 #include "vr/csv.h"
 
@@ -27,6 +28,19 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+
+/* Accurion EP4 tables start with "#" and name Lambda, Psi and Delta among
+ * tab-separated columns on their first line. */
+int vr_ellipso_sniff_accurion(const char *text, size_t len) {
+  size_t l = 0;
+  while (l < len && text[l] != '\n') l++;
+  if (!len || text[0] != '#' || l > 4096) return 0;
+  char first[4097];
+  memcpy(first, text, l);
+  first[l] = '\0';
+  return strchr(first, '\t') && strcasestr(first, "Lambda") && strcasestr(first, "Psi") &&
+         strcasestr(first, "Delta");
+}
 
 #define MAXCOL 64
 

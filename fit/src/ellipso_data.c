@@ -1,6 +1,5 @@
-#define _GNU_SOURCE
-/* Ellipsometry data: dispatch between readers, units, Δ convention, domain
- * checks shared by all formats. */
+/* Ellipsometry data: the table of readers that picks one by its sniff,
+ * units, Δ convention, domain checks shared by all formats. */
 #include "ellipso_read.h"
 #include "vr/dispersion.h"
 #include "vr/spectrum.h"
@@ -10,7 +9,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 double vr_delta_normalise(double d) {
   d = fmod(d, 360.0);
@@ -52,49 +50,6 @@ vr_status vr_ellipso_point_finish(vr_ellipso_point *p, double w, const char *uni
   return VR_OK;
 }
 
-/* Woollam files start with a comment line and then carry "nm", "eV" or
- * "Angstroms" (optionally "TRIG") on a line, or a VASEmethod line, before
- * the rows; Sentech exports start with "; WAVELENGTH". */
-static int looks_like_woollam(const char *text, size_t len) {
-  size_t lines = 0;
-  if (len > 12 && text[0] == ';') return 1;
-  for (size_t i = 0; i < len && lines < 12; lines++) {
-    size_t j = i;
-    while (j < len && text[j] != '\n') j++;
-    size_t l = j - i;
-    while (l && (text[i + l - 1] == '\r' || text[i + l - 1] == ' ' || text[i + l - 1] == '\t')) l--;
-    if ((l >= 2 && !strncasecmp(text + i, "nm", 2) && (l == 2 || text[i + 2] == ' ' || text[i + 2] == '\t')) ||
-        (l == 2 && !strncasecmp(text + i, "eV", 2)) ||
-        (l == 9 && !strncasecmp(text + i, "Angstroms", 9)) || (l >= 10 && !strncmp(text + i, "VASEmethod", 10)))
-      return 1;
-    /* A row tag: "E" or "dpolE" followed by a blank (the line is not
-     * NUL-terminated, so lengths are checked before comparing). */
-    if (l > 2 && text[i] == 'E' && (text[i + 1] == '\t' || text[i + 1] == ' ')) return 1;
-    if (l > 6 && !strncmp(text + i, "dpolE", 5) && (text[i + 5] == '\t' || text[i + 5] == ' ')) return 1;
-    i = j + 1;
-  }
-  return 0;
-}
-
-/* Accurion EP4 tables start with "#" and name Lambda, Psi and Delta among
- * tab-separated columns on their first line. */
-static int looks_like_accurion(const char *text, size_t len) {
-  size_t l = 0;
-  while (l < len && text[l] != '\n') l++;
-  if (!len || text[0] != '#' || l > 4096) return 0;
-  char first[4097];
-  memcpy(first, text, l);
-  first[l] = '\0';
-  return strchr(first, '\t') && strcasestr(first, "Lambda") && strcasestr(first, "Psi") &&
-         strcasestr(first, "Delta");
-}
-
-/* Film Sense exports start with "Film_Sense_Data" or "Film_Sense_Dyn_Data". */
-static int looks_like_filmsense(const char *text, size_t len) {
-  return (len >= 15 && !strncmp(text, "Film_Sense_Data", 15)) ||
-         (len >= 19 && !strncmp(text, "Film_Sense_Dyn_Data", 19));
-}
-
 size_t vr_ellipso_split_tabs(char *s, char **tok, size_t max) {
   size_t n = 0;
   while (n < max) {
@@ -125,6 +80,25 @@ void vr_ellipso_note_skipped(vr_ellipso_data *d, const char *tag) {
   k->rows++;
 }
 
+/* The readers, in the order their sniffs are tried: the first that accepts
+ * the text reads it.  The Film Sense and Accurion sniffs look for one exact
+ * header, so they go before the Woollam one, which takes looser signs (a
+ * leading ';', a unit line or a row tag among the first lines).  The CSV
+ * reader has no sniff: it takes whatever the others leave.  A new format is
+ * a file with its sniff and parse, and a line here. */
+static const vr_ellipso_reader READERS[] = {
+    {"Film Sense", vr_ellipso_sniff_filmsense, vr_ellipso_parse_filmsense},
+    {"Accurion EP4", vr_ellipso_sniff_accurion, vr_ellipso_parse_accurion},
+    {"Woollam / Sentech", vr_ellipso_sniff_woollam, vr_ellipso_parse_woollam},
+    {"CSV", NULL, vr_ellipso_parse_csv},
+};
+
+static const vr_ellipso_reader *reader_for(const char *text, size_t len) {
+  const vr_ellipso_reader *r = READERS;
+  while (r->sniff && !r->sniff(text, len)) r++;
+  return r;
+}
+
 vr_status vr_ellipso_parse_with(const char *text, size_t len, const char *name,
                                 const vr_ellipso_read_options *o, vr_ellipso_data *out,
                                 vr_error *err) {
@@ -133,10 +107,7 @@ vr_status vr_ellipso_parse_with(const char *text, size_t len, const char *name,
   memset(out, 0, sizeof *out);
   if (!(out->source = strdup(name))) return vr_error_set(err, VR_E_NOMEM, "out of memory");
   out->record_time_s = NAN;
-  vr_status st = looks_like_filmsense(text, len) ? vr_ellipso_parse_filmsense(text, len, name, o, out, err)
-                 : looks_like_accurion(text, len) ? vr_ellipso_parse_accurion(text, len, name, o, out, err)
-                 : looks_like_woollam(text, len) ? vr_ellipso_parse_woollam(text, len, name, o, out, err)
-                                                 : vr_ellipso_parse_csv(text, len, name, o, out, err);
+  vr_status st = reader_for(text, len)->parse(text, len, name, o, out, err);
   if (!st && o->record > 0 && !out->nrecords)
     st = vr_error_at(err, VR_E_ARG, name, 0, 0, "a record was chosen (--record) but the file is not a run of records");
   if (!st && o->wavelength_nm > 0 && !strstr(out->format, "wavelength given"))

@@ -27,6 +27,12 @@
 #include <string.h>
 #include <strings.h>
 
+/* Film Sense exports start with "Film_Sense_Data" or "Film_Sense_Dyn_Data". */
+int vr_ellipso_sniff_filmsense(const char *text, size_t len) {
+  return (len >= 15 && !strncmp(text, "Film_Sense_Data", 15)) ||
+         (len >= 19 && !strncmp(text, "Film_Sense_Dyn_Data", 19));
+}
+
 #define MAXF 512
 
 /* Tab-separated fields, each with trailing CR and blanks removed. */

@@ -1,8 +1,24 @@
-/* Shared pieces of the ellipsometry readers. */
+/* Shared pieces of the ellipsometry readers: the reader table's entry
+ * type, each format's sniff and parse, and the helpers they share. */
 #ifndef VR_ELLIPSO_READ_H
 #define VR_ELLIPSO_READ_H
 
 #include "vr/ellipso_data.h"
+
+/* A reader of ellipso_data.c's table: sniff says whether text (len bytes,
+ * not NUL-terminated) is in its format, parse reads it (o is never NULL).
+ * name is for people reading the table; a NULL sniff marks the fallback. */
+typedef struct vr_ellipso_reader {
+  const char *name;
+  int (*sniff)(const char *text, size_t len);
+  vr_status (*parse)(const char *text, size_t len, const char *name,
+                     const vr_ellipso_read_options *o, vr_ellipso_data *out, vr_error *err);
+} vr_ellipso_reader;
+
+/* The sniffs, each beside its reader. */
+int vr_ellipso_sniff_woollam(const char *text, size_t len);
+int vr_ellipso_sniff_accurion(const char *text, size_t len);
+int vr_ellipso_sniff_filmsense(const char *text, size_t len);
 
 /* The readers; o is never NULL. */
 vr_status vr_ellipso_parse_csv(const char *text, size_t len, const char *name,

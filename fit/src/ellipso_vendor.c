@@ -19,6 +19,30 @@
 #include <string.h>
 #include <strings.h>
 
+/* Woollam files start with a comment line and then carry "nm", "eV" or
+ * "Angstroms" (optionally "TRIG") on a line, or a VASEmethod line, before
+ * the rows; Sentech exports start with "; WAVELENGTH". */
+int vr_ellipso_sniff_woollam(const char *text, size_t len) {
+  size_t lines = 0;
+  if (len > 12 && text[0] == ';') return 1;
+  for (size_t i = 0; i < len && lines < 12; lines++) {
+    size_t j = i;
+    while (j < len && text[j] != '\n') j++;
+    size_t l = j - i;
+    while (l && (text[i + l - 1] == '\r' || text[i + l - 1] == ' ' || text[i + l - 1] == '\t')) l--;
+    if ((l >= 2 && !strncasecmp(text + i, "nm", 2) && (l == 2 || text[i + 2] == ' ' || text[i + 2] == '\t')) ||
+        (l == 2 && !strncasecmp(text + i, "eV", 2)) ||
+        (l == 9 && !strncasecmp(text + i, "Angstroms", 9)) || (l >= 10 && !strncmp(text + i, "VASEmethod", 10)))
+      return 1;
+    /* A row tag: "E" or "dpolE" followed by a blank (the line is not
+     * NUL-terminated, so lengths are checked before comparing). */
+    if (l > 2 && text[i] == 'E' && (text[i + 1] == '\t' || text[i + 1] == ' ')) return 1;
+    if (l > 6 && !strncmp(text + i, "dpolE", 5) && (text[i + 5] == '\t' || text[i + 5] == ' ')) return 1;
+    i = j + 1;
+  }
+  return 0;
+}
+
 typedef struct lines {
   char *buf, *cur;
   long line;
