@@ -5,6 +5,7 @@
 # file is included from.
 set(VR_RECOVER_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/src/camera.c
+  ${CMAKE_CURRENT_LIST_DIR}/src/recover_linalg.c
   ${CMAKE_CURRENT_LIST_DIR}/src/recover.c
   ${CMAKE_CURRENT_LIST_DIR}/src/recover_qp.c
   ${CMAKE_CURRENT_LIST_DIR}/src/recover_bounded.c

@@ -1,7 +1,7 @@
 /* Camera calibration from a ColorChecker under a known light (the model and
  * its assumptions are in vr/calibrate.h).  The linear algebra is the
  * recovery's: the GCV standard-form solve and the smoothness operator of
- * recover_regularised.c and recover.c, and the active-set solver of
+ * recover_regularised.c and recover_linalg.c, and the active-set solver of
  * recover_qp.c for the non-negativity, here on sensitivities instead of
  * reflectances. */
 #include "vr/calibrate.h"
@@ -13,7 +13,10 @@
 #include <string.h>
 #include <strings.h>
 
-#include "recover_internal.h"
+#include "recover_gcv.h"
+#include "recover_linalg.h"
+#include "recover_qp.h"
+#include "vr/camera.h"
 #include "vr/colorchecker.h"
 #include "vr/colour.h"
 

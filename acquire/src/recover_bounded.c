@@ -27,7 +27,8 @@
  * The loop ends at a KKT point (every bound multiplier of the right sign);
  * the iteration cap (10 N + 50 by default) only guards against cycling on
  * degenerate vertices, and is flagged. */
-#include "recover_internal.h"
+#include "recover_system.h"
+#include "recover_qp.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "recover_internal.h"
+#include "recover_system.h"
 
 #define CACHE_SLOTS 64
 

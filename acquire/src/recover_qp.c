@@ -1,5 +1,5 @@
 /* A primal active-set solver for least squares with equalities and bounds
- * (see vr_rqp in recover_internal.h; Nocedal and Wright, "Numerical
+ * (see vr_rqp in recover_qp.h; Nocedal and Wright, "Numerical
  * Optimization", 2nd ed., algorithm 16.3, specialised to bound constraints
  * so that the working set is simply a set of fixed variables).
  *
@@ -39,7 +39,8 @@
  * minimum by construction, so the multipliers are checked there without a
  * second solve (which, on an ill-conditioned E, could jitter above the step
  * tolerance forever). */
-#include "recover_internal.h"
+#include "recover_qp.h"
+#include "recover_linalg.h"
 
 #include <lapacke.h>
 #include <math.h>

@@ -42,7 +42,10 @@
  * by golden section between the best value's neighbours; ties go to the
  * smaller lambda.  With m - n0 <= 1 (a single light) GCV does not depend on
  * lambda at all, so the smallest value is taken: the smoothest exact fit. */
-#include "recover_internal.h"
+#include "recover_system.h"
+#include "recover_gcv.h"
+#include "recover_linalg.h"
+#include "recover_qp.h"
 #include "vr/colour.h"
 
 #include <math.h>
