@@ -70,6 +70,11 @@ double rg_median(double *v, size_t k);
 /* true when the spectra of the two lights agree in shape (rgb2spec_checks.c). */
 bool rg_same_light(const vr_spectrum *a, const vr_spectrum *b);
 
+/* The run's photos decoded into img[0..nphotos) on up to `threads`
+ * threads, and every region measured in each (rgb2spec_measure.c). */
+vr_status rg_read_photos(rg_run *run, vr_image *img, int threads, vr_error *err);
+vr_status rg_measure_photos(rg_run *run, const vr_image *img, int threads, vr_error *err);
+
 /* Outputs (rgb2spec_output.c). */
 void rg_print_text(const rg_run *run);
 void rg_print_json(const rg_run *run);
