@@ -157,276 +157,344 @@ static vr_status check_outputs(const vr_out_guard *g, const char *report, const 
   return VR_OK;
 }
 
-static int cmd_recover(vr_args *a) {
-  vr_error err = {0};
-  vr_matdb *db = NULL;
-  vr_capture *cap = NULL;
-  vr_camera *cam = NULL;
-  rg_run run = {0};
-  vr_image img[RGB2SPEC_MAX_LIGHTS] = {0};
-  char *mpath = NULL;
-  int rc = 1;
-  const char *manifest = vr_args_get(a, "manifest"), *prefix = vr_args_get(a, "save-prefix");
-  const char *pixels = vr_args_get(a, "per-pixel"), *texture = vr_args_get(a, "texture");
-  rg_pixels px = {0};
-  rg_pixel_options popt = {.threads = 2, .compression = VR_EXR_COMPRESSION_NONE, .half = true};
-  int threads = 2;
+/* What one recovery run holds between its steps, so that each step can
+ * fail with a plain return and free_recover_cmd releases it all once. */
+typedef struct recover_cmd {
+  vr_args *a;
+  const char *prefix, *pixels, *texture, *report;
+  int threads;
+  rg_pixel_options popt;
+  char *mpath;
+  vr_matdb *db;
+  vr_capture *cap;
+  vr_camera *cam;
+  rg_run run;
+  vr_image img[RGB2SPEC_MAX_LIGHTS];
+  rg_pixels px;
+} recover_cmd;
+
+/* The options checked before any file is opened, in the order the user
+ * hears of them.  Returns 0, 1 (err filled) or 2 (usage already told on
+ * stderr: exit status 2). */
+static int read_options(recover_cmd *c, vr_error *err) {
+  vr_args *a = c->a;
+  const char *manifest = vr_args_get(a, "manifest");
+  c->prefix = vr_args_get(a, "save-prefix");
+  c->pixels = vr_args_get(a, "per-pixel");
+  c->texture = vr_args_get(a, "texture");
+  c->popt = (rg_pixel_options){.threads = 2, .compression = VR_EXR_COMPRESSION_NONE, .half = true};
+  c->threads = 2;
   if (vr_args_get(a, "threads")) {
     char *end;
     long t = strtol(vr_args_get(a, "threads"), &end, 10);
     if (*end || t < 1 || t > 256) {
-      vr_error_set(&err, VR_E_ARG, "--threads '%s': expected 1 to 256", vr_args_get(a, "threads"));
-      goto out;
+      vr_error_set(err, VR_E_ARG, "--threads '%s': expected 1 to 256", vr_args_get(a, "threads"));
+      return 1;
     }
-    threads = (int)t;
+    c->threads = (int)t;
   }
-  popt.threads = threads;
-  popt.half = !vr_args_flag(a, "exr-float");
+  c->popt.threads = c->threads;
+  c->popt.half = !vr_args_flag(a, "exr-float");
   if (vr_args_get(a, "exr-compression") &&
-      vr_exr_compression_parse(vr_args_get(a, "exr-compression"), &popt.compression, &err))
-    goto out;
-  if (texture && !*texture) {
+      vr_exr_compression_parse(vr_args_get(a, "exr-compression"), &c->popt.compression, err))
+    return 1;
+  if (c->texture && !*c->texture) {
     fprintf(stderr, "vr-rgb2spec: --texture needs a material name\n");
-    rc = 2;
-    goto out_quiet;
+    return 2;
   }
-  if (texture && !pixels) {
-    vr_error_set(&err, VR_E_ARG, "--texture needs --per-pixel FILE.exr");
-    goto out;
+  if (c->texture && !c->pixels) {
+    vr_error_set(err, VR_E_ARG, "--texture needs --per-pixel FILE.exr");
+    return 1;
   }
-  if (parse_method(vr_args_get(a, "method"), &run.method, &err)) goto out;
+  if (parse_method(vr_args_get(a, "method"), &c->run.method, err)) return 1;
   if (!manifest && a->noperands == 0) {
-    vr_error_set(&err, VR_E_ARG, "give photos or --manifest FILE");
-    goto out;
+    vr_error_set(err, VR_E_ARG, "give photos or --manifest FILE");
+    return 1;
   }
-  mpath = manifest ? strdup(manifest) : default_manifest(a->operands[0]);
-  if (!mpath) {
-    vr_error_set(&err, VR_E_NOMEM, "out of memory");
-    goto out;
+  c->mpath = manifest ? strdup(manifest) : default_manifest(a->operands[0]);
+  if (!c->mpath) {
+    vr_error_set(err, VR_E_NOMEM, "out of memory");
+    return 1;
   }
-  if (!rg_db_option_ok(a)) {
-    rc = 2;
-    goto out_quiet;
-  }
-  /* Outputs are checked before any work, first against what the command
-   * line names (nothing is opened or created yet), then against every file
-   * the manifest reads. */
-  const char *report = vr_args_get(a, "report");
+  if (!rg_db_option_ok(a)) return 2;
+  c->report = vr_args_get(a, "report");
+  return 0;
+}
+
+/* Reads the manifest and opens the database, with the outputs checked
+ * before any work: first against what the command line names (nothing is
+ * opened or created yet), then against every file the manifest reads. */
+static vr_status open_capture(recover_cmd *c, vr_error *err) {
+  vr_args *a = c->a;
   vr_out_guard *guard = calloc(1, sizeof *guard);
-  if (!guard) {
-    vr_error_set(&err, VR_E_NOMEM, "out of memory");
-    goto out;
-  }
+  if (!guard) return vr_error_set(err, VR_E_NOMEM, "out of memory");
   vr_out_guard_init(guard);
-  if (strcmp(mpath, "-")) vr_out_guard_input(guard, mpath, "the capture manifest");
+  if (strcmp(c->mpath, "-")) vr_out_guard_input(guard, c->mpath, "the capture manifest");
   for (size_t i = 0; i < a->noperands; i++) vr_out_guard_input(guard, a->operands[i], "a photo");
   vr_out_guard_database(guard, vr_args_get(a, "db") ? vr_args_get(a, "db") : vr_matdb_default_path());
-  vr_status gst = check_outputs(guard, report, pixels, &err);
-  if (gst) {
-    free(guard);
-    goto out;
-  }
+  vr_status st = check_outputs(guard, c->report, c->pixels, err);
   /* Lookups alone (db: lights or references) open the database read-only:
    * a missing one is an error, never created and seeded here. */
-  if (vr_capture_read_db(mpath, vr_args_get(a, "db"), prefix || texture ? 0 : VR_MATDB_READONLY,
-                         prefix || texture, &db, &cap, &err)) {
-    free(guard);
-    goto out;
+  bool saves = c->prefix || c->texture;
+  if (!st)
+    st = vr_capture_read_db(c->mpath, vr_args_get(a, "db"), saves ? 0 : VR_MATDB_READONLY, saves,
+                            &c->db, &c->cap, err);
+  if (!st) {
+    rg_guard_capture(guard, c->cap, true);
+    st = check_outputs(guard, c->report, c->pixels, err);
   }
-  rg_guard_capture(guard, cap, true);
-  gst = check_outputs(guard, report, pixels, &err);
   free(guard);
-  if (gst) goto out;
   /* A save that cannot happen is said now, not after the recovery. */
-  if ((prefix || texture) && vr_matdb_require_writable(db, &err)) goto out;
-  run.cap = cap;
-  /* The photos: those given, each of which the manifest must list; or all. */
-  if (a->noperands == 0) {
-    for (size_t i = 0; i < cap->nphotos && i < RGB2SPEC_MAX_LIGHTS; i++) run.photo[run.nphotos++] = &cap->photos[i];
-  } else {
-    for (size_t i = 0; i < a->noperands; i++) {
-      const vr_capture_photo *p = vr_capture_find_photo(cap, a->operands[i]);
-      if (!p) {
-        vr_error_set(&err, VR_E_NOT_FOUND, "photo %s is not listed in the manifest %s (add a "
-                                           "'photo FILE light=...' line)", a->operands[i], mpath);
-        goto out;
-      }
-      if (run.nphotos == RGB2SPEC_MAX_LIGHTS) {
-        vr_error_set(&err, VR_E_ARG, "at most %d photos", RGB2SPEC_MAX_LIGHTS);
-        goto out;
-      }
-      run.photo[run.nphotos++] = p;
-    }
+  if (!st && saves) st = vr_matdb_require_writable(c->db, err);
+  c->run.cap = c->cap;
+  return st;
+}
+
+/* The photos: those given, each of which the manifest must list; or all. */
+static vr_status choose_photos(recover_cmd *c, vr_error *err) {
+  rg_run *run = &c->run;
+  if (c->a->noperands == 0) {
+    for (size_t i = 0; i < c->cap->nphotos && i < RGB2SPEC_MAX_LIGHTS; i++)
+      run->photo[run->nphotos++] = &c->cap->photos[i];
+    return VR_OK;
   }
-  /* The photos themselves, decoded on `threads` threads, all of one size. */
-  if (rg_read_photos(&run, img, threads, &err)) goto out;
-  for (size_t l = 0; l < run.nphotos; l++) {
-    if (rg_check_photo(cap, run.photo[l], &img[l], stderr, &err)) goto out;
-    if (l && (img[l].width != img[0].width || img[l].height != img[0].height)) {
-      vr_error_set(&err, VR_E_ARG, "%s is %dx%d but %s is %dx%d: the regions are pixel positions, "
-                                   "so every photo must have the same size", run.photo[l]->path,
-                   img[l].width, img[l].height, run.photo[0]->path, img[0].width, img[0].height);
-      goto out;
-    }
+  for (size_t i = 0; i < c->a->noperands; i++) {
+    const vr_capture_photo *p = vr_capture_find_photo(c->cap, c->a->operands[i]);
+    if (!p)
+      return vr_error_set(err, VR_E_NOT_FOUND, "photo %s is not listed in the manifest %s (add a "
+                                               "'photo FILE light=...' line)", c->a->operands[i], c->mpath);
+    if (run->nphotos == RGB2SPEC_MAX_LIGHTS)
+      return vr_error_set(err, VR_E_ARG, "at most %d photos", RGB2SPEC_MAX_LIGHTS);
+    run->photo[run->nphotos++] = p;
   }
+  return VR_OK;
+}
+
+/* The photos themselves, decoded on `threads` threads, all of one size
+ * because the regions are pixel positions. */
+static vr_status load_photos(recover_cmd *c, vr_error *err) {
+  rg_run *run = &c->run;
+  vr_image *img = c->img;
+  vr_status st = rg_read_photos(run, img, c->threads, err);
+  for (size_t l = 0; !st && l < run->nphotos; l++) {
+    if ((st = rg_check_photo(c->cap, run->photo[l], &img[l], stderr, err))) break;
+    if (l && (img[l].width != img[0].width || img[l].height != img[0].height))
+      st = vr_error_set(err, VR_E_ARG, "%s is %dx%d but %s is %dx%d: the regions are pixel positions, "
+                                       "so every photo must have the same size", run->photo[l]->path,
+                        img[l].width, img[l].height, run->photo[0]->path, img[0].width, img[0].height);
+  }
+  return st;
+}
+
+/* The method, the camera and the recovery system of the chosen photos'
+ * lights: what every region's recovery shares. */
+static vr_status build_system(recover_cmd *c, vr_error *err) {
+  rg_run *run = &c->run;
+  const vr_capture *cap = c->cap;
   /* The regularised method weighs every response by its measured noise and
    * chooses its smoothing from it, so it suits any file: at vanishing
    * noise it tends to the bounded method's smoothest exact fit
    * (bench_rgb2spec_noise, docs/vr-rgb2spec.md). */
-  if ((int)run.method == -1) run.method = VR_RECOVER_REGULARISED;
-  run.method_name = run.method == VR_RECOVER_MATRIX_R ? "matrix-r"
-                    : run.method == VR_RECOVER_BOUNDED ? "bounded" : "regularised";
-  /* Camera and recovery system. */
+  if ((int)run->method == -1) run->method = VR_RECOVER_REGULARISED;
+  run->method_name = run->method == VR_RECOVER_MATRIX_R ? "matrix-r"
+                     : run->method == VR_RECOVER_BOUNDED ? "bounded" : "regularised";
   double grid[1024];
   size_t n;
-  if (vr_camera_grid_uniform(cap->grid[0], cap->grid[1], cap->grid[2], grid, 1024, &n, &err)) goto out;
-  cam = cap->camera == VR_CAPTURE_CAMERA_SRGB
-            ? vr_camera_create_srgb(n, grid, &err)
-            : vr_camera_create_measured((const vr_spectrum *const *)cap->sens, n, grid, &err);
-  if (!cam) goto out;
-  run.cam = cam;
+  vr_status st = vr_camera_grid_uniform(cap->grid[0], cap->grid[1], cap->grid[2], grid, 1024, &n, err);
+  if (st) return st;
+  c->cam = cap->camera == VR_CAPTURE_CAMERA_SRGB
+               ? vr_camera_create_srgb(n, grid, err)
+               : vr_camera_create_measured((const vr_spectrum *const *)cap->sens, n, grid, err);
+  if (!c->cam) return err->status ? err->status : VR_E_NOMEM;
+  run->cam = c->cam;
   const vr_spectrum *lights[RGB2SPEC_MAX_LIGHTS];
   double scale[RGB2SPEC_MAX_LIGHTS];
-  for (size_t l = 0; l < run.nphotos; l++) lights[l] = run.photo[l]->light, scale[l] = run.photo[l]->scale;
+  for (size_t l = 0; l < run->nphotos; l++) lights[l] = run->photo[l]->light, scale[l] = run->photo[l]->scale;
   vr_recovery_options opt;
   vr_recovery_options_default(&opt);
-  if (parse_rule(vr_args_get(a, "lambda-rule"), &opt.lambda_rule, &err)) goto out;
-  if (!(run.sys = vr_recovery_system_create(cam, run.nphotos, lights, scale, &opt, &err))) goto out;
-  run.n = vr_recovery_system_samples(run.sys);
-  run.grid = vr_recovery_system_grid(run.sys);
-  run.condition = vr_recovery_system_condition(run.sys);
+  if ((st = parse_rule(vr_args_get(c->a, "lambda-rule"), &opt.lambda_rule, err))) return st;
+  if (!(run->sys = vr_recovery_system_create(c->cam, run->nphotos, lights, scale, &opt, err)))
+    return err->status ? err->status : VR_E_NOMEM;
+  run->n = vr_recovery_system_samples(run->sys);
+  run->grid = vr_recovery_system_grid(run->sys);
+  run->condition = vr_recovery_system_condition(run->sys);
+  return VR_OK;
+}
+
+/* The lights of a fixed list that no photo used, under which a region with
+ * a reference is then compared: colour outside the fit.  A light counts as
+ * used whatever it was called (file:d65.csv is D65). */
+static void choose_heldout(rg_run *run) {
   static const char *const HELD[] = {"A", "D50", "D65", "F2", "F11", "LED-B3"};
-  /* A light counts as used whatever it was called (file:d65.csv is D65). */
   for (size_t h = 0; h < 6; h++) {
     vr_spectrum *cand = vr_illuminant(HELD[h], NULL);
     bool used = !cand;
-    for (size_t l = 0; l < run.nphotos && !used; l++)
-      used = !strcasecmp(run.photo[l]->light_name, HELD[h]) || rg_same_light(cand, run.photo[l]->light);
-    if (!used) run.heldout_name[run.nheldout++] = HELD[h];
+    for (size_t l = 0; l < run->nphotos && !used; l++)
+      used = !strcasecmp(run->photo[l]->light_name, HELD[h]) || rg_same_light(cand, run->photo[l]->light);
+    if (!used) run->heldout_name[run->nheldout++] = HELD[h];
     vr_spectrum_destroy(cand);
   }
-  /* Regions, measured in every photo. */
-  run.nregions = cap->nregions;
-  if (run.nregions == 0) {
-    vr_error_set(&err, VR_E_ARG, "%s names no region (region, chart lines)", mpath);
-    goto out;
+}
+
+/* Regions, measured in every photo. */
+static vr_status measure_regions(recover_cmd *c, vr_error *err) {
+  rg_run *run = &c->run;
+  run->nregions = c->cap->nregions;
+  if (run->nregions == 0)
+    return vr_error_set(err, VR_E_ARG, "%s names no region (region, chart lines)", c->mpath);
+  run->regions = calloc(run->nregions, sizeof *run->regions);
+  if (!run->regions) return VR_E_NOMEM;
+  for (size_t i = 0; i < run->nregions; i++) run->regions[i].def = &c->cap->regions[i];
+  return rg_measure_photos(run, c->img, c->threads, err);
+}
+
+/* Recovery of one region and its round trip.  CIEDE2000 against the photo
+ * is a colour difference only where the photo holds a colour: a light with
+ * a clipped channel is left out of the mean and max and counted apart. */
+static vr_status recover_region(rg_run *run, rg_region *g, vr_error *err) {
+  if (!(g->r = malloc(run->n * sizeof *g->r))) return VR_E_NOMEM;
+  vr_status st = vr_recover_noisy(run->sys, run->method, g->c, g->sigma, g->clipped, g->r, &g->info, err);
+  if (st) {
+    vr_error_prefix(err, "region %s: ", g->def->name);
+    return st;
   }
-  run.regions = calloc(run.nregions, sizeof *run.regions);
-  if (!run.regions) goto out;
-  for (size_t i = 0; i < run.nregions; i++) run.regions[i].def = &cap->regions[i];
-  if (rg_measure_photos(&run, img, threads, &err)) goto out;
-  /* Recovery and the round trip.  CIEDE2000 against the photo is a colour
-   * difference only where the photo holds a colour: a light with a clipped
-   * channel is left out of the mean and max and counted apart. */
-  for (size_t i = 0; i < run.nregions; i++) {
-    rg_region *g = &run.regions[i];
-    if (!(g->r = malloc(run.n * sizeof *g->r))) goto out;
-    if (vr_recover_noisy(run.sys, run.method, g->c, g->sigma, g->clipped, g->r, &g->info, &err)) {
-      vr_error_prefix(&err, "region %s: ", g->def->name);
-      goto out;
+  vr_render_rgb(run->sys, g->r, g->rendered);
+  g->de_mean = 0;
+  g->de_max = 0;
+  size_t counted = 0;
+  for (size_t l = 0; l < run->nphotos; l++) {
+    if (g->clipped[3 * l] || g->clipped[3 * l + 1] || g->clipped[3 * l + 2]) {
+      g->de[l] = NAN;
+      g->nclipped_lights++;
+      continue;
     }
-    vr_render_rgb(run.sys, g->r, g->rendered);
-    g->de_mean = 0;
-    g->de_max = 0;
-    size_t counted = 0;
-    for (size_t l = 0; l < run.nphotos; l++) {
-      if (g->clipped[3 * l] || g->clipped[3 * l + 1] || g->clipped[3 * l + 2]) {
-        g->de[l] = NAN;
-        g->nclipped_lights++;
-        continue;
-      }
-      g->de[l] = rg_delta_e(&run, l, &g->c[3 * l], &g->rendered[3 * l]);
-      g->de_mean += g->de[l];
-      g->de_max = fmax(g->de_max, g->de[l]);
-      counted++;
-    }
-    if (counted) g->de_mean /= (double)counted;
-    else g->de_mean = g->de_max = NAN;
-    g->misfit = (g->info.flags & VR_RECOVER_FLAG_MISFIT) != 0;
-    run.nmisfit += g->misfit;
-    compare_reference(&run, g);
+    g->de[l] = rg_delta_e(run, l, &g->c[3 * l], &g->rendered[3 * l]);
+    g->de_mean += g->de[l];
+    g->de_max = fmax(g->de_max, g->de[l]);
+    counted++;
   }
-  if (rg_check_lights(&run, &err)) goto out;
-  if (vr_args_flag(a, "json")) rg_print_json(&run);
-  else rg_print_text(&run);
-  /* What the recovery cannot stand behind: said on stderr, and the exit
-   * status is 1 unless --force (which also lets --save-prefix save). */
-  bool doubtful = run.nmisfit > 0;
+  if (counted) g->de_mean /= (double)counted;
+  else g->de_mean = g->de_max = NAN;
+  g->misfit = (g->info.flags & VR_RECOVER_FLAG_MISFIT) != 0;
+  run->nmisfit += g->misfit;
+  compare_reference(run, g);
+  return VR_OK;
+}
+
+/* What the recovery cannot stand behind, said on stderr: regions that miss
+ * their photos (with a hint on the photos' encoding) and photos that do not
+ * look lit by their light.  Returns whether there was any. */
+static bool tell_doubts(const recover_cmd *c) {
+  const rg_run *run = &c->run;
+  bool doubtful = run->nmisfit > 0;
   size_t told = 0;
-  for (size_t i = 0; i < run.nregions; i++)
-    if (run.regions[i].misfit && ++told <= 5)
+  for (size_t i = 0; i < run->nregions; i++)
+    if (run->regions[i].misfit && ++told <= 5)
       fprintf(stderr, "vr-rgb2spec: region %s: the recovered spectrum misses its photos by more "
                       "than their noise explains (chi2 %.3g > %.3g for %zu channels)%s\n",
-              run.regions[i].def->name, run.regions[i].info.chi2, run.regions[i].info.chi2_limit,
-              run.regions[i].info.used,
-              run.regions[i].info.flags & VR_RECOVER_FLAG_OUT_OF_GAMUT ? "; out of gamut" : "");
+              run->regions[i].def->name, run->regions[i].info.chi2, run->regions[i].info.chi2_limit,
+              run->regions[i].info.used,
+              run->regions[i].info.flags & VR_RECOVER_FLAG_OUT_OF_GAMUT ? "; out of gamut" : "");
   if (told > 5) fprintf(stderr, "vr-rgb2spec: ... and %zu more regions miss their photos\n", told - 5);
-  for (size_t l = 0; told && l < run.nphotos; l++) {
-    const char *hint = rg_encoding_hint(cap, run.photo[l], &img[l]);
-    if (hint) fprintf(stderr, "vr-rgb2spec: %s: %s\n", run.photo[l]->path, hint);
+  for (size_t l = 0; told && l < run->nphotos; l++) {
+    const char *hint = rg_encoding_hint(c->cap, run->photo[l], &c->img[l]);
+    if (hint) fprintf(stderr, "vr-rgb2spec: %s: %s\n", run->photo[l]->path, hint);
   }
-  for (size_t l = 0; l < run.nphotos; l++)
-    if (run.light_suspect[l]) {
+  for (size_t l = 0; l < run->nphotos; l++)
+    if (run->light_suspect[l]) {
       doubtful = true;
       fprintf(stderr, "vr-rgb2spec: %s:%ld: photo %s does not look lit by %s: the regions "
                       "recovered from the other photos, rendered under %s, miss it by a median "
                       "CIEDE2000 of %.1f (limit %.0f); check the light of this photo (two photos' "
-                      "lights swapped?)\n", cap->path, run.photo[l]->line, run.photo[l]->path,
-              run.photo[l]->light_name, run.photo[l]->light_name, run.loo_de[l], RG_LOO_LIMIT);
+                      "lights swapped?)\n", c->cap->path, run->photo[l]->line, run->photo[l]->path,
+              run->photo[l]->light_name, run->photo[l]->light_name, run->loo_de[l], RG_LOO_LIMIT);
     }
-  bool force = vr_args_flag(a, "force");
-  /* The report is written either way: it shows what went wrong. */
-  if (report && rg_write_report(report, &run, &err)) goto out;
-  if ((prefix || pixels) && doubtful && !force) {
-    bool saves = prefix || texture;
-    vr_error_set(&err, VR_E_ARG, "nothing %s: %zu region(s) miss their photos or a light "
-                                 "disagrees with its photo (see above); --force %s anyway",
-                 saves && pixels ? "saved or written" : saves ? "saved" : "written", run.nmisfit,
-                 saves && pixels ? "saves and writes" : saves ? "saves" : "writes");
+  return doubtful;
+}
+
+/* --per-pixel (and --texture).  With --texture the EXR is written beside
+ * its final name and put in place only once its database row is saved: a
+ * failed save leaves neither, and an earlier file of that name as it was. */
+static vr_status write_pixels(recover_cmd *c, bool forced, vr_error *err) {
+  char tmpname[4200];
+  const char *target = c->pixels;
+  if (c->texture) {
+    snprintf(tmpname, sizeof tmpname, "%s.part-%ld", c->pixels, (long)getpid());
+    target = tmpname;
+  }
+  vr_status st = rg_per_pixel(&c->run, c->img, target, &c->popt, &c->px, err);
+  if (st) return st;
+  rg_print_pixels(vr_args_flag(c->a, "json") ? stderr : stdout, &c->run, &c->px, c->pixels);
+  if (!c->texture) return VR_OK;
+  if ((st = rg_save_texture(c->db, c->texture, target, c->pixels, &c->run, &c->px, forced, err))) {
+    remove(target);
+    return st;
+  }
+  if (rename(target, c->pixels))
+    return vr_error_set(err, VR_E_IO, "%s: cannot put the texture in place (%s left as written): %s; "
+                                      "material '%s' names %s", c->pixels, target, strerror(errno),
+                        c->texture, c->pixels);
+  return VR_OK;
+}
+
+/* The report, written either way since it shows what went wrong; the
+ * saves and the per-pixel texture only when the recovery can stand behind
+ * them, or with --force. */
+static vr_status write_outputs(recover_cmd *c, bool doubtful, bool force, vr_error *err) {
+  vr_status st;
+  if (c->report && (st = rg_write_report(c->report, &c->run, err))) return st;
+  if ((c->prefix || c->pixels) && doubtful && !force) {
+    bool saves = c->prefix || c->texture, both = saves && c->pixels;
+    return vr_error_set(err, VR_E_ARG, "nothing %s: %zu region(s) miss their photos or a light "
+                                       "disagrees with its photo (see above); --force %s anyway",
+                        both ? "saved or written" : saves ? "saved" : "written", c->run.nmisfit,
+                        both ? "saves and writes" : saves ? "saves" : "writes");
+  }
+  if (c->prefix && (st = rg_save(c->db, c->prefix, &c->run, force && doubtful, err))) return st;
+  if (c->pixels) return write_pixels(c, force && doubtful, err);
+  return VR_OK;
+}
+
+/* One place releases what the steps made, whichever of them failed. */
+static void free_recover_cmd(recover_cmd *c) {
+  rg_run *run = &c->run;
+  for (size_t i = 0; i < run->nregions && run->regions; i++) free(run->regions[i].r);
+  free(run->regions);
+  for (size_t l = 0; l < RGB2SPEC_MAX_LIGHTS; l++) vr_image_free(&c->img[l]);
+  vr_recovery_system_destroy(run->sys);
+  vr_camera_destroy(c->cam);
+  vr_capture_destroy(c->cap);
+  vr_matdb_close(c->db);
+  free(c->mpath);
+  rg_pixels_free(&c->px);
+}
+
+static int cmd_recover(vr_args *a) {
+  recover_cmd c = {.a = a};
+  vr_error err = {0};
+  int rc = read_options(&c, &err);
+  if (rc == 2) goto out_quiet;
+  if (rc) goto out;
+  rc = 1;
+  if (open_capture(&c, &err) || choose_photos(&c, &err) || load_photos(&c, &err) ||
+      build_system(&c, &err))
     goto out;
-  }
-  if (prefix && rg_save(db, prefix, &run, force && doubtful, &err)) goto out;
-  if (pixels) {
-    /* With --texture the EXR is written beside its final name and put in
-     * place only once its database row is saved: a failed save leaves
-     * neither, and an earlier file of that name as it was. */
-    char tmpname[4200];
-    const char *target = pixels;
-    if (texture) {
-      snprintf(tmpname, sizeof tmpname, "%s.part-%ld", pixels, (long)getpid());
-      target = tmpname;
-    }
-    if (rg_per_pixel(&run, img, target, &popt, &px, &err)) goto out;
-    rg_print_pixels(vr_args_flag(a, "json") ? stderr : stdout, &run, &px, pixels);
-    if (texture) {
-      if (rg_save_texture(db, texture, target, pixels, &run, &px, force && doubtful, &err)) {
-        remove(target);
-        goto out;
-      }
-      if (rename(target, pixels)) {
-        vr_error_set(&err, VR_E_IO, "%s: cannot put the texture in place (%s left as written): %s; "
-                                    "material '%s' names %s", pixels, target, strerror(errno), texture, pixels);
-        goto out;
-      }
-    }
-  }
-  if (doubtful && !force) {
-    rc = 1;
-    goto out_quiet;
-  }
+  choose_heldout(&c.run);
+  if (measure_regions(&c, &err)) goto out;
+  for (size_t i = 0; i < c.run.nregions; i++)
+    if (recover_region(&c.run, &c.run.regions[i], &err)) goto out;
+  if (rg_check_lights(&c.run, &err)) goto out;
+  if (vr_args_flag(a, "json")) rg_print_json(&c.run);
+  else rg_print_text(&c.run);
+  bool doubtful = tell_doubts(&c), force = vr_args_flag(a, "force");
+  if (write_outputs(&c, doubtful, force, &err)) goto out;
+  /* The exit status is 1 unless --force when the recovery has doubts. */
+  if (doubtful && !force) goto out_quiet;
   rc = 0;
 out:
   if (rc) fail(&err);
 out_quiet:
-  for (size_t i = 0; i < run.nregions && run.regions; i++) free(run.regions[i].r);
-  free(run.regions);
-  for (size_t l = 0; l < RGB2SPEC_MAX_LIGHTS; l++) vr_image_free(&img[l]);
-  vr_recovery_system_destroy(run.sys);
-  vr_camera_destroy(cam);
-  vr_capture_destroy(cap);
-  vr_matdb_close(db);
-  free(mpath);
-  rg_pixels_free(&px);
+  free_recover_cmd(&c);
   return rc;
 }
 
