@@ -420,18 +420,10 @@ static void work_free(work *w) {
   for (size_t p = 0; p < NP; p++) vr_spectrum_destroy(w->chart[p]);
 }
 
-vr_status vr_calibrate_camera(const double patch_rgb[][3], const bool *clipped_or_null,
-                              const vr_spectrum *light, const vr_spectrum *const *refl, size_t n,
-                              const double *grid, const vr_calibration_options *opt_in,
-                              vr_calibration *out, vr_error *err) {
-  if (!patch_rgb || !light || !out)
-    return vr_error_set(err, VR_E_ARG, "camera calibration: NULL argument");
-  vr_calibration_options opt;
-  vr_calibration_options_default(&opt);
-  if (opt_in) opt = *opt_in;
-  vr_status st = check_options(&opt, err);
-  if (st) return st;
-  if (!grid) n = VR_CAMERA_DEFAULT_SAMPLES;
+/* The caller's data checked before any allocation, so that a bad argument
+ * is named rather than met halfway through the fit. */
+static vr_status check_inputs(const double patch_rgb[][3], const vr_spectrum *const *refl,
+                              size_t n, const double *grid, vr_error *err) {
   if (n < 5 || n > MAX_SAMPLES)
     return vr_error_set(err, VR_E_ARG, "camera calibration: %zu grid samples, need 5 to %d", n,
                         MAX_SAMPLES);
@@ -450,96 +442,236 @@ vr_status vr_calibrate_camera(const double patch_rgb[][3], const bool *clipped_o
       if (!refl[p])
         return vr_error_set(err, VR_E_ARG, "camera calibration: reflectance of patch %zu is NULL",
                             p + 1);
+  return VR_OK;
+}
 
-  work w = {0};
+/* The work arrays, the grid (the caller's or the default one) and the
+ * chart's reflectances (the caller's, else the BabelColor ones, kept in w
+ * to be freed); *R receives the reflectances to use.  On failure the
+ * caller frees w. */
+static vr_status work_alloc(work *w, size_t n, const double *grid, const vr_spectrum *const *refl,
+                            const vr_spectrum *const **R, vr_error *err) {
   size_t p2 = n - 2;
-  w.grid = malloc(n * sizeof *w.grid);
-  w.A = malloc(NP * n * sizeof *w.A);
-  w.white = malloc(n * sizeof *w.white);
-  w.d2 = malloc(p2 * n * sizeof *w.d2);
-  w.lpinv = malloc(n * p2 * sizeof *w.lpinv);
-  w.nl = malloc(n * 2 * sizeof *w.nl);
-  w.sv = malloc(n * sizeof *w.sv);
-  for (int c = 0; c < 3; c++) w.s[c] = malloc(n * sizeof *w.s[c]);
-  if (!w.grid || !w.A || !w.white || !w.d2 || !w.lpinv || !w.nl || !w.sv || !w.s[0] || !w.s[1] ||
-      !w.s[2]) {
-    work_free(&w);
+  w->grid = malloc(n * sizeof *w->grid);
+  w->A = malloc(NP * n * sizeof *w->A);
+  w->white = malloc(n * sizeof *w->white);
+  w->d2 = malloc(p2 * n * sizeof *w->d2);
+  w->lpinv = malloc(n * p2 * sizeof *w->lpinv);
+  w->nl = malloc(n * 2 * sizeof *w->nl);
+  w->sv = malloc(n * sizeof *w->sv);
+  for (int c = 0; c < 3; c++) w->s[c] = malloc(n * sizeof *w->s[c]);
+  if (!w->grid || !w->A || !w->white || !w->d2 || !w->lpinv || !w->nl || !w->sv || !w->s[0] ||
+      !w->s[1] || !w->s[2])
     return vr_error_set(err, VR_E_NOMEM, "camera calibration: out of memory");
-  }
   for (size_t j = 0; j < n; j++)
-    w.grid[j] = grid ? grid[j] : VR_CAMERA_DEFAULT_START_NM + VR_CAMERA_DEFAULT_STEP_NM * (double)j;
-  const vr_spectrum *const *R = refl;
-  if (!R) {
+    w->grid[j] = grid ? grid[j] : VR_CAMERA_DEFAULT_START_NM + VR_CAMERA_DEFAULT_STEP_NM * (double)j;
+  *R = refl;
+  if (!refl) {
     for (size_t p = 0; p < NP; p++)
-      if (!(w.chart[p] = vr_colorchecker_patch(p, err))) {
-        work_free(&w);
-        return err ? err->status : VR_E_NOMEM;
-      }
-    R = (const vr_spectrum *const *)w.chart;
+      if (!(w->chart[p] = vr_colorchecker_patch(p, err))) return err ? err->status : VR_E_NOMEM;
+    *R = (const vr_spectrum *const *)w->chart;
   }
+  return VR_OK;
+}
 
-  vr_calibration cal;
-  memset(&cal, 0, sizeof cal);
-  cal.options = opt;
-  if ((st = design(light, R, n, w.grid, w.A, w.white, &cal.coverage, err)) != VR_OK) goto fail;
-  if (cal.coverage < 0.9) cal.flags |= VR_CALIBRATION_FLAG_PARTIAL_LIGHT;
-  int info = vr_recover_svd(NP, n, w.A, NULL, w.sv, NULL);
-  if (info == 0) info = vr_recover_smoothness(n, w.grid, w.d2, w.lpinv, w.nl);
-  if (info != 0) {
-    st = info == -1000 ? vr_error_set(err, VR_E_NOMEM, "camera calibration: out of memory")
-                       : vr_error_set(err, VR_E_NUMERIC,
-                                      "camera calibration: LAPACK failed (info %d)", info);
-    goto fail;
-  }
+/* The design matrix under the light, its condition and the smoothness
+ * operator: what every channel's solve shares. */
+static vr_status build_design(work *w, const vr_spectrum *light, const vr_spectrum *const *R,
+                              size_t n, vr_calibration *cal, vr_error *err) {
+  vr_status st = design(light, R, n, w->grid, w->A, w->white, &cal->coverage, err);
+  if (st) return st;
+  if (cal->coverage < 0.9) cal->flags |= VR_CALIBRATION_FLAG_PARTIAL_LIGHT;
+  int info = vr_recover_svd(NP, n, w->A, NULL, w->sv, NULL);
+  if (info == 0) info = vr_recover_smoothness(n, w->grid, w->d2, w->lpinv, w->nl);
+  if (info != 0)
+    return info == -1000 ? vr_error_set(err, VR_E_NOMEM, "camera calibration: out of memory")
+                         : vr_error_set(err, VR_E_NUMERIC,
+                                        "camera calibration: LAPACK failed (info %d)", info);
   size_t q = NP < n ? NP : n;
-  cal.cond = w.sv[q - 1] > 0.0 ? w.sv[0] / w.sv[q - 1] : INFINITY;
+  cal->cond = w->sv[q - 1] > 0.0 ? w->sv[0] / w->sv[q - 1] : INFINITY;
+  return VR_OK;
+}
 
-  /* Which patch channels are data. */
-  bool use[NP][3];
-  size_t rows[3][NP], mu[3] = {0, 0, 0};
+/* Which patch channels are data (inside (black, clip) and not flagged):
+ * use[p][c], and per channel the mu[c] patches in rows[c].  Refuses a
+ * channel with too few patches, too little light, or too few neutrals to
+ * choose its tone curve, before any fit is spent on it. */
+static vr_status select_patches(const double patch_rgb[][3], const bool *clipped_or_null,
+                                const vr_calibration_options *opt, vr_calibration *cal,
+                                bool use[NP][3], size_t rows[3][NP], size_t mu[3], vr_error *err) {
   for (size_t p = 0; p < NP; p++) {
     bool any_out = false;
     for (int c = 0; c < 3; c++) {
       double v = patch_rgb[p][c];
-      use[p][c] = !(clipped_or_null && clipped_or_null[p]) && v > opt.black && v < opt.clip;
+      use[p][c] = !(clipped_or_null && clipped_or_null[p]) && v > opt->black && v < opt->clip;
       if (use[p][c]) rows[c][mu[c]++] = p;
       else any_out = true;
     }
-    cal.clipped[p] = any_out;
-    if (any_out) cal.clipped_patches++;
-    else cal.used_patches++;
+    cal->clipped[p] = any_out;
+    if (any_out) cal->clipped_patches++;
+    else cal->used_patches++;
   }
-  if (cal.clipped_patches) cal.flags |= VR_CALIBRATION_FLAG_CLIPPED;
+  if (cal->clipped_patches) cal->flags |= VR_CALIBRATION_FLAG_CLIPPED;
   for (int c = 0; c < 3; c++) {
-    cal.used[c] = (int)mu[c];
-    if (mu[c] < 3) {
-      st = vr_error_set(err, VR_E_ARG,
-                        "camera calibration: only %zu usable patches in the %s channel (need 3; "
-                        "the others are clipped, flagged or at or below the black level %g)",
-                        mu[c], CHANNEL[c], opt.black);
-      goto fail;
-    }
+    cal->used[c] = (int)mu[c];
+    if (mu[c] < 3)
+      return vr_error_set(err, VR_E_ARG,
+                          "camera calibration: only %zu usable patches in the %s channel (need 3; "
+                          "the others are clipped, flagged or at or below the black level %g)",
+                          mu[c], CHANNEL[c], opt->black);
     double brightest = 0.0;
     for (size_t i = 0; i < mu[c]; i++) brightest = fmax(brightest, patch_rgb[rows[c][i]][c]);
-    if (brightest < DIM_LIMIT) {
-      st = vr_error_set(err, VR_E_ARG,
-                        "camera calibration: the %s channel's brightest usable patch is %g: the "
-                        "light has almost no power where that channel responds, so its "
-                        "sensitivity cannot be estimated under this light",
-                        CHANNEL[c], brightest);
-      goto fail;
-    }
-    cal.neutrals[c] = 0;
+    if (brightest < DIM_LIMIT)
+      return vr_error_set(err, VR_E_ARG,
+                          "camera calibration: the %s channel's brightest usable patch is %g: the "
+                          "light has almost no power where that channel responds, so its "
+                          "sensitivity cannot be estimated under this light",
+                          CHANNEL[c], brightest);
+    cal->neutrals[c] = 0;
     for (size_t i = 0; i < NEUTRALS; i++)
-      cal.neutrals[c] += use[VR_CALIBRATION_FIRST_NEUTRAL + i][c];
-    if (opt.tone == VR_TONE_AUTO && cal.neutrals[c] < 3) {
-      st = vr_error_set(err, VR_E_ARG,
-                        "camera calibration: only %d of the six neutral patches (19-24) are "
-                        "usable in the %s channel: the tone curve cannot be chosen (impose one)",
-                        cal.neutrals[c], CHANNEL[c]);
-      goto fail;
+      cal->neutrals[c] += use[VR_CALIBRATION_FIRST_NEUTRAL + i][c];
+    if (opt->tone == VR_TONE_AUTO && cal->neutrals[c] < 3)
+      return vr_error_set(err, VR_E_ARG,
+                          "camera calibration: only %d of the six neutral patches (19-24) are "
+                          "usable in the %s channel: the tone curve cannot be chosen (impose one)",
+                          cal->neutrals[c], CHANNEL[c]);
+  }
+  return VR_OK;
+}
+
+/* Expected relative responses of the neutrals in channel c: the flat ones
+ * on the first pass, then through the previous pass's sensitivity, whose
+ * largest change is reported.  rk, vk receive the k usable neutrals'
+ * ratios and encoded values, which the tone curve is fitted to. */
+static size_t neutral_ratios(const work *w, size_t n, int c, int pass, const double *rho_flat,
+                             bool use[NP][3], const double patch_rgb[][3], vr_calibration *cal,
+                             double *rk, double *vk) {
+  size_t k = 0;
+  double ws = 0.0;
+  for (size_t j = 0; pass > 0 && j < n; j++) ws += w->white[j] * w->s[c][j];
+  cal->neutral_correction[c] = 0.0;
+  for (size_t i = 0; i < NEUTRALS; i++) {
+    double rho = rho_flat[i];
+    size_t p = VR_CALIBRATION_FIRST_NEUTRAL + i;
+    if (pass > 0 && ws > 0.0) {
+      double v = 0.0;
+      for (size_t j = 0; j < n; j++) v += w->A[p * n + j] * w->s[c][j];
+      rho = v / ws;
+      double change = fabs(rho / rho_flat[i] - 1.0);
+      cal->neutral_correction[c] = fmax(cal->neutral_correction[c], change);
+    }
+    if (use[p][c] && rho > 0.0) {
+      rk[k] = rho;
+      vk[k++] = patch_rgb[p][c];
     }
   }
+  return k;
+}
+
+/* The RMS residual of the power law with the imposed exponent (its best
+ * exposure only), which is what --tone gamma=G is held to rather than the
+ * fitted exponent's. */
+static double imposed_gamma_rms(const double *rk, const double *vk, size_t k, double gamma) {
+  double num = 0.0, den = 0.0, e = 1.0 / gamma;
+  for (size_t i = 0; i < k; i++) {
+    num += vk[i] * pow(rk[i], e);
+    den += pow(rk[i], 2 * e);
+  }
+  double a = num / den, rss = 0.0;
+  for (size_t i = 0; i < k; i++) rss += pow(a * pow(rk[i], e) - vk[i], 2);
+  return sqrt(rss / (double)k);
+}
+
+/* Channel c's tone curve: the three curves fitted to the k neutrals and the
+ * least BIC chosen, or the imposed one kept with the fits shown beside it. */
+static vr_status choose_tone(const double *rk, const double *vk, size_t k, int c,
+                             const vr_calibration_options *opt, vr_calibration *cal, vr_error *err) {
+  for (int t = 0; t < 3; t++) cal->tone_fit_rms[c][t] = NAN;
+  double gfit = NAN, score[3] = {INFINITY, INFINITY, INFINITY};
+  if (k >= 3) {
+    for (int t = 0; t < 3; t++) {
+      double rss = fit_tone((vr_tone)t, rk, vk, k, &gfit);
+      cal->tone_fit_rms[c][t] = sqrt(rss / (double)k);
+      score[t] = bic(rss, k, t == VR_TONE_GAMMA ? 2 : 1);
+    }
+  } else if (opt->tone == VR_TONE_AUTO) {
+    return vr_error_set(err, VR_E_ARG, "camera calibration: only %zu usable neutrals in the %s "
+                                       "channel", k, CHANNEL[c]);
+  }
+  if (opt->tone == VR_TONE_AUTO) {
+    int best = 0;
+    for (int t = 1; t < 3; t++)
+      if (score[t] < score[best]) best = t;
+    cal->tone[c] = (vr_tone)best;
+    cal->gamma[c] = gfit;
+  } else {
+    cal->tone[c] = opt->tone;
+    cal->gamma[c] = opt->tone == VR_TONE_GAMMA ? opt->gamma : gfit;
+  }
+  cal->tone_rms[c] = cal->tone_fit_rms[c][cal->tone[c]];
+  if (opt->tone == VR_TONE_GAMMA && k >= 1) cal->tone_rms[c] = imposed_gamma_rms(rk, vk, k, opt->gamma);
+  return VR_OK;
+}
+
+/* Channel c's sensitivity from the patches linearised by its tone curve. */
+static vr_status solve_sensitivity(work *w, const double patch_rgb[][3], const size_t *rows,
+                                   size_t mu, size_t n, int c, const vr_calibration_options *opt,
+                                   vr_calibration *cal, vr_error *err) {
+  double y[NP];
+  double tg = cal->tone[c] == VR_TONE_GAMMA ? cal->gamma[c] : 1.0;
+  for (size_t p = 0; p < NP; p++) y[p] = vr_tone_decode(cal->tone[c], tg, patch_rgb[p][c]);
+  channel_fit fit;
+  vr_status st = solve_channel(w->A, y, rows, mu, n, w->d2, w->lpinv, w->nl, opt, w->s[c], &fit, err);
+  if (st) {
+    vr_error_prefix(err, "%s channel: ", CHANNEL[c]);
+    return st;
+  }
+  cal->lambda[c] = fit.lambda;
+  cal->gcv[c] = fit.gcv;
+  cal->dof[c] = fit.dof;
+  cal->rms[c] = fit.rms;
+  cal->at_zero[c] = fit.at_zero;
+  cal->flags |= fit.flags;
+  return VR_OK;
+}
+
+/* The sensitivities divided by the green peak: their overall scale is not
+ * identifiable from one exposure (vr/calibrate.h), their ratios are. */
+static vr_status scale_to_green(work *w, size_t n, vr_error *err) {
+  double gmax = 0.0;
+  for (size_t j = 0; j < n; j++) gmax = fmax(gmax, w->s[1][j]);
+  if (!(gmax > 0.0) || !isfinite(gmax))
+    return vr_error_set(err, VR_E_NUMERIC, "camera calibration: the green sensitivity came out zero");
+  for (int c = 0; c < 3; c++)
+    for (size_t j = 0; j < n; j++) w->s[c][j] /= gmax;
+  return VR_OK;
+}
+
+vr_status vr_calibrate_camera(const double patch_rgb[][3], const bool *clipped_or_null,
+                              const vr_spectrum *light, const vr_spectrum *const *refl, size_t n,
+                              const double *grid, const vr_calibration_options *opt_in,
+                              vr_calibration *out, vr_error *err) {
+  if (!patch_rgb || !light || !out)
+    return vr_error_set(err, VR_E_ARG, "camera calibration: NULL argument");
+  vr_calibration_options opt;
+  vr_calibration_options_default(&opt);
+  if (opt_in) opt = *opt_in;
+  vr_status st = check_options(&opt, err);
+  if (st) return st;
+  if (!grid) n = VR_CAMERA_DEFAULT_SAMPLES;
+  if ((st = check_inputs(patch_rgb, refl, n, grid, err))) return st;
+
+  work w = {0};
+  const vr_spectrum *const *R;
+  vr_calibration cal;
+  memset(&cal, 0, sizeof cal);
+  cal.options = opt;
+  bool use[NP][3];
+  size_t rows[3][NP], mu[3] = {0, 0, 0};
+  if ((st = work_alloc(&w, n, grid, refl, &R, err)) ||
+      (st = build_design(&w, light, R, n, &cal, err)) ||
+      (st = select_patches(patch_rgb, clipped_or_null, &opt, &cal, use, rows, mu, err)))
+    goto fail;
 
   double rho_flat[NEUTRALS];
   for (size_t i = 0; i < NEUTRALS; i++) {
@@ -547,92 +679,16 @@ vr_status vr_calibrate_camera(const double patch_rgb[][3], const bool *clipped_o
     for (size_t j = 0; j < n; j++) v += w.A[(VR_CALIBRATION_FIRST_NEUTRAL + i) * n + j];
     rho_flat[i] = v; /* the white row sums to 1 */
   }
-  for (int pass = 0; pass < opt.passes; pass++) {
+  for (int pass = 0; pass < opt.passes; pass++)
     for (int c = 0; c < 3; c++) {
-      /* Expected relative responses of the neutrals in this channel. */
-      double rho[NEUTRALS], rk[NEUTRALS], vk[NEUTRALS];
-      size_t k = 0;
-      double ws = 0.0;
-      for (size_t j = 0; pass > 0 && j < n; j++) ws += w.white[j] * w.s[c][j];
-      cal.neutral_correction[c] = 0.0;
-      for (size_t i = 0; i < NEUTRALS; i++) {
-        rho[i] = rho_flat[i];
-        size_t p = VR_CALIBRATION_FIRST_NEUTRAL + i;
-        if (pass > 0 && ws > 0.0) {
-          double v = 0.0;
-          for (size_t j = 0; j < n; j++) v += w.A[p * n + j] * w.s[c][j];
-          rho[i] = v / ws;
-          double change = fabs(rho[i] / rho_flat[i] - 1.0);
-          cal.neutral_correction[c] = fmax(cal.neutral_correction[c], change);
-        }
-        if (use[p][c] && rho[i] > 0.0) {
-          rk[k] = rho[i];
-          vk[k++] = patch_rgb[p][c];
-        }
-      }
-      for (int t = 0; t < 3; t++) cal.tone_fit_rms[c][t] = NAN;
-      double gfit = NAN, score[3] = {INFINITY, INFINITY, INFINITY};
-      if (k >= 3) {
-        for (int t = 0; t < 3; t++) {
-          double rss = fit_tone((vr_tone)t, rk, vk, k, &gfit);
-          cal.tone_fit_rms[c][t] = sqrt(rss / (double)k);
-          score[t] = bic(rss, k, t == VR_TONE_GAMMA ? 2 : 1);
-        }
-      } else if (opt.tone == VR_TONE_AUTO) {
-        st = vr_error_set(err, VR_E_ARG, "camera calibration: only %zu usable neutrals in the %s "
-                                         "channel", k, CHANNEL[c]);
+      double rk[NEUTRALS], vk[NEUTRALS];
+      size_t k = neutral_ratios(&w, n, c, pass, rho_flat, use, patch_rgb, &cal, rk, vk);
+      if ((st = choose_tone(rk, vk, k, c, &opt, &cal, err)) ||
+          (st = solve_sensitivity(&w, patch_rgb, rows[c], mu[c], n, c, &opt, &cal, err)))
         goto fail;
-      }
-      if (opt.tone == VR_TONE_AUTO) {
-        int best = 0;
-        for (int t = 1; t < 3; t++)
-          if (score[t] < score[best]) best = t;
-        cal.tone[c] = (vr_tone)best;
-        cal.gamma[c] = gfit;
-      } else {
-        cal.tone[c] = opt.tone;
-        cal.gamma[c] = opt.tone == VR_TONE_GAMMA ? opt.gamma : gfit;
-      }
-      cal.tone_rms[c] = cal.tone_fit_rms[c][cal.tone[c]];
-      if (opt.tone == VR_TONE_GAMMA && k >= 1) {
-        /* The imposed exponent's own residual, not the fitted one's. */
-        double num = 0.0, den = 0.0, e = 1.0 / opt.gamma;
-        for (size_t i = 0; i < k; i++) {
-          num += vk[i] * pow(rk[i], e);
-          den += pow(rk[i], 2 * e);
-        }
-        double a = num / den, rss = 0.0;
-        for (size_t i = 0; i < k; i++) rss += pow(a * pow(rk[i], e) - vk[i], 2);
-        cal.tone_rms[c] = sqrt(rss / (double)k);
-      }
-
-      /* Linear responses and the sensitivity. */
-      double y[NP];
-      double tg = cal.tone[c] == VR_TONE_GAMMA ? cal.gamma[c] : 1.0;
-      for (size_t p = 0; p < NP; p++) y[p] = vr_tone_decode(cal.tone[c], tg, patch_rgb[p][c]);
-      channel_fit fit;
-      st = solve_channel(w.A, y, rows[c], mu[c], n, w.d2, w.lpinv, w.nl, &opt, w.s[c], &fit, err);
-      if (st) {
-        vr_error_prefix(err, "%s channel: ", CHANNEL[c]);
-        goto fail;
-      }
-      cal.lambda[c] = fit.lambda;
-      cal.gcv[c] = fit.gcv;
-      cal.dof[c] = fit.dof;
-      cal.rms[c] = fit.rms;
-      cal.at_zero[c] = fit.at_zero;
-      cal.flags |= fit.flags;
     }
-  }
+  if ((st = scale_to_green(&w, n, err))) goto fail;
 
-  double gmax = 0.0;
-  for (size_t j = 0; j < n; j++) gmax = fmax(gmax, w.s[1][j]);
-  if (!(gmax > 0.0) || !isfinite(gmax)) {
-    st = vr_error_set(err, VR_E_NUMERIC, "camera calibration: the green sensitivity came out zero");
-    goto fail;
-  }
-  for (int c = 0; c < 3; c++)
-    for (size_t j = 0; j < n; j++) w.s[c][j] /= gmax;
   cal.n = n;
   cal.grid_nm = w.grid;
   w.grid = NULL;
