@@ -291,15 +291,14 @@ static vr_status finish(fit_ctx *c, vr_fit_result *out, double limit, vr_error *
   return VR_OK;
 }
 
-vr_status vr_ellipso_fit_samples(vr_sample_model *const *models, const vr_ellipso_data *data, size_t ns,
-                                 const vr_fit_options *opt_in, vr_fit_result *out, vr_error *err) {
-  memset(out, 0, sizeof *out);
-  double t_start = now();
-  vr_fit_options opt = opt_in ? *opt_in : vr_fit_default_options();
-  if (ns == 0) return vr_error_set(err, VR_E_ARG, "no data set");
-  vr_sample_model *m = models[0];
-  vr_status st = VR_OK;
-  size_t ntot = 0;
+/* The samples must share one parameter list (names, free and per-sample
+ * flags) for a shared parameter to mean one thing in all of them; ntot
+ * receives the points in all. */
+static vr_status check_samples(vr_sample_model *const *models, const vr_ellipso_data *data, size_t ns,
+                               size_t *ntot, vr_error *err) {
+  const vr_sample_model *m = models[0];
+  vr_status st;
+  *ntot = 0;
   for (size_t s = 0; s < ns; s++) {
     if ((st = vr_model_check(models[s], err))) return st;
     bool same = models[s]->nparams == m->nparams;
@@ -308,21 +307,17 @@ vr_status vr_ellipso_fit_samples(vr_sample_model *const *models, const vr_ellips
              models[s]->params[i].free == m->params[i].free && models[s]->params[i].per_sample == m->params[i].per_sample;
     if (!same) return vr_error_set(err, VR_E_ARG, "the samples' models differ (sample %zu)", s + 1);
     if (data[s].n == 0) return vr_error_set(err, VR_E_ARG, "%s: no data points", data[s].source ? data[s].source : "data");
-    ntot += data[s].n;
+    *ntot += data[s].n;
   }
+  return VR_OK;
+}
+
+/* The fitted variables: one per free parameter, or one per sample for a
+ * per-sample one when there are several samples; x receives their start
+ * values from the models. */
+static void list_vars(vr_sample_model *const *models, size_t ns, fit_var *vars, double *x) {
+  const vr_sample_model *m = models[0];
   size_t nfree = 0;
-  for (size_t i = 0; i < m->nparams; i++)
-    if (m->params[i].free) nfree += m->params[i].per_sample ? ns : 1;
-  if (nfree == 0) return vr_error_set(err, VR_E_ARG, "the model has no free parameter (mark some with 'fit')");
-  fit_var *vars = calloc(nfree, sizeof *vars);
-  fit_point *all_pts = calloc(ntot, sizeof *all_pts), *subset = calloc(ntot, sizeof *subset);
-  double *x = calloc(nfree, sizeof *x), *best = calloc(nfree, sizeof *best),
-         *work = calloc(3 * ntot, sizeof *work), *cov = calloc(nfree * nfree, sizeof *cov);
-  if (!vars || !all_pts || !subset || !x || !best || !work || !cov) {
-    st = vr_error_set(err, VR_E_NOMEM, "out of memory");
-    goto done;
-  }
-  nfree = 0;
   for (size_t i = 0; i < m->nparams; i++) {
     if (!m->params[i].free) continue;
     if (m->params[i].per_sample && ns > 1)
@@ -331,118 +326,129 @@ vr_status vr_ellipso_fit_samples(vr_sample_model *const *models, const vr_ellips
   }
   for (size_t j = 0; j < nfree; j++)
     x[j] = vr_model_param_get(models[vars[j].sample < 0 ? 0 : (size_t)vars[j].sample], vars[j].param);
+}
+
+/* Every point of every sample, in order; returns how many of them give a
+ * depolarisation (its residuals are counted apart). */
+static size_t list_points(const vr_ellipso_data *data, size_t ns, fit_point *pts) {
   size_t k = 0, ndep = 0;
   for (size_t s = 0; s < ns; s++)
     for (size_t i = 0; i < data[s].n; i++) {
-      all_pts[k++] = (fit_point){s, i};
+      pts[k++] = (fit_point){s, i};
       ndep += isfinite(data[s].p[i].depolarisation);
     }
-  fit_ctx all = {models, data, ns, vars, nfree, all_pts, ntot, false, ndep, opt.residual};
-  all.depol = opt.fit_depolarisation && ndep > 0 && can_depolarise(&all) && opt.residual == VR_RESID_PSI_DELTA;
-  if (nresiduals(&all) <= nfree) {
-    st = vr_error_set(err, VR_E_ARG, "%zu data values cannot determine %zu free parameters (need more than %zu)",
-                      nresiduals(&all), nfree, nfree);
-    goto done;
-  }
+  return ndep;
+}
 
-  /* Every model evaluation must work at the start. */
-  for (size_t q = 0; q < ntot; q++) {
-    const vr_ellipso_point *p = &data[all_pts[q].sample].p[all_pts[q].index];
+/* Every model evaluation must work at the start: a point the model cannot
+ * compute is named by its file and line here, where the solver could only
+ * say that a residual failed. */
+static vr_status check_start(const fit_ctx *c, vr_error *err) {
+  for (size_t q = 0; q < c->npoints; q++) {
+    const fit_point *fp = &c->points[q];
+    const vr_ellipso_point *p = &c->d[fp->sample].p[fp->index];
     vr_model_response resp;
-    if ((st = vr_model_measure(models[all_pts[q].sample], p->nm, p->aoi_deg, p->bandwidth_nm, &resp, err))) {
-      vr_error_prefix(err, "%s:%ld: ", data[all_pts[q].sample].source ? data[all_pts[q].sample].source : "data",
-                      p->line);
-      goto done;
+    vr_status st = vr_model_measure(c->m[fp->sample], p->nm, p->aoi_deg, p->bandwidth_nm, &resp, err);
+    if (st) {
+      vr_error_prefix(err, "%s:%ld: ", c->d[fp->sample].source ? c->d[fp->sample].source : "data", p->line);
+      return st;
     }
   }
+  return VR_OK;
+}
 
-  /* Global search on a subset of each sample's wavelengths (all angles kept). */
-  size_t nthick = 0;
-  for (size_t j = 0; j < nfree; j++) nthick += var_param(&all, j)->slot == VR_SLOT_THICKNESS;
-  double bestchi = INFINITY;
-  int search_iterations = 0, search_evaluations = 0;
-  memcpy(best, x, nfree * sizeof *x);
-  if (opt.global_search && nthick > 0) {
-    size_t ns_pts = 0, sub_dep = 0;
-    for (size_t s = 0; s < ns; s++) {
-      const vr_ellipso_data *d = &data[s];
-      size_t stride = 1, distinct = 0, w = 0;
-      double last = -1;
-      for (size_t q = 0; q < d->n; q++)
-        if (d->p[q].nm != last) {
-          distinct++;
-          last = d->p[q].nm;
-        }
-      if (opt.grid_wavelengths > 0 && distinct > (size_t)opt.grid_wavelengths)
-        stride = (distinct + (size_t)opt.grid_wavelengths - 1) / (size_t)opt.grid_wavelengths;
-      last = -1;
-      for (size_t q = 0; q < d->n; q++) {
-        if (d->p[q].nm != last) {
-          w++;
-          last = d->p[q].nm;
-        }
-        if ((w - 1) % stride == 0) {
-          subset[ns_pts++] = (fit_point){s, q};
-          sub_dep += isfinite(d->p[q].depolarisation);
-        }
+/* The global search's points: each sample's wavelengths thinned to about
+ * opt->grid_wavelengths (all angles kept), so that scanning the
+ * thicknesses stays cheap on long spectra. */
+static fit_ctx search_subset(const fit_ctx *all, const vr_fit_options *opt, fit_point *subset) {
+  size_t ns_pts = 0, sub_dep = 0;
+  for (size_t s = 0; s < all->ns; s++) {
+    const vr_ellipso_data *d = &all->d[s];
+    size_t stride = 1, distinct = 0, w = 0;
+    double last = -1;
+    for (size_t q = 0; q < d->n; q++)
+      if (d->p[q].nm != last) {
+        distinct++;
+        last = d->p[q].nm;
       }
-    }
-    fit_ctx sub = all;
-    sub.points = subset;
-    sub.npoints = ns_pts;
-    sub.ndep = sub_dep;
-    size_t firstj = 0;
-    for (size_t j = 0; j < nfree; j++)
-      if (var_param(&all, j)->slot == VR_SLOT_THICKNESS) {
-        firstj = j;
-        break;
+    if (opt->grid_wavelengths > 0 && distinct > (size_t)opt->grid_wavelengths)
+      stride = (distinct + (size_t)opt->grid_wavelengths - 1) / (size_t)opt->grid_wavelengths;
+    last = -1;
+    for (size_t q = 0; q < d->n; q++) {
+      if (d->p[q].nm != last) {
+        w++;
+        last = d->p[q].nm;
       }
-    double starts[16];
-    size_t nstart = scan(&sub, x, firstj, &opt, starts, opt.candidates > 16 ? 16 : (size_t)opt.candidates, work,
-                         &out->grid_evaluations);
-    for (size_t s = 0; s < nstart; s++) {
-      double *y = calloc(nfree, sizeof *y);
-      if (!y) {
-        st = vr_error_set(err, VR_E_NOMEM, "out of memory");
-        goto done;
+      if ((w - 1) % stride == 0) {
+        subset[ns_pts++] = (fit_point){s, q};
+        sub_dep += isfinite(d->p[q].depolarisation);
       }
-      memcpy(y, x, nfree * sizeof *x);
-      y[firstj] = starts[s];
-      /* Other thicknesses: one coordinate scan each. */
-      for (size_t j = 0; j < nfree; j++) {
-        if (j == firstj || var_param(&all, j)->slot != VR_SLOT_THICKNESS) continue;
-        double b;
-        if (scan(&sub, y, j, &opt, &b, 1, work, &out->grid_evaluations)) y[j] = b;
-      }
-      vr_lsq_summary sum;
-      vr_error lerr = {0};
-      /* Candidates are refined on the subset; only the winner sees all data. */
-      vr_status lst = local_fit(&sub, y, &opt, true, &sum, NULL, &lerr);
-      if (lst == VR_OK) {
-        search_iterations += sum.iterations;
-        search_evaluations += sum.residual_evaluations;
-      }
-      if (lst == VR_OK && sum.chi2 < bestchi) {
-        bestchi = sum.chi2;
-        memcpy(best, y, nfree * sizeof *y);
-      }
-      free(y);
     }
   }
-  /* Final local fit from the best start (or the model's own start). */
-  if (!isfinite(bestchi)) memcpy(best, x, nfree * sizeof *x);
-  vr_lsq *lsq = NULL;
-  if ((st = local_fit(&all, best, &opt, false, &out->summary, &lsq, err))) goto done;
-  /* Report the work of the whole search, not only of the last polish. */
-  out->summary.iterations += search_iterations;
-  out->summary.residual_evaluations += search_evaluations;
-  set_params(&all, best);
-  out->npoints = ntot;
-  out->ndepol = all.depol ? ndep : 0;
-  out->nfree = nfree;
-  out->dof = (int)(nresiduals(&all) - nfree);
-  out->chi2 = out->summary.chi2;
-  out->mse = sqrt(out->chi2 / out->dof);
+  fit_ctx sub = *all;
+  sub.points = subset;
+  sub.npoints = ns_pts;
+  sub.ndep = sub_dep;
+  return sub;
+}
+
+/* What the global search found: the best candidate's chi2 (INFINITY when
+ * none converged) and the solver's work, reported with the final fit's. */
+typedef struct search_result {
+  double chi2;
+  int iterations, evaluations;
+} search_result;
+
+/* Global search over the free thicknesses on a subset of the data: the
+ * first thickness scanned on a grid, each of its best minima completed by
+ * one coordinate scan of the other thicknesses and a quick local fit; best
+ * receives the best candidate.  Interference makes chi2 in a thickness a
+ * row of minima, which a local fit from the model's start would not leave. */
+static vr_status global_search(const fit_ctx *all, double *x, const vr_fit_options *opt, fit_point *subset,
+                               double *work, double *best, search_result *res, vr_fit_result *out,
+                               vr_error *err) {
+  size_t nfree = all->nfree;
+  fit_ctx sub = search_subset(all, opt, subset);
+  size_t firstj = 0;
+  for (size_t j = 0; j < nfree; j++)
+    if (var_param(all, j)->slot == VR_SLOT_THICKNESS) {
+      firstj = j;
+      break;
+    }
+  double starts[16];
+  size_t nstart = scan(&sub, x, firstj, opt, starts, opt->candidates > 16 ? 16 : (size_t)opt->candidates, work,
+                       &out->grid_evaluations);
+  for (size_t s = 0; s < nstart; s++) {
+    double *y = calloc(nfree, sizeof *y);
+    if (!y) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+    memcpy(y, x, nfree * sizeof *x);
+    y[firstj] = starts[s];
+    /* Other thicknesses: one coordinate scan each. */
+    for (size_t j = 0; j < nfree; j++) {
+      if (j == firstj || var_param(all, j)->slot != VR_SLOT_THICKNESS) continue;
+      double b;
+      if (scan(&sub, y, j, opt, &b, 1, work, &out->grid_evaluations)) y[j] = b;
+    }
+    vr_lsq_summary sum;
+    vr_error lerr = {0};
+    /* Candidates are refined on the subset; only the winner sees all data. */
+    vr_status lst = local_fit(&sub, y, opt, true, &sum, NULL, &lerr);
+    if (lst == VR_OK) {
+      res->iterations += sum.iterations;
+      res->evaluations += sum.residual_evaluations;
+    }
+    if (lst == VR_OK && sum.chi2 < res->chi2) {
+      res->chi2 = sum.chi2;
+      memcpy(best, y, nfree * sizeof *y);
+    }
+    free(y);
+  }
+  return VR_OK;
+}
+
+/* The result's per-parameter arrays, allocated together so that one check
+ * covers them. */
+static bool alloc_parameters(vr_fit_result *out, size_t nfree) {
   out->names = calloc(nfree, sizeof *out->names);
   out->value = calloc(nfree, sizeof(double));
   out->stderr_ = calloc(nfree, sizeof(double));
@@ -450,31 +456,37 @@ vr_status vr_ellipso_fit_samples(vr_sample_model *const *models, const vr_ellips
   out->ci_hi = calloc(nfree, sizeof(double));
   out->correlation = calloc(nfree * nfree, sizeof(double));
   out->at_bound = calloc(nfree, sizeof(int));
-  if (!out->names || !out->value || !out->stderr_ || !out->ci_lo || !out->ci_hi || !out->correlation ||
-      !out->at_bound) {
-    vr_lsq_destroy(lsq);
-    st = vr_error_set(err, VR_E_NOMEM, "out of memory");
-    goto done;
-  }
+  return out->names && out->value && out->stderr_ && out->ci_lo && out->ci_hi && out->correlation &&
+         out->at_bound;
+}
+
+/* The covariance at the solution, or why there is none (a failure leaves
+ * the fit itself valid).  Its differences move the models' parameters, so
+ * they are set back to the solution; lsq is destroyed. */
+static void compute_covariance(fit_ctx *all, vr_lsq *lsq, const double *best, double *cov, vr_fit_result *out) {
   vr_error cerr = {0};
   out->covariance_ok = vr_lsq_covariance(lsq, best, true, cov, &cerr) == VR_OK;
   vr_lsq_destroy(lsq);
-  set_params(&all, best);
+  set_params(all, best);
   if (!out->covariance_ok) {
     /* Keep the start of the solver's explanation. */
     memcpy(out->covariance_message, cerr.message, sizeof out->covariance_message - 1);
     out->covariance_message[sizeof out->covariance_message - 1] = '\0';
   }
+}
+
+/* Each fitted parameter's name ("name[sample]" for a per-sample one),
+ * value, bound flag, standard error, 90 % limits and correlations. */
+static vr_status fill_parameters(const fit_ctx *all, const double *best, const double *cov, vr_fit_result *out,
+                                 vr_error *err) {
+  size_t nfree = all->nfree;
   double t = gsl_cdf_tdist_Pinv(0.95, (double)out->dof);
   for (size_t j = 0; j < nfree; j++) {
-    const vr_model_param *mp = var_param(&all, j);
+    const vr_model_param *mp = var_param(all, j);
     char name[192];
-    if (vars[j].sample >= 0) snprintf(name, sizeof name, "%s[%ld]", mp->name, vars[j].sample + 1);
+    if (all->vars[j].sample >= 0) snprintf(name, sizeof name, "%s[%ld]", mp->name, all->vars[j].sample + 1);
     else snprintf(name, sizeof name, "%s", mp->name);
-    if (!(out->names[j] = strdup(name))) {
-      st = vr_error_set(err, VR_E_NOMEM, "out of memory");
-      goto done;
-    }
+    if (!(out->names[j] = strdup(name))) return vr_error_set(err, VR_E_NOMEM, "out of memory");
     out->value[j] = best[j];
     double tol = fmax(1e-12, 1e-9 * (isfinite(mp->upper - mp->lower) ? mp->upper - mp->lower : fabs(best[j])));
     out->at_bound[j] = best[j] <= mp->lower + tol ? -1 : best[j] >= mp->upper - tol ? 1 : 0;
@@ -487,6 +499,70 @@ vr_status vr_ellipso_fit_samples(vr_sample_model *const *models, const vr_ellips
       out->correlation[j * nfree + q] = out->covariance_ok && den > 0 ? cov[j * nfree + q] / den : NAN;
     }
   }
+  return VR_OK;
+}
+
+vr_status vr_ellipso_fit_samples(vr_sample_model *const *models, const vr_ellipso_data *data, size_t ns,
+                                 const vr_fit_options *opt_in, vr_fit_result *out, vr_error *err) {
+  memset(out, 0, sizeof *out);
+  double t_start = now();
+  vr_fit_options opt = opt_in ? *opt_in : vr_fit_default_options();
+  if (ns == 0) return vr_error_set(err, VR_E_ARG, "no data set");
+  vr_sample_model *m = models[0];
+  size_t ntot;
+  vr_status st = check_samples(models, data, ns, &ntot, err);
+  if (st) return st;
+  size_t nfree = 0;
+  for (size_t i = 0; i < m->nparams; i++)
+    if (m->params[i].free) nfree += m->params[i].per_sample ? ns : 1;
+  if (nfree == 0) return vr_error_set(err, VR_E_ARG, "the model has no free parameter (mark some with 'fit')");
+  fit_var *vars = calloc(nfree, sizeof *vars);
+  fit_point *all_pts = calloc(ntot, sizeof *all_pts), *subset = calloc(ntot, sizeof *subset);
+  double *x = calloc(nfree, sizeof *x), *best = calloc(nfree, sizeof *best),
+         *work = calloc(3 * ntot, sizeof *work), *cov = calloc(nfree * nfree, sizeof *cov);
+  if (!vars || !all_pts || !subset || !x || !best || !work || !cov) {
+    st = vr_error_set(err, VR_E_NOMEM, "out of memory");
+    goto done;
+  }
+  list_vars(models, ns, vars, x);
+  size_t ndep = list_points(data, ns, all_pts);
+  fit_ctx all = {models, data, ns, vars, nfree, all_pts, ntot, false, ndep, opt.residual};
+  all.depol = opt.fit_depolarisation && ndep > 0 && can_depolarise(&all) && opt.residual == VR_RESID_PSI_DELTA;
+  if (nresiduals(&all) <= nfree) {
+    st = vr_error_set(err, VR_E_ARG, "%zu data values cannot determine %zu free parameters (need more than %zu)",
+                      nresiduals(&all), nfree, nfree);
+    goto done;
+  }
+  if ((st = check_start(&all, err))) goto done;
+
+  size_t nthick = 0;
+  for (size_t j = 0; j < nfree; j++) nthick += var_param(&all, j)->slot == VR_SLOT_THICKNESS;
+  search_result search = {INFINITY, 0, 0};
+  memcpy(best, x, nfree * sizeof *x);
+  if (opt.global_search && nthick > 0 &&
+      (st = global_search(&all, x, &opt, subset, work, best, &search, out, err)))
+    goto done;
+  /* Final local fit from the best start (or the model's own start). */
+  if (!isfinite(search.chi2)) memcpy(best, x, nfree * sizeof *x);
+  vr_lsq *lsq = NULL;
+  if ((st = local_fit(&all, best, &opt, false, &out->summary, &lsq, err))) goto done;
+  /* Report the work of the whole search, not only of the last polish. */
+  out->summary.iterations += search.iterations;
+  out->summary.residual_evaluations += search.evaluations;
+  set_params(&all, best);
+  out->npoints = ntot;
+  out->ndepol = all.depol ? ndep : 0;
+  out->nfree = nfree;
+  out->dof = (int)(nresiduals(&all) - nfree);
+  out->chi2 = out->summary.chi2;
+  out->mse = sqrt(out->chi2 / out->dof);
+  if (!alloc_parameters(out, nfree)) {
+    vr_lsq_destroy(lsq);
+    st = vr_error_set(err, VR_E_NOMEM, "out of memory");
+    goto done;
+  }
+  compute_covariance(&all, lsq, best, cov, out);
+  if ((st = fill_parameters(&all, best, cov, out, err))) goto done;
   if ((st = finish(&all, out, VR_FIT_MAX_MISFIT, err))) goto done;
   out->seconds = now() - t_start;
 done:
