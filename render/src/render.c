@@ -86,6 +86,88 @@ done:
   return st;
 }
 
+/* The film's bins (for the camera's spectral film and the sensors'
+ * spectra) and what the scene is, said once it is resolved. */
+static vr_status describe(vr_run *r, int S, double t0, vr_error *err) {
+  vr_rscene *rs = r->rs;
+  vr_render_result *res = r->res;
+  res->nbins = rs->nbins;
+  res->bin_width_nm = rs->film_step;
+  res->bin_nm = malloc((rs->nbins + 1) * sizeof *res->bin_nm);
+  if (!res->bin_nm) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t b = 0; b < rs->nbins; b++) res->bin_nm[b] = rs->film_lo + (b + 0.5) * rs->film_step;
+  res->degenerate_triangles = (size_t)rs->t->degenerate_dropped;
+  if (rs->t->degenerate_dropped)
+    vr_run_say(r, "warning: %zu degenerate triangles dropped from meshes",
+               (size_t)rs->t->degenerate_dropped);
+  vr_run_say(r, "scene: %zu objects, %llu triangles, %llu spheres, %zu lights%s, %d sub-domain%s",
+             rs->s->nobjects, (unsigned long long)rs->t->ntris,
+             (unsigned long long)rs->t->nspheres, rs->L.n, rs->L.has_sky ? " + sky" : "", S,
+             S == 1 ? "" : "s");
+  vr_pass_record *prep = vr_run_record(r, "prepare", true,
+                                       "materials from the database, geometry, %d sub-domain%s", S,
+                                       S == 1 ? "" : "s");
+  if (prep) prep->seconds = vr_run_now() - t0;
+  return VR_OK;
+}
+
+/* The passes the scene calls for, each decided and said: the sky and
+ * dispersion (no pass of their own), the UV pass of photochromic glass,
+ * the sensors, the camera image. */
+static vr_status passes(vr_run *r, const vr_integrator_ops *ig, vr_error *err) {
+  vr_rscene *rs = r->rs;
+  const vr_scene *s = rs->s;
+  vr_render_result *res = r->res;
+  vr_scene_needs nd = vr_rscene_needs(rs);
+  vr_run_record(r, "sky", rs->L.has_sky,
+                rs->L.has_sky ? "the scene has a sky: next-event estimation samples it"
+                              : "no sky in the scene");
+  vr_run_record(r, "dispersion", nd.dispersive,
+                nd.dispersive ? "material '%s' refracts with n varying over the range: refraction "
+                                "keeps the hero wavelength"
+                              : "%s",
+                nd.dispersive ? nd.dispersive_example
+                              : "no dispersive refraction: every path keeps all its wavelengths");
+  vr_status st = VR_OK;
+  if (nd.photochromic) {
+    double t0 = vr_run_now();
+    vr_pass_record *p = vr_run_record(
+        r, "uv", true, "photochromic glass: its state follows the UV irradiance per texel");
+    st = vr_uv_run(r, err);
+    if (p) p->seconds = vr_run_now() - t0;
+    if (st) return st;
+    vr_run_say(r, "photochromic state: %.4f to %.4f over %zu texels", res->photochromic_state_min,
+               res->photochromic_state_max, res->photochromic_texels);
+  } else {
+    vr_run_record(r, "uv", false, "no photochromic glass in the scene");
+  }
+  st = vr_sensors_run(r, err);
+  if (st) return st;
+  if (!s->camera.given || r->opt->no_camera) {
+    vr_run_record(r, "camera", false,
+                  s->camera.given ? "camera pass not asked for" : "the scene has no camera");
+    return VR_OK;
+  }
+  return camera_image(r, ig, &nd, err);
+}
+
+/* The sub-domains' counters into the result. */
+static void domain_stats(const vr_rscene *rs, vr_render_result *res) {
+  vr_domains_stats ds;
+  vr_domains_get_stats(rs->d, &ds);
+  res->cell_loads = ds.loads;
+  res->cell_unloads = ds.unloads;
+  res->cell_bytes_read = ds.bytes_read;
+  res->cell_load_seconds = ds.load_seconds;
+  res->peak_cells_bytes = ds.peak_cells;
+  res->peak_geometry_bytes = ds.peak_geometry;
+  res->peak_embree_bytes = ds.peak_embree;
+  res->cache_built = ds.cache_built;
+  snprintf(res->cache_reason, sizeof res->cache_reason, "%s", ds.cache_reason);
+  res->cache_seconds = ds.cache_seconds;
+  res->cache_bytes = ds.cache_bytes;
+}
+
 vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_options *opt,
                           vr_render_result **out, vr_error *err) {
   *out = NULL;
@@ -97,104 +179,35 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
    * in the heap for the next pass (bounded by the largest pass's queues). */
   mallopt(M_MMAP_THRESHOLD, 64 << 20);
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
-  vr_render_result *res = calloc(1, sizeof *res);
-  if (res) res->eye_illuminance_lx = res->glare.dgp = NAN; /* set by a fisheye camera pass */
-  if (!res) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  vr_run r = {.opt = opt, .res = res, .comm = opt->comm, .rank = vr_comm_rank(opt->comm),
-           .nranks = vr_comm_size(opt->comm)};
-  int S = opt->image_space ? 1 : (opt->subdomains > 0 ? opt->subdomains : 1);
-  vr_rscene *rs = NULL;
-  double t0 = vr_run_now();
-  if (opt->memory_budget && opt->image_space) {
-    free(res);
+  if (opt->memory_budget && opt->image_space)
     return vr_error_set(err, VR_E_ARG,
                         "image space keeps the whole scene in every thread; it cannot run under "
                         "a memory budget");
-  }
+  vr_render_result *res = calloc(1, sizeof *res);
+  if (!res) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  res->eye_illuminance_lx = res->glare.dgp = NAN; /* set by a fisheye camera pass */
+  vr_run r = {.opt = opt, .res = res, .comm = opt->comm, .rank = vr_comm_rank(opt->comm),
+              .nranks = vr_comm_size(opt->comm)};
+  int S = opt->image_space ? 1 : (opt->subdomains > 0 ? opt->subdomains : 1);
   res->subdomains = S;
   res->memory_budget = opt->memory_budget;
   /* What the integrator cannot do is refused before any work. */
   const vr_integrator_ops *ig = vr_integrator_ops_of((size_t)s->settings.integrator);
   vr_status st = ig->check ? ig->check(s, opt, r.nranks, err) : VR_OK;
-  if (!st) st = vr_rscene_create(s, db, opt, S, &rs, err);
-  r.rs = rs;
+  if (!st) st = vr_rscene_create(s, db, opt, S, &r.rs, err);
   /* Several ranks: every one must have its scene before they compare. */
   st = vr_ranks_sync(&r, st, err);
-  if (!st) st = vr_ranks_check_scene(&r, rs, err);
+  if (!st) st = vr_ranks_check_scene(&r, r.rs, err);
   /* Without a budget every cell is loaded now, as the passes start (with
    * several ranks each loads the cells it owns when a pass starts). */
-  if (!st && !opt->memory_budget && r.nranks == 1) st = vr_domains_load_all(rs->d, err);
-  if (st) goto done;
-  /* The film's bins, for the camera's spectral film and the sensors' spectra. */
-  res->nbins = rs->nbins;
-  res->bin_width_nm = rs->film_step;
-  res->bin_nm = malloc((rs->nbins + 1) * sizeof *res->bin_nm);
-  if (!res->bin_nm) {
-    st = vr_error_set(err, VR_E_NOMEM, "out of memory");
-    goto done;
-  }
-  for (size_t b = 0; b < rs->nbins; b++) res->bin_nm[b] = rs->film_lo + (b + 0.5) * rs->film_step;
-  res->degenerate_triangles = (size_t)rs->t->degenerate_dropped;
-  if (rs->t->degenerate_dropped)
-    vr_run_say(&r, "warning: %zu degenerate triangles dropped from meshes",
-               (size_t)rs->t->degenerate_dropped);
-  vr_run_say(&r, "scene: %zu objects, %llu triangles, %llu spheres, %zu lights%s, %d sub-domain%s",
-      s->nobjects, (unsigned long long)rs->t->ntris, (unsigned long long)rs->t->nspheres,
-      rs->L.n, rs->L.has_sky ? " + sky" : "", S,
-      S == 1 ? "" : "s");
-  vr_pass_record *prep = vr_run_record(&r, "prepare", true, "materials from the database, geometry, %d sub-domain%s",
-                                S, S == 1 ? "" : "s");
-  if (prep) prep->seconds = vr_run_now() - t0;
-
-  vr_scene_needs nd = vr_rscene_needs(rs);
-  bool camera = s->camera.given && !opt->no_camera;
-  vr_run_record(&r, "sky", rs->L.has_sky, rs->L.has_sky ? "the scene has a sky: next-event estimation samples it"
-                                             : "no sky in the scene");
-  vr_run_record(&r, "dispersion", nd.dispersive,
-         nd.dispersive ? "material '%s' refracts with n varying over the range: refraction keeps the hero wavelength"
-                       : "%s",
-         nd.dispersive ? nd.dispersive_example
-                       : "no dispersive refraction: every path keeps all its wavelengths");
-  /* UV pass for photochromic glass. */
-  if (nd.photochromic) {
-    t0 = vr_run_now();
-    vr_pass_record *p = vr_run_record(&r, "uv", true, "photochromic glass: its state follows the UV irradiance per texel");
-    st = vr_uv_run(&r, err);
-    if (p) p->seconds = vr_run_now() - t0;
-    if (st) goto done;
-    vr_run_say(&r, "photochromic state: %.4f to %.4f over %zu texels", res->photochromic_state_min,
-        res->photochromic_state_max, res->photochromic_texels);
-  } else {
-    vr_run_record(&r, "uv", false, "no photochromic glass in the scene");
-  }
-  st = vr_sensors_run(&r, err);
-  if (st) goto done;
-  if (!camera) {
-    vr_run_record(&r, "camera", false, s->camera.given ? "camera pass not asked for" : "the scene has no camera");
-    goto done;
-  }
-  st = camera_image(&r, ig, &nd, err);
-
-done:
+  if (!st && !opt->memory_budget && r.nranks == 1) st = vr_domains_load_all(r.rs->d, err);
+  if (!st) st = describe(&r, S, t_start, err);
+  if (!st) st = passes(&r, ig, err);
   /* A failure the other ranks do not know of yet meets their next sync. */
   if (st && !r.failure_agreed) vr_ranks_sync(&r, st, err);
-  if (rs && rs->d) {
-    vr_domains_stats ds;
-    vr_domains_get_stats(rs->d, &ds);
-    res->cell_loads = ds.loads;
-    res->cell_unloads = ds.unloads;
-    res->cell_bytes_read = ds.bytes_read;
-    res->cell_load_seconds = ds.load_seconds;
-    res->peak_cells_bytes = ds.peak_cells;
-    res->peak_geometry_bytes = ds.peak_geometry;
-    res->peak_embree_bytes = ds.peak_embree;
-    res->cache_built = ds.cache_built;
-    snprintf(res->cache_reason, sizeof res->cache_reason, "%s", ds.cache_reason);
-    res->cache_seconds = ds.cache_seconds;
-    res->cache_bytes = ds.cache_bytes;
-  }
-  if (!st) st = vr_ranks_finish(&r, rs, res, err);
-  vr_rscene_destroy(rs);
+  if (r.rs && r.rs->d) domain_stats(r.rs, res);
+  if (!st) st = vr_ranks_finish(&r, r.rs, res, err);
+  vr_rscene_destroy(r.rs);
   res->seconds_total = vr_run_now() - t_start;
   if (st) {
     vr_render_result_destroy(res);

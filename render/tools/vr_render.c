@@ -339,7 +339,7 @@ static void digest_of(const char *path, const vr_render_options *o, const render
   }
 }
 
-static int vr_run(const vr_args *a, int argc, char **argv, vr_comm *comm) {
+static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   if (vr_args_get(a, "verify")) {
     if (a->noperands)
       return render_usage_error("--verify PREFIX checks written files: it takes no scene file");
@@ -508,7 +508,7 @@ int main(int argc, char **argv) {
   }
   vr_args a;
   vr_args_outcome o = vr_args_parse(&a, "vr-render", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
-  int rc = o == VR_ARGS_EXIT_OK ? 0 : o == VR_ARGS_EXIT_USAGE ? 2 : vr_run(&a, argc, argv, comm);
+  int rc = o == VR_ARGS_EXIT_OK ? 0 : o == VR_ARGS_EXIT_USAGE ? 2 : run_tool(&a, argc, argv, comm);
   if (o == VR_ARGS_RUN) vr_args_free(&a);
   vr_comm_finalize(comm);
   return rc;
