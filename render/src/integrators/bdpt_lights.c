@@ -145,16 +145,13 @@ bool bdpt_light_start(const vr_bdpt *b, const vr_bdpt_sample *sm, vr_bdpt_vertex
   vr_rng_key key = {rs->seed, sm->stream, sm->sample, BK_LIGHT_START};
   int j = pick(&b->L, vr_rng(&key, VR_DIM_LIGHT_PICK));
   if (j < 0) return false;
-  double u1 = vr_rng(&key, VR_DIM_EMIT_U), u2 = vr_rng(&key, VR_DIM_EMIT_V);
   int li = b->L.light[j];
   bool any = false;
   if (li >= 0) {
     /* The light's own emission sample: Le cos / (p_light p_pos p_dir). */
     const vr_light *l = &rs->L.light[li];
-    double un[5] = {u1, u2, vr_rng(&key, VR_DIM_EMIT_W), vr_rng(&key, VR_DIM_EMIT_X),
-                    vr_rng(&key, VR_DIM_EMIT_Y)};
     vr_light_emission e;
-    if (!l->ops->sample_le(l, &rs->L.setup, un, &e)) return false;
+    if (!l->ops->sample_le(l, &rs->L.setup, &key, &e)) return false;
     light_vertex(b, j, e.org, e.n, e.pdf_pos, y0);
     memcpy(dir, e.dir, 3 * sizeof *dir);
     *pdf_dir = bdpt_light_pdf_dir(b, y0, dir);
@@ -165,6 +162,7 @@ bool bdpt_light_start(const vr_bdpt *b, const vr_bdpt_sample *sm, vr_bdpt_vertex
   }
   emitter_vertex(b, j, vr_rng(&key, VR_DIM_LIGHT_U), vr_rng(&key, VR_DIM_LIGHT_V),
                  vr_rng(&key, VR_DIM_LIGHT_W), y0);
+  double u1 = vr_rng(&key, VR_DIM_EMIT_U), u2 = vr_rng(&key, VR_DIM_EMIT_V);
   /* Cosine-weighted about the front normal: Le cos / (p_pos cos / pi). */
   vr_sample_cosine(y0->ng, u1, u2, dir);
   double z = sqrt(fmax(0, 1 - u1));

@@ -33,9 +33,10 @@ double vr_lamp_pdf_li(const vr_light *l, const double x[3], const double dir[3])
 }
 
 bool vr_lamp_sample_le(const vr_light *l, double (*dist)(const vr_light *, const double *),
-                       const double cone_axis[3], double cos_max, const double un[5],
+                       const double cone_axis[3], double cos_max, const vr_rng_key *key,
                        vr_light_emission *out) {
-  vr_sample_cone(cone_axis, cos_max, un[0], un[1], out->dir);
+  vr_sample_cone(cone_axis, cos_max, vr_rng(key, VR_DIM_EMIT_U), vr_rng(key, VR_DIM_EMIT_V),
+                 out->dir);
   out->pdf_dir = vr_cone_pdf(cos_max);
   out->f = dist(l, out->dir);
   out->weight = out->f / out->pdf_dir;
@@ -43,28 +44,4 @@ bool vr_lamp_sample_le(const vr_light *l, double (*dist)(const vr_light *, const
   memcpy(out->n, l->axis, sizeof out->n);
   out->pdf_pos = 1;
   return out->weight > 0;
-}
-
-bool vr_lamp_sample_li(const vr_light *l, double (*dist)(const vr_light *, const double *),
-                       const double x[3], int nwl, const double *wl, vr_light_sample *out) {
-  out->delta = true;
-  double d[3], r2 = 0;
-  for (int a = 0; a < 3; a++) {
-    d[a] = l->pos[a] - x[a];
-    r2 += d[a] * d[a];
-  }
-  if (!(r2 > 0)) return false;
-  double r = sqrt(r2);
-  for (int a = 0; a < 3; a++) {
-    out->dir[a] = d[a] / r;
-    out->p[a] = l->pos[a];
-    out->n[a] = l->axis[a];
-  }
-  out->pdf_pos = 1;
-  out->dist = r;
-  double from_light[3] = {-out->dir[0], -out->dir[1], -out->dir[2]};
-  double f = dist(l, from_light) / r2;
-  if (!(f > 0)) return false;
-  for (int k = 0; k < nwl; k++) out->L[k] = vr_rspd_at(&l->spd, wl[k]) * f;
-  return true;
 }

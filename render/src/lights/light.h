@@ -94,9 +94,10 @@ typedef struct vr_light_ops {
   /* The density (solid angle at x) of sample_li's direction dir; 0 for a
    * delta light. */
   double (*pdf_li)(const vr_light *l, const double x[3], const double dir[3]);
-  /* Emission from u[0..4] (VR_DIM_EMIT_U .. VR_DIM_EMIT_Y): false when it
-   * sends nothing that way. */
-  bool (*sample_le)(const vr_light *l, const vr_light_setup *u, const double un[5],
+  /* Emission, its numbers drawn from key's VR_DIM_EMIT_U, _V (a pair),
+   * _W, _X (a pair) and _Y as it needs them: false when it sends nothing
+   * that way. */
+  bool (*sample_le)(const vr_light *l, const vr_light_setup *u, const vr_rng_key *key,
                     vr_light_emission *out);
   /* The density (solid angle) with which sample_le leaves point p (normal
    * n) along dir; not used for far lights. */

@@ -87,10 +87,10 @@ static bool sample_li(const vr_light *l, const double x[3], const vr_rng_key *ke
 
 static const double UP[3] = {0, 0, 1};
 
-static bool sample_le(const vr_light *l, const vr_light_setup *u, const double un[5],
+static bool sample_le(const vr_light *l, const vr_light_setup *u, const vr_rng_key *key,
                       vr_light_emission *out) {
   (void)u;
-  return vr_lamp_sample_le(l, distribution, UP, -1.0, un, out);
+  return vr_lamp_sample_le(l, distribution, UP, -1.0, key, out);
 }
 
 static double pdf_le_dir(const vr_light *l, const double p[3], const double n[3],

@@ -20,19 +20,18 @@ static void ground_dir(double u3, double u4, double d[3]) {
 
 bool vr_lights_emit_photon(const vr_lights *L, size_t source, int nwl, const double *wl,
                            const vr_rng_key *key, vr_photon_emit *out) {
-  double u1 = vr_rng(key, VR_DIM_EMIT_U), u2 = vr_rng(key, VR_DIM_EMIT_V);
-  double u3 = vr_rng(key, VR_DIM_EMIT_W), u4 = vr_rng(key, VR_DIM_EMIT_X);
   if (source < L->n) {
     const vr_light *l = &L->light[source];
-    double un[5] = {u1, u2, u3, u4, vr_rng(key, VR_DIM_EMIT_Y)};
     vr_light_emission e;
-    if (!l->ops->sample_le(l, &L->setup, un, &e)) return false;
+    if (!l->ops->sample_le(l, &L->setup, key, &e)) return false;
     memcpy(out->org, e.org, sizeof out->org);
     memcpy(out->dir, e.dir, sizeof out->dir);
     for (int k = 0; k < nwl; k++) out->power[k] = vr_rspd_at(&l->spd, wl[k]) * e.weight;
     return true;
   }
   source -= L->n;
+  double u1 = vr_rng(key, VR_DIM_EMIT_U), u2 = vr_rng(key, VR_DIM_EMIT_V);
+  double u3 = vr_rng(key, VR_DIM_EMIT_W), u4 = vr_rng(key, VR_DIM_EMIT_X);
   if (source < L->nemitters) {
     const vr_emitter *em = &L->emitter[source];
     uint32_t obj = em->object;

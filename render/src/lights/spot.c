@@ -54,10 +54,10 @@ static bool sample_li(const vr_light *l, const double x[3], const vr_rng_key *ke
   return vr_lamp_sample_li(l, distribution, x, nwl, wl, out);
 }
 
-static bool sample_le(const vr_light *l, const vr_light_setup *u, const double un[5],
+static bool sample_le(const vr_light *l, const vr_light_setup *u, const vr_rng_key *key,
                       vr_light_emission *out) {
   (void)u;
-  return vr_lamp_sample_le(l, distribution, l->axis, COS_OUTER(l), un, out);
+  return vr_lamp_sample_le(l, distribution, l->axis, COS_OUTER(l), key, out);
 }
 
 static double pdf_le_dir(const vr_light *l, const double p[3], const double n[3],

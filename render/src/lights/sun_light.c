@@ -132,12 +132,14 @@ static double pdf_li(const vr_light *l, const double x[3], const double dir[3]) 
   return 0;
 }
 
-static bool sample_le(const vr_light *l, const vr_light_setup *u, const double un[5],
+static bool sample_le(const vr_light *l, const vr_light_setup *u, const vr_rng_key *key,
                       vr_light_emission *out) {
   double toward[3];
-  vr_sample_cone(l->axis, COS_SUN(l), un[2], un[3], toward);
+  vr_sample_cone(l->axis, COS_SUN(l), vr_rng(key, VR_DIM_EMIT_W), vr_rng(key, VR_DIM_EMIT_X),
+                 toward);
   for (int a = 0; a < 3; a++) out->dir[a] = -toward[a];
-  vr_light_disc_origin(u, out->dir, un[0], un[1], out->org);
+  vr_light_disc_origin(u, out->dir, vr_rng(key, VR_DIM_EMIT_U), vr_rng(key, VR_DIM_EMIT_V),
+                       out->org);
   memcpy(out->n, out->dir, sizeof out->n);
   out->pdf_dir = out->pdf_pos = 1;
   out->f = out->weight = M_PI * u->radius * u->radius;

@@ -127,11 +127,11 @@ static double pdf_li(const vr_light *l, const double x[3], const double dir[3]) 
   return cos_y > 0 ? t * t / (AREA(l) * cos_y) : 0;
 }
 
-static bool sample_le(const vr_light *l, const vr_light_setup *u, const double un[5],
+static bool sample_le(const vr_light *l, const vr_light_setup *u, const vr_rng_key *key,
                       vr_light_emission *out) {
   (void)u;
-  surface_point(l, un[0], un[1], out->org, out->n);
-  vr_sample_cosine(out->n, un[2], un[3], out->dir);
+  surface_point(l, vr_rng(key, VR_DIM_EMIT_U), vr_rng(key, VR_DIM_EMIT_V), out->org, out->n);
+  vr_sample_cosine(out->n, vr_rng(key, VR_DIM_EMIT_W), vr_rng(key, VR_DIM_EMIT_X), out->dir);
   double c = vr_dot3(out->dir, out->n);
   out->pdf_pos = 1 / AREA(l);
   out->pdf_dir = c / M_PI;
