@@ -232,6 +232,6 @@ void vr_render_result_destroy(vr_render_result *r) {
   free(r->photochromic_uv_patch);
   free(r->rank_stats);
   free(r->cell_seconds);
-  free(r->cell_owner);
+  free(r->cell_ranks);
   free(r);
 }

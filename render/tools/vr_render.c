@@ -39,6 +39,7 @@ static const vr_option OPTIONS[] = {
     {"cache", 0, "DIR", "geometry cache folder (default: SCENE.vrcache beside the scene; a temporary one if that folder cannot be written)"},
     {"threads", 0, "P", "worker threads (default: the number of online CPUs; under mpirun, per rank)"},
     {"send-batch", 0, "N", "under mpirun: rays a message between ranks carries at most (default 256; refused when running alone)"},
+    {"send-credit", 0, "N", "under mpirun: rays a rank may send another before that rank credits them back as they leave its memory (default 4096; refused when running alone)"},
     {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
     {"resolution", 0, "WxH", "image size in pixels, overriding the camera line's resolution="},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
@@ -58,7 +59,7 @@ static const vr_option OPTIONS[] = {
 
 static const char USAGE[] =
     "SCENE.scn [-o PREFIX] [--outputs LIST] [--db FILE] [--subdomains S] [--memory-budget SIZE]\n"
-    "                 [--cache DIR] [--threads P] [--image-space] [--send-batch N]\n"
+    "                 [--cache DIR] [--threads P] [--image-space] [--send-batch N] [--send-credit N]\n"
     "                 [--resolution WxH] [--spp N] [--seed N] [--photons N] [--exposure EV|auto]\n"
     "                 [--set NAME.state=S]... [--stats FILE.json] [--tonemap clip|reinhard]\n"
     "                 [--falsecolour LO,HI] [--sensors-only] [--json] [--quiet]\n"
@@ -351,9 +352,10 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   vr_render_options opt;
   vr_render_options_default(&opt);
   long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-  long subdomains = 1, threads = cpus > 0 ? cpus : 1, spp = 0, photons = 0, batch = 256;
+  long subdomains = 1, threads = cpus > 0 ? cpus : 1, spp = 0, photons = 0, batch = 256, credit = 0;
   if (!int_option(a, "subdomains", 1, 1000000, &subdomains) ||
       !int_option(a, "send-batch", 1, 1 << 20, &batch) ||
+      !int_option(a, "send-credit", 1, 1 << 24, &credit) ||
       !int_option(a, "threads", 1, 4096, &threads) || !int_option(a, "spp", 1, 1L << 20, &spp) ||
       !int_option(a, "photons", 1, 1000000000000L, &photons))
     return 2;
@@ -367,6 +369,9 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   if (vr_args_get(a, "send-batch") && vr_comm_size(comm) == 1)
     return render_usage_error("--send-batch sets the messages between mpirun ranks: this process runs "
                        "alone");
+  if (vr_args_get(a, "send-credit") && vr_comm_size(comm) == 1)
+    return render_usage_error("--send-credit sets the flow control between mpirun ranks: this process "
+                       "runs alone");
   const char *tonemap = vr_args_get(a, "tonemap");
   vr_tonemap tm = VR_TONEMAP_CLIP;
   if (vr_tonemap_parse(tonemap, &tm, NULL))
@@ -398,6 +403,7 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   opt.photons = photons;
   opt.comm = comm;
   opt.send_batch = (int)batch;
+  opt.send_credit = (int)credit;
   opt.log = ui_log;
   opt.progress = ui_progress;
   opt.user = &u;

@@ -48,6 +48,9 @@ extern "C" {
 #endif
 
 #define VR_RAY_PAYLOAD 232 /* bytes of integrator state carried by each ray */
+/* A message of rays between ranks: an 8-byte header, then VR_RAY_WIRE_BYTES
+ * a ray (ddm/ray_wire.h). */
+extern const size_t vr_ray_wire_bytes;
 
 typedef enum vr_ray_kind {
   VR_RAY_CLOSEST = 0, /* wants its closest hit (camera, bounce, photon, sensor) */
@@ -91,6 +94,9 @@ typedef struct vr_flow_stats {
   uint64_t sent, received;            /* rays handed to and from other ranks */
   uint64_t messages, bytes_sent;      /* messages this rank sent, and their bytes */
   uint64_t waves;                     /* termination waves run */
+  uint64_t credit_waits;              /* times an outbox waited for credit from its rank */
+  uint64_t ray_messages, ray_bytes;   /* the messages of rays among them, and their bytes */
+  uint64_t peak_uncredited;           /* the most rays received from one rank and not yet credited */
   double idle_seconds;                /* worker time with no ray to trace, summed over threads */
   bool other_rank_failed;             /* the run stopped because another rank failed */
   bool failure_shared;                /* the failure returned is every rank's, agreed already */
@@ -110,13 +116,14 @@ typedef struct vr_flow_options {
   void *hctx;
   const char *spill_dir;  /* where queues spill (NULL: $TMPDIR, else /tmp) */
   long max_pending;       /* rays waiting before no more units are generated (0: default) */
-  /* Several ranks (docs/ddm.md, "Ranks"): comm, the rank owning each cell
-   * (NULL: this rank owns every cell, as in image space), and the rays a
-   * message carries (0: 256).  Each rank generates the units whose index
-   * modulo the number of ranks is its rank.  NULL comm: one process. */
+  /* Several ranks (docs/ddm.md, "Ranks"): comm, and the rays a message
+   * carries at most (0: 256).  Each rank generates the units whose index
+   * modulo the number of ranks is its rank; any rank may load any cell,
+   * and a ray goes to a rank that holds its cell (ddm/flow_net.c).  NULL
+   * comm: one process. */
   struct vr_comm *comm;
-  const int *owner;
   int send_batch;
+  int send_credit;        /* rays sent to a rank before it credits them back (0: 4096) */
   /* The units of this run: unit_list[0 .. units) when given (a part of a
    * pass), else 0 .. units - 1. */
   const long *unit_list;

@@ -51,6 +51,7 @@ typedef struct vr_render_options {
    * messages, and every rank returns the whole result.  NULL: one process. */
   struct vr_comm *comm;
   int send_batch;     /* rays per message between ranks (0: 256) */
+  int send_credit;    /* rays a rank may send another before it credits them back (0: 4096) */
   /* What the ranks must agree they render (the caller's checksum of the
    * scene file and options); compared across ranks with the geometry
    * cache's key when has_digest. */
@@ -106,7 +107,11 @@ typedef struct vr_sensor_reading {
 
 /* One rank's share of a render over several ranks. */
 typedef struct vr_rank_stats {
-  int cells_owned;            /* in the last pass */
+  int cells_loaded;           /* cells it held at the end of the render */
+  uint64_t credit_waits;      /* times its rays for another rank waited for credit */
+  uint64_t ray_messages, ray_bytes_sent; /* its messages of rays, and their bytes */
+  uint64_t peak_uncredited;   /* the most rays it held from one rank before crediting them back */
+  size_t peak_queue_bytes;    /* its queues', push buffers' and outboxes' peak */
   uint64_t rays_sent, rays_received, messages, bytes_sent, waves;
   uint64_t rays_traced;       /* rays taken from this rank's queues */
   double idle_seconds;        /* its workers' time without a ray, summed over threads */
@@ -175,7 +180,7 @@ typedef struct vr_render_result {
   uint64_t cache_bytes;       /* its cell files */
   size_t ncells;              /* sub-domains: */
   double *cell_seconds;       /* time spent tracing in each, all passes, summed over ranks */
-  int *cell_owner;            /* the rank that owned each in the last pass */
+  int *cell_ranks;            /* how many ranks held each at the end of the render */
   int ranks;                  /* processes that rendered (1 without MPI) */
   vr_rank_stats *rank_stats;  /* one per rank */
   double seconds_total;

@@ -88,8 +88,8 @@ static void finish(vr_flow_worker *w, long n) {
  * them they are lost, so they are counted finished and the run fails. */
 static void put(vr_flow_worker *w, int c, const vr_ray *rays, int n) {
   vr_flow *f = w->f;
-  if (vr_flow_mine(f, c) ? vr_flow_queue_put(f, c, rays, n, w)
-                         : vr_flow_net_put(f, f->owner[c], rays, n))
+  int dest = vr_flow_route(f, c, n);
+  if (dest == f->rank ? vr_flow_queue_put(f, c, rays, n, w) : vr_flow_net_put(f, dest, rays, n))
     return;
   w->oom = true;
   atomic_store(&w->f->failed, 1);
@@ -181,7 +181,10 @@ static void trace(vr_flow_worker *w, vr_ray *r, bool walk) {
         r->tnear = t_exit;
         continue;
       }
-      if (!walk) {
+      /* The ray goes on here when the worker walks (image space) or the
+       * cell is loaded for the whole run; else it waits in the cell's
+       * queue (or goes to a rank that holds the cell). */
+      if (!walk && !(f->walk_loaded && vr_domains_loaded(f->d, c))) {
         enqueue(w, r);
         return;
       }
@@ -250,7 +253,9 @@ static void *queued_worker(vr_flow_worker *w) {
   double idle_since = 0;
   for (;;) {
     if (atomic_load_explicit(&f->failed, memory_order_relaxed)) break;
-    bool low = atomic_load_explicit(&f->queued, memory_order_relaxed) < f->max_pending &&
+    long waiting = atomic_load_explicit(&f->queued, memory_order_relaxed) +
+                   atomic_load_explicit(&f->outbox_rays, memory_order_relaxed);
+    bool low = waiting < f->max_pending &&
                (!f->budget || vr_flow_loaded_pending(f) < f->low_water);
     long u = -1;
     if (low && atomic_load_explicit(&f->next_unit, memory_order_relaxed) < f->units) {
@@ -392,7 +397,6 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   f.ncells = vr_domains_count(d);
   f.rank = vr_comm_rank(o->comm);
   f.nranks = vr_comm_size(o->comm);
-  f.owner = f.nranks > 1 ? o->owner : NULL;
   /* This rank's share of the units: indices rank, rank + R, ... */
   f.units = units > f.rank ? (units - f.rank + f.nranks - 1) / f.nranks : 0;
   f.max_pending = o->max_pending > 0 ? o->max_pending
@@ -408,12 +412,18 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   f.traced = calloc((size_t)f.ncells, sizeof *f.traced);
   f.cell_ns = calloc((size_t)f.ncells, sizeof *f.cell_ns);
   f.loading = calloc((size_t)f.ncells, sizeof *f.loading);
+  bool ranks = f.nranks > 1 && !image_space;
+  f.held_by = ranks ? calloc((size_t)f.ncells * (size_t)f.nranks, sizeof *f.held_by) : NULL;
+  f.routed = ranks ? calloc((size_t)f.ncells, sizeof *f.routed) : NULL;
+  f.adopt_rays = VR_FLOW_ADOPT_RAYS;
+  f.lazy = ranks && !f.budget;
+  f.walk_loaded = !f.budget;
   vr_flow_worker *ws = alloc_lines((size_t)threads, sizeof *ws);
   pthread_t *tids = calloc((size_t)threads, sizeof *tids);
   vr_status st = VR_OK;
   for (int c = 0; f.q && c < f.ncells; c++) vr_flow_queue_init(&f.q[c]);
   if ((!image_space && !f.q) || !ws || !tids || !f.pins || !f.loading || !f.traced ||
-      !f.cell_ns) {
+      !f.cell_ns || (ranks && (!f.held_by || !f.routed))) {
     st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory");
     goto done;
   }
@@ -423,21 +433,22 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
                       "memory budget");
     goto done;
   }
-  /* Cells another rank owns now (ownership may move between runs) go. */
-  for (int c = 0; f.owner && c < f.ncells; c++)
-    if (!vr_flow_mine(&f, c) && vr_domains_loaded(d, c)) vr_domains_unload(d, c);
   if (f.budget) {
     st = vr_flow_budget_plan(&f, err);
+  } else if (f.lazy) {
+    /* Several ranks, no budget: each loads the cells its rays need, when
+     * they need them (ddm/flow_net.c), and keeps them. */
+    f.cells_cap = f.queue_cap = (size_t)-1 / 4;
+    f.low_water = LOW_WATER;
   } else {
-    /* No budget: every cell of this rank loaded, all along. */
-    for (int c = 0; !st && c < f.ncells; c++)
-      if (vr_flow_mine(&f, c)) st = vr_domains_load(d, c, err);
+    /* One process, no budget: every cell loaded, all along. */
+    for (int c = 0; !st && c < f.ncells; c++) st = vr_domains_load(d, c, err);
   }
-  if (f.owner && !image_space) {
+  if (ranks) {
     /* Every rank must be ready before any waits for the others' waves. */
     st = vr_comm_agree(o->comm, st, err);
     if (st && stats) stats->failure_shared = true;
-    if (!st) st = vr_flow_net_start(&f, o->comm, o->send_batch, err);
+    if (!st) st = vr_flow_net_start(&f, o->comm, o->send_batch, o->send_credit, err);
   }
   if (st) goto done;
   f.block_bytes = sizeof(vr_flow_block) + (size_t)f.batch * sizeof(vr_ray);
@@ -482,6 +493,9 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
     stats->sent = net_stats.sent, stats->received = net_stats.received;
     stats->messages = net_stats.messages, stats->bytes_sent = net_stats.bytes_sent;
     stats->waves = net_stats.waves, stats->spilled += net_stats.spilled;
+    stats->credit_waits = net_stats.credit_waits;
+    stats->ray_messages = net_stats.ray_messages, stats->ray_bytes = net_stats.ray_bytes;
+    stats->peak_uncredited = net_stats.peak_uncredited;
     stats->other_rank_failed = net_stats.other_rank_failed;
     stats->peak_queue_bytes = (size_t)atomic_load(&f.peak_queue_bytes);
     stats->peak_spill_bytes = (size_t)atomic_load(&f.peak_spill_bytes);
@@ -501,6 +515,8 @@ done:
     for (int c = 0; f.cell_ns && c < f.ncells; c++) o->cell_ns[c] += atomic_load(&f.cell_ns[c]);
   free(f.cell_ns);
   free(f.loading);
+  free(f.held_by);
+  free(f.routed);
   pthread_mutex_destroy(&f.progress_lock);
   pthread_mutex_destroy(&f.sched_lock);
   pthread_mutex_destroy(&f.pool_lock);

@@ -22,6 +22,9 @@
  * (in memory or spilled) when the loaded cells run dry: the more rays wait
  * for a cell, the more each load of it serves. */
 #define VR_FLOW_BUDGET_PENDING (1L << 20)
+/* Several ranks: the rays a rank sends to the holders of a cell before it
+ * loads the cell itself when it has the room (ownership follows the work). */
+#define VR_FLOW_ADOPT_RAYS 1024
 /* Rays of in-flight count a worker reserves at a time. */
 #define VR_FLOW_CREDIT 1024
 #define VR_FLOW_LINE 64
@@ -62,8 +65,20 @@ typedef struct vr_flow {
   long all_units;              /* of the whole run, over all ranks */
   const long *unit_list;
   int rank, nranks;
-  const int *owner;            /* rank of each cell, or NULL: all here */
   vr_flow_net *net;            /* messages to and from other ranks, or NULL */
+  /* Several ranks: which ranks hold each cell (ncells x nranks, as told;
+   * this rank's own entries are its own), the rays this rank sent for each
+   * cell, and how many it sends before it loads the cell itself. */
+  _Atomic unsigned char *held_by;
+  _Atomic long *routed;
+  long adopt_rays;
+  _Atomic long outbox_rays;    /* rays in the outboxes, waiting to be sent */
+  /* Cells are loaded when rays need them, not all before the run (several
+   * ranks without a budget: each loads what its rays need). */
+  bool lazy;
+  /* Rays that reach a loaded cell are traced on at once, not queued (no
+   * budget: a loaded cell stays loaded all the run). */
+  bool walk_loaded;
   _Atomic int terminated;      /* several ranks: the termination waves say so */
   /* Idle workers sleep here until rays are queued (or 1 ms passes). */
   pthread_mutex_t idle_lock;
@@ -126,18 +141,20 @@ void vr_flow_wake(vr_flow *f);
 
 /* flow_net.c: rays to and from other ranks, and termination over all of
  * them (only when there are several ranks). */
-vr_status vr_flow_net_start(vr_flow *f, struct vr_comm *comm, int send_batch, vr_error *err);
-/* Puts n rays for cells rank dest owns in its outbox. */
+vr_status vr_flow_net_start(vr_flow *f, struct vr_comm *comm, int send_batch, int send_credit,
+                            vr_error *err);
+/* Puts n rays for cells rank dest holds in its outbox. */
 bool vr_flow_net_put(vr_flow *f, int dest, const vr_ray *rays, int n);
+/* The rank n rays for cell c go to: this one, or one that holds c. */
+int vr_flow_route(vr_flow *f, int c, int n);
+/* Tells the other ranks that cell c is now loaded here, or not. */
+void vr_flow_net_resident(vr_flow *f, int c, bool loaded);
 /* One round of sending, receiving and termination waves, if no other
  * worker is doing one; whether anything happened. */
 bool vr_flow_net_progress(vr_flow *f);
 /* After the workers: runs the waves to their end (a failure here is told
  * to the others), waits for the sends, adds the statistics. */
 void vr_flow_net_stop(vr_flow *f, vr_flow_stats *stats);
-static inline bool vr_flow_mine(const vr_flow *f, int cell) {
-  return !f->owner || f->owner[cell] == f->rank;
-}
 
 /* flow_sched.c */
 /* Checks that the budget can hold the largest cell next to the queues and
@@ -148,6 +165,9 @@ vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err);
  * (loading and unloading cells as the budget requires), or -1. */
 int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w);
 void vr_flow_sched_release(vr_flow *f, int c);
+/* Whether cell c would fit beside what is loaded now, without unloading
+ * anything (always without a budget). */
+bool vr_flow_sched_room(vr_flow *f, int c);
 /* Rays waiting for loaded cells.  Under a budget, new work is generated
  * only while these run low (and all waiting rays stay under max_pending):
  * rays the loaded cells can take are traced before more are made, so rays

@@ -62,7 +62,7 @@ vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err) {
   size_t largest = 0;
   int big = 0;
   for (int c = 0; c < f->ncells; c++) {
-    size_t p = vr_flow_mine(f, c) ? vr_domains_cell_load_peak(f->d, c) : 0;
+    size_t p = vr_domains_cell_load_peak(f->d, c);
     if (p > largest) largest = p, big = c;
   }
   f->largest = largest;
@@ -85,12 +85,12 @@ vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err) {
   int worst = big;
   for (int c = 0; c < f->ncells; c++) {
     size_t p = vr_domains_cell_load_peak(f->d, c);
-    if (vr_flow_mine(f, c) && p > f->cells_cap && p < vr_domains_cell_load_peak(f->d, worst))
+    if (p > f->cells_cap && p < vr_domains_cell_load_peak(f->d, worst))
       worst = c;
   }
   int nfit = 0;
   for (int c = 0; c < f->ncells; c++)
-    nfit += vr_flow_mine(f, c) && vr_domains_cell_load_peak(f->d, c) > f->cells_cap;
+    nfit += vr_domains_cell_load_peak(f->d, c) > f->cells_cap;
   char b[32], w[32], g[32], e[32], cap[32], q[32], fx[32], need[32];
   size_t wp = vr_domains_cell_load_peak(f->d, worst);
   mib(b, sizeof b, f->budget);
@@ -142,17 +142,18 @@ static bool load(vr_flow *f, int c) {
     return false;
   }
   f->reserved += vr_domains_cell_bytes(f->d, c);
+  vr_flow_net_resident(f, c, true);
   return true;
 }
 
 int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w) {
   (void)w;
-  if (!f->budget) return busiest(f);
+  if (!f->budget && !f->lazy) return busiest(f);
   pthread_mutex_lock(&f->sched_lock);
   /* Maps may have grown since the last pick: the cells get what is left. */
   size_t other = f->queue_cap + held(f);
-  f->cells_cap = f->budget > other ? f->budget - other : 0;
-  if (f->cells_cap < f->largest) {
+  if (f->budget) f->cells_cap = f->budget > other ? f->budget - other : 0;
+  if (f->budget && f->cells_cap < f->largest) {
     char b[32], h[32], l[32];
     mib(b, sizeof b, f->budget);
     mib(h, sizeof h, other - f->queue_cap);
@@ -203,6 +204,7 @@ int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w) {
       if (victim < 0) break;
       f->reserved -= vr_domains_cell_bytes(f->d, victim);
       vr_domains_unload(f->d, victim);
+      vr_flow_net_resident(f, victim, false);
       if (victim == best_l) best_l = -1;
     }
     if (f->reserved + need <= f->cells_cap) {
@@ -220,8 +222,13 @@ int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w) {
   return best_l;
 }
 
+bool vr_flow_sched_room(vr_flow *f, int c) {
+  if (!f->budget) return true;
+  return f->reserved + vr_domains_cell_load_peak(f->d, c) <= f->cells_cap;
+}
+
 void vr_flow_sched_release(vr_flow *f, int c) {
-  if (!f->budget) return;
+  if (!f->budget && !f->lazy) return;
   pthread_mutex_lock(&f->sched_lock);
   f->pins[c]--;
   pthread_mutex_unlock(&f->sched_lock);

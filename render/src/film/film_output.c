@@ -23,6 +23,7 @@
 
 #include "vr/atomic_file.h"
 #include "vr/csv.h"
+#include "vr/flow.h"
 #include "vr/falsecolour.h"
 #include "vr/colour.h"
 #include "vr/image.h"
@@ -442,7 +443,7 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
   for (size_t c = 0; r->cell_seconds && c < r->ncells; c++) {
     fprintf(f, "%s{\"seconds\": ", c ? ", " : "");
     vr_json_number(f, r->cell_seconds[c]);
-    fprintf(f, ", \"owner\": %d}", r->cell_owner ? r->cell_owner[c] : 0);
+    fprintf(f, ", \"ranks\": %d}", r->cell_ranks ? r->cell_ranks[c] : 1);
   }
   fputs("],\n", f);
   json_key(f, "  ", "ranks");
@@ -450,14 +451,19 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
   for (int k = 0; r->rank_stats && k < r->ranks; k++) {
     const vr_rank_stats *q = &r->rank_stats[k];
     fprintf(f,
-            "%s\n    {\"rank\": %d, \"cells_owned\": %d, \"rays_traced\": %" PRIu64
+            "%s\n    {\"rank\": %d, \"cells_loaded\": %d, \"rays_traced\": %" PRIu64
             ", \"rays_sent\": %" PRIu64 ", \"rays_received\": %" PRIu64 ", \"messages\": %" PRIu64
             ", \"bytes_sent\": %" PRIu64 ", \"waves\": %" PRIu64 ", \"idle_seconds\": ",
-            k ? "," : "", k, q->cells_owned, q->rays_traced, q->rays_sent, q->rays_received,
+            k ? "," : "", k, q->cells_loaded, q->rays_traced, q->rays_sent, q->rays_received,
             q->messages, q->bytes_sent, q->waves);
     vr_json_number(f, q->idle_seconds);
-    fprintf(f, ", \"cell_loads\": %" PRIu64 ", \"peak_cells_bytes\": %zu, \"peak_rss_bytes\": %lld}",
-            q->cell_loads, q->peak_cells_bytes, q->peak_rss_bytes);
+    fprintf(f,
+            ", \"cell_loads\": %" PRIu64 ", \"credit_waits\": %" PRIu64
+            ", \"ray_messages\": %" PRIu64 ", \"ray_bytes_sent\": %" PRIu64
+            ", \"ray_wire_bytes\": %zu, \"peak_uncredited\": %" PRIu64
+            ", \"peak_queue_bytes\": %zu, \"peak_cells_bytes\": %zu, \"peak_rss_bytes\": %lld}",
+            q->cell_loads, q->credit_waits, q->ray_messages, q->ray_bytes_sent, vr_ray_wire_bytes,
+            q->peak_uncredited, q->peak_queue_bytes, q->peak_cells_bytes, q->peak_rss_bytes);
   }
   fputs(r->rank_stats && r->ranks ? "\n  ],\n" : "],\n", f);
   json_key(f, "  ", "memory");

@@ -72,9 +72,8 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit);
 /* The camera pass's flow: camera paths, shadow rays. */
 extern const vr_flow_ops vr_camera_path_ops;
 
-/* The camera pass: c->spp samples a pixel of a W x H image through ops (in
- * waves of bounded rays; with several ranks in two parts, the first
- * probing the cells' costs). */
+/* The camera pass: c->spp samples a pixel of a W x H image through ops, in
+ * waves of bounded rays. */
 vr_status vr_camera_pass(vr_run *r, vr_pass *c, const vr_flow_ops *ops, int W, int H,
                          vr_error *err);
 

@@ -357,33 +357,12 @@ const vr_flow_ops vr_camera_path_ops = {vr_path_closest, vr_path_shadow_hit, vr_
  * memory, do not grow with the samples per pixel. */
 enum { CAMERA_WAVE_RAYS = 16384 };
 
-/* With several ranks owning cells, the pass runs in two parts: every
- * eighth tile first, whose measured cost per cell then decides who owns
- * which cell for the rest (the film does not care in which part a tile was
- * rendered). */
 vr_status vr_camera_pass(vr_run *r, vr_pass *c, const vr_flow_ops *ops, int W, int H,
                          vr_error *err) {
   long tiles = vr_flow_tiles(W, H);
   c->wave_spp = CAMERA_WAVE_RAYS / (VR_FLOW_TILE * VR_FLOW_TILE);
   if (c->wave_spp < 1) c->wave_spp = 1;
   if (c->wave_spp > c->spp) c->wave_spp = c->spp;
-  long waves = (c->spp + c->wave_spp - 1) / c->wave_spp, units = tiles * waves;
-  if (r->nranks == 1 || r->opt->image_space || tiles < 16)
-    return vr_run_flow(r, ops, c, units, "camera", err);
-  long *list = malloc((size_t)units * sizeof *list), n = 0;
-  vr_status st = list ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
-  st = vr_ranks_sync(r, st, err);
-  if (st) {
-    free(list);
-    return st;
-  }
-  /* The first wave's every eighth tile probes the cells' costs first. */
-  for (long t = 0; t < tiles; t += 8) list[n++] = t;
-  long probe = n;
-  for (long u = 0; u < units; u++)
-    if (u >= tiles || u % 8) list[n++] = u;
-  st = vr_run_flow_units(r, ops, c, list, probe, "camera", err);
-  if (!st) st = vr_run_flow_units(r, ops, c, list + probe, n - probe, "camera", err);
-  free(list);
-  return st;
+  long waves = (c->spp + c->wave_spp - 1) / c->wave_spp;
+  return vr_run_flow(r, ops, c, tiles * waves, "camera", err);
 }

@@ -57,48 +57,6 @@ vr_status vr_ranks_check_scene(vr_run *r, const vr_rscene *rs, vr_error *err) {
   return st;
 }
 
-vr_status vr_ranks_assign(vr_run *r, vr_rscene *rs, vr_error *err) {
-  int S = vr_domains_count(rs->d), R = r->nranks;
-  if (R == 1) return VR_OK;
-  uint64_t *cost = calloc((size_t)S, sizeof *cost), *load = calloc((size_t)R, sizeof *load);
-  int *order = calloc((size_t)S, sizeof *order);
-  vr_status st = cost && load && order ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
-  st = vr_ranks_sync(r, st, err);
-  if (!st) {
-    memcpy(cost, rs->cell_ns, (size_t)S * sizeof *cost);
-    st = vr_comm_sum_u64(r->comm, cost, (size_t)S, err);
-  }
-  if (!st) {
-    uint64_t measured = 0;
-    for (int c = 0; c < S; c++) measured += cost[c];
-    /* Nothing measured yet: what a cell holds stands for its work. */
-    for (int c = 0; c < S; c++)
-      cost[c] = measured ? cost[c] + 1 : (uint64_t)vr_domains_cell_bytes(rs->d, c) + 1;
-    /* Longest processing time first: the costliest cell to the least
-     * loaded rank, ties to the lower index; the same on every rank. */
-    for (int c = 0; c < S; c++) order[c] = c;
-    for (int i = 1; i < S; i++)
-      for (int j = i; j > 0 && cost[order[j]] > cost[order[j - 1]]; j--) {
-        int t = order[j];
-        order[j] = order[j - 1];
-        order[j - 1] = t;
-      }
-    for (int i = 0; i < S; i++) {
-      int best = 0;
-      for (int k = 1; k < R; k++)
-        if (load[k] < load[best]) best = k;
-      rs->owner[order[i]] = best;
-      load[best] += cost[order[i]];
-    }
-    r->mine.cells_owned = 0;
-    for (int c = 0; c < S; c++) r->mine.cells_owned += rs->owner[c] == r->rank;
-  }
-  free(cost);
-  free(load);
-  free(order);
-  return st;
-}
-
 /* Sums n accumulator values (doubles kept as bits) over the ranks. */
 static vr_status sum_cells(vr_run *r, _Atomic uint64_t *cells, size_t n, vr_error *err) {
   if (!n) return VR_OK;
@@ -139,6 +97,7 @@ vr_status vr_ranks_sum_accum(vr_run *r, vr_accum *a, unsigned parts, vr_error *e
     st = sum_cells(r, a->texel_patches, a->ntexels * VR_SENSOR_PATCHES, err);
   return st;
 }
+
 
 /* Every map's staged records, as (set, map, count, records) runs. */
 vr_status vr_ranks_share_photons(vr_run *r, vr_photon_set *const *sets, int nsets, vr_error *err) {
@@ -204,11 +163,13 @@ vr_status vr_ranks_finish(vr_run *r, vr_rscene *rs, vr_render_result *res, vr_er
   int R = r->nranks, S = vr_domains_count(rs->d);
   res->ncells = (size_t)S;
   res->cell_seconds = calloc((size_t)S, sizeof *res->cell_seconds);
-  res->cell_owner = calloc((size_t)S, sizeof *res->cell_owner);
-  if (!res->cell_seconds || !res->cell_owner) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  res->cell_ranks = calloc((size_t)S, sizeof *res->cell_ranks);
+  if (!res->cell_seconds || !res->cell_ranks) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  r->mine.cells_loaded = 0;
   for (int c = 0; c < S; c++) {
     res->cell_seconds[c] = 1e-9 * (double)rs->cell_total_ns[c];
-    res->cell_owner[c] = R > 1 && !r->opt->image_space ? rs->owner[c] : 0;
+    res->cell_ranks[c] = vr_domains_loaded(rs->d, c);
+    r->mine.cells_loaded += res->cell_ranks[c];
   }
   res->ranks = R;
   res->rank_stats = calloc((size_t)R, sizeof *res->rank_stats);
@@ -232,6 +193,12 @@ vr_status vr_ranks_finish(vr_run *r, vr_rscene *rs, vr_render_result *res, vr_er
   st = vr_comm_sum_u64(r->comm, sum, 12, err);
   if (!st) st = vr_comm_sum_doubles(r->comm, secs, 1, err);
   if (!st) st = vr_comm_sum_doubles(r->comm, res->cell_seconds, (size_t)S, err);
+  uint64_t *held = st ? NULL : calloc((size_t)S, sizeof *held);
+  if (!st && !held) st = vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (int c = 0; !st && c < S; c++) held[c] = (uint64_t)res->cell_ranks[c];
+  if (!st) st = vr_comm_sum_u64(r->comm, held, (size_t)S, err);
+  for (int c = 0; !st && c < S; c++) res->cell_ranks[c] = (int)held[c];
+  free(held);
   if (!st) st = vr_comm_max_u64(r->comm, mx, 7, err);
   unsigned char *all = NULL;
   if (!st) st = vr_comm_gather_bytes(r->comm, &r->mine, sizeof r->mine, &all, NULL, err);

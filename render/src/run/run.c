@@ -84,10 +84,8 @@ vr_status vr_run_flow_units(vr_run *r, const vr_flow_ops *ops, void *ctx, const 
   vr_rscene *rs = r->rs;
   vr_flow_stats st = {0};
   r->pass = name;
-  /* Several ranks: all ready, and cells owned by the time the last run
-   * spent in them. */
+  /* Several ranks: all ready. */
   vr_status s = vr_ranks_sync(r, VR_OK, err);
-  if (!s && !r->opt->image_space) s = vr_ranks_assign(r, rs, err);
   if (s) return s;
   vr_run_note_held(r);
   int S = vr_domains_count(rs->d);
@@ -103,8 +101,8 @@ vr_status vr_run_flow_units(vr_run *r, const vr_flow_ops *ops, void *ctx, const 
   o.progress = progress_cb;
   o.pctx = r;
   o.comm = r->comm;
-  o.owner = r->nranks > 1 && !r->opt->image_space ? rs->owner : NULL;
   o.send_batch = r->opt->send_batch;
+  o.send_credit = r->opt->send_credit;
   o.unit_list = unit_list;
   o.cell_ns = rs->cell_ns;
   s = vr_flow_run_with(rs->d, ops, ctx, units, &o, &st, err);
@@ -127,6 +125,10 @@ vr_status vr_run_flow_units(vr_run *r, const vr_flow_ops *ops, void *ctx, const 
   r->mine.rays_sent += st.sent, r->mine.rays_received += st.received;
   r->mine.messages += st.messages, r->mine.bytes_sent += st.bytes_sent;
   r->mine.waves += st.waves, r->mine.idle_seconds += st.idle_seconds;
+  r->mine.credit_waits += st.credit_waits;
+  r->mine.ray_messages += st.ray_messages, r->mine.ray_bytes_sent += st.ray_bytes;
+  if (st.peak_uncredited > r->mine.peak_uncredited) r->mine.peak_uncredited = st.peak_uncredited;
+  if (st.peak_queue_bytes > r->mine.peak_queue_bytes) r->mine.peak_queue_bytes = st.peak_queue_bytes;
   r->mine.rays_traced += st.traversals;
   for (int k = 0; k < S; k++) rs->cell_total_ns[k] += rs->cell_ns[k];
   return s;

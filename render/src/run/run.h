@@ -65,10 +65,6 @@ void vr_run_note_held(vr_run *r);
 vr_status vr_ranks_sync(vr_run *r, vr_status st, vr_error *err);
 /* Refuses ranks that render different scenes, meshes or options. */
 vr_status vr_ranks_check_scene(vr_run *r, const vr_rscene *rs, vr_error *err);
-/* Gives every cell an owner: longest first to the least loaded rank, by
- * the time each cell took in the last run (summed over ranks), or by its
- * bytes before anything was measured. */
-vr_status vr_ranks_assign(vr_run *r, vr_rscene *rs, vr_error *err);
 enum { RANKS_FILM = 1, RANKS_SENSORS = 2, RANKS_TEXELS = 4 };
 /* Sums the accumulators' parts over the ranks (each rank adds only what
  * its own rays delivered, so the sums are the single process's values). */

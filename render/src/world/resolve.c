@@ -147,10 +147,9 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
   if (!st) st = vr_rscene_cell_maps(rs, err);
   if (!st) {
     int S = vr_domains_count(rs->d);
-    rs->owner = calloc((size_t)S, sizeof *rs->owner);
     rs->cell_ns = calloc((size_t)S, sizeof *rs->cell_ns);
     rs->cell_total_ns = calloc((size_t)S, sizeof *rs->cell_total_ns);
-    if (!rs->owner || !rs->cell_ns || !rs->cell_total_ns) st = vr_error_set(err, VR_E_NOMEM, "out of memory");
+    if (!rs->cell_ns || !rs->cell_total_ns) st = vr_error_set(err, VR_E_NOMEM, "out of memory");
   }
   if (!st) st = vr_lights_sky_create(&rs->L, s, err);
   if (!st) st = vr_lights_portals_create(&rs->L, s, err);
@@ -176,7 +175,6 @@ void vr_rscene_destroy(vr_rscene *rs) {
     free(rs->cells[c].map_object);
   }
   free(rs->cells);
-  free(rs->owner);
   free(rs->cell_ns);
   free(rs->cell_total_ns);
   vr_lights_destroy(&rs->L);

@@ -50,7 +50,6 @@ typedef struct vr_rscene {
   vr_domains *d;
   const vr_scene_tables *t; /* the replicated tables, owned by d */
   vr_rcell *cells;          /* one per sub-domain */
-  int *owner;               /* several ranks: the rank owning each cell */
   uint64_t *cell_ns;        /* this rank's tracing time per cell in the last run */
   uint64_t *cell_total_ns;  /* and in all runs */
   size_t ntexels;           /* photochromic texels of all objects */
