@@ -88,6 +88,7 @@ static void finish(vr_flow_worker *w, long n) {
  * them they are lost, so they are counted finished and the run fails. */
 static void put(vr_flow_worker *w, int c, const vr_ray *rays, int n) {
   vr_flow *f = w->f;
+  if (f->net) atomic_fetch_add_explicit(&f->put_rays, n, memory_order_relaxed);
   int dest = vr_flow_route(f, c, n);
   if (dest == f->rank ? vr_flow_queue_put(f, c, rays, n, w) : vr_flow_net_put(f, dest, rays, n))
     return;

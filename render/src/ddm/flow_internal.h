@@ -22,8 +22,10 @@
  * (in memory or spilled) when the loaded cells run dry: the more rays wait
  * for a cell, the more each load of it serves. */
 #define VR_FLOW_BUDGET_PENDING (1L << 20)
-/* Several ranks: the rays a rank sends to the holders of a cell before it
- * loads the cell itself when it has the room (ownership follows the work). */
+/* Several ranks: a cell is hot on a rank once it took more than this many
+ * of its rays (and an eighth of them): the rank loads it too when it has
+ * the room, instead of sending its rays to a rank that holds it
+ * (ownership follows the work). */
 #define VR_FLOW_ADOPT_RAYS 1024
 /* Rays of in-flight count a worker reserves at a time. */
 #define VR_FLOW_CREDIT 1024
@@ -72,6 +74,7 @@ typedef struct vr_flow {
   _Atomic unsigned char *held_by;
   _Atomic long *routed;
   long adopt_rays;
+  _Atomic long put_rays;       /* rays this rank handed to queues or other ranks in this run */
   _Atomic long outbox_rays;    /* rays in the outboxes, waiting to be sent */
   /* Cells are loaded when rays need them, not all before the run (several
    * ranks without a budget: each loads what its rays need). */
@@ -147,7 +150,21 @@ vr_status vr_flow_net_start(vr_flow *f, struct vr_comm *comm, int send_batch, in
 bool vr_flow_net_put(vr_flow *f, int dest, const vr_ray *rays, int n);
 /* The rank n rays for cell c go to: this one, or one that holds c. */
 int vr_flow_route(vr_flow *f, int c, int n);
-/* Tells the other ranks that cell c is now loaded here, or not. */
+/* A rank other than this one that holds cell c (the one with the most
+ * credit), or -1. */
+int vr_flow_holder(vr_flow *f, int c);
+/* The rank that loads cell c when no rank holds it and it is hot nowhere:
+ * cold cells are shared out among the ranks, not loaded by all. */
+int vr_flow_home(const vr_flow *f, int c);
+/* Sends what this rank has to tell the others (credit, what it loads). */
+void vr_flow_net_flush(vr_flow *f);
+/* Whether cell c is hot here: it took more than VR_FLOW_ADOPT_RAYS of this
+ * rank's rays and more than an eighth of them (counting those waiting). */
+bool vr_flow_hot(vr_flow *f, int c);
+/* Sends the rays waiting here for cell c to rank dest; whether any went. */
+bool vr_flow_net_forward(vr_flow *f, int c, int dest);
+/* Tells the other ranks that cell c is now loaded (or being loaded) here,
+ * or not. */
 void vr_flow_net_resident(vr_flow *f, int c, bool loaded);
 /* One round of sending, receiving and termination waves, if no other
  * worker is doing one; whether anything happened. */

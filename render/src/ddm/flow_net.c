@@ -133,7 +133,17 @@ static void fail(vr_flow *f, vr_status st, const char *msg) {
   vr_flow_fail(f, &e);
 }
 
+static bool send_control(vr_flow *f);
+
 /* ---- residency ---- */
+
+void vr_flow_net_flush(vr_flow *f) {
+  vr_flow_net *net = f->net;
+  if (!net) return;
+  pthread_mutex_lock(&net->lock);
+  send_control(f);
+  pthread_mutex_unlock(&net->lock);
+}
 
 void vr_flow_net_resident(vr_flow *f, int c, bool loaded) {
   vr_flow_net *net = f->net;
@@ -156,16 +166,10 @@ void vr_flow_net_resident(vr_flow *f, int c, bool loaded) {
   pthread_mutex_unlock(&net->news_lock);
 }
 
-/* The rank a ray for cell c goes to (this one, or a holder of c). */
-int vr_flow_route(vr_flow *f, int c, int n) {
-  /* Without a budget every rank has room for every cell it needs: it
-   * loads them itself, and no ray moves (image space, cells on demand). */
-  if (!f->net || !f->budget || vr_domains_loaded(f->d, c) || f->loading[c]) return f->rank;
-  /* Outboxes count in the queues' share of the budget: when it is full,
-   * the rays wait here (spilled), for this rank to load their cell. */
-  if (atomic_load_explicit(&f->queue_bytes, memory_order_relaxed) +
-          (long long)n * (long long)sizeof(vr_ray) > (long long)f->queue_cap)
-    return f->rank;
+int vr_flow_home(const vr_flow *f, int c) { return c % f->nranks; }
+
+int vr_flow_holder(vr_flow *f, int c) {
+  if (!f->net) return -1;
   const _Atomic unsigned char *h = f->held_by + (size_t)c * (size_t)f->nranks;
   int R = f->nranks, best = -1;
   /* Among the holders, the one this rank has the most credit with, so
@@ -177,16 +181,54 @@ int vr_flow_route(vr_flow *f, int c, int n) {
     long cr = f->net->credit[r];
     if (cr > most) most = cr, best = r;
   }
-  if (best < 0) return f->rank;
-  /* Ownership follows the work: once this rank has sent the cell more rays
-   * than loading it costs, and it has the room, it keeps them.  A load
-   * costs about a byte of the cell per 64 rays sent (an Embree build of
-   * ~1e-8 s a byte against ~0.6 us a ray sent, docs/ddm.md). */
-  long routed = atomic_fetch_add_explicit(&f->routed[c], n, memory_order_relaxed) + n;
-  long adopt = (long)(vr_domains_cell_bytes(f->d, c) / 64);
-  if (adopt < f->adopt_rays) adopt = f->adopt_rays;
-  if (routed > adopt && vr_flow_sched_room(f, c)) return f->rank;
   return best;
+}
+
+/* The rank a ray for cell c goes to (this one, or a holder of c). */
+int vr_flow_route(vr_flow *f, int c, int n) {
+  if (!f->net || vr_domains_loaded(f->d, c) || f->loading[c]) return f->rank;
+  /* Outboxes count in the queues' share of the budget: when it is full,
+   * the rays wait here (spilled), for this rank to load their cell. */
+  if (f->budget && atomic_load_explicit(&f->queue_bytes, memory_order_relaxed) +
+                           (long long)n * (long long)sizeof(vr_ray) >
+                       (long long)f->queue_cap)
+    return f->rank;
+  int best = vr_flow_holder(f, c);
+  if (best < 0) best = vr_flow_home(f, c);
+  if (best == f->rank) return f->rank;
+  /* Ownership follows the work: the rays of a cold cell go to a holder
+   * (loading it costs far more than sending a few thousand rays), but a
+   * cell that takes much of this rank's work is loaded here too when there
+   * is room: a hot cell ends up on every rank with room for it (without a
+   * budget, every rank that works in it), a cold one on one. */
+  atomic_fetch_add_explicit(&f->routed[c], n, memory_order_relaxed);
+  if (vr_flow_hot(f, c) && vr_flow_sched_room(f, c)) return f->rank;
+  return best;
+}
+
+bool vr_flow_hot(vr_flow *f, int c) {
+  long r = atomic_load_explicit(&f->routed[c], memory_order_relaxed) +
+           atomic_load_explicit(&f->q[c].pending, memory_order_relaxed);
+  return r > f->adopt_rays && 8 * r > atomic_load_explicit(&f->put_rays, memory_order_relaxed);
+}
+
+bool vr_flow_net_forward(vr_flow *f, int c, int dest) {
+  vr_ray batch[VR_FLOW_BATCH];
+  bool any = false;
+  int n;
+  /* Under a budget the outbox counts in the queues' share: what does not
+   * fit stays queued here (the caller loads the cell if nothing went). */
+  long long room = (long long)f->batch * (long long)sizeof batch[0];
+  while ((!f->budget ||
+          atomic_load_explicit(&f->queue_bytes, memory_order_relaxed) + room <= (long long)f->queue_cap) &&
+         (n = vr_flow_queue_take(f, c, batch, &f->net->self)) > 0) {
+    if (!vr_flow_net_put(f, dest, batch, n)) {
+      fail(f, VR_E_NOMEM, "ray flow: out of memory for a message");
+      return any;
+    }
+    any = true;
+  }
+  return any;
 }
 
 /* ---- rays out ---- */

@@ -125,12 +125,16 @@ static int busiest(vr_flow *f) {
   return best;
 }
 
-/* Loads cell c for the worker (sched_lock held on entry and on return). */
+/* Loads cell c for the worker (sched_lock held on entry and on return).
+ * The other ranks are told at once, so that they send its rays here
+ * rather than load it too. */
 static bool load(vr_flow *f, int c) {
   size_t peak = vr_domains_cell_load_peak(f->d, c);
   f->loading[c] = true;
   f->reserved += peak;
+  vr_flow_net_resident(f, c, true);
   pthread_mutex_unlock(&f->sched_lock);
+  vr_flow_net_flush(f); /* told before the load, which takes a while */
   vr_error e = {0};
   vr_status st = vr_domains_load(f->d, c, &e);
   pthread_mutex_lock(&f->sched_lock);
@@ -142,7 +146,6 @@ static bool load(vr_flow *f, int c) {
     return false;
   }
   f->reserved += vr_domains_cell_bytes(f->d, c);
-  vr_flow_net_resident(f, c, true);
   return true;
 }
 
@@ -185,6 +188,21 @@ int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w) {
    * loaded wait, and a cell that a few stray rays reach is loaded once at
    * the end rather than each time some arrive. */
   bool want = best_u >= 0 && best_l < 0;
+  /* Several ranks: rays that waited here for a cell another rank holds
+   * go there, unless they are many and this rank has the room to load
+   * the cell itself (a hot cell, replicated). */
+  bool net = want && f->net;
+  int holder = net ? vr_flow_holder(f, best_u) : -1;
+  bool hot = net && vr_flow_hot(f, best_u) && vr_flow_sched_room(f, best_u);
+  if (net && holder < 0 && !hot && vr_flow_home(f, best_u) != f->rank) holder = vr_flow_home(f, best_u);
+  if (holder >= 0 && !hot) {
+    f->loading[best_u] = true; /* no other worker takes or loads it meanwhile */
+    pthread_mutex_unlock(&f->sched_lock);
+    bool sent = vr_flow_net_forward(f, best_u, holder);
+    pthread_mutex_lock(&f->sched_lock);
+    f->loading[best_u] = false;
+    want = !sent; /* no room to send them: this rank loads the cell */
+  }
   if (want) {
     size_t need = vr_domains_cell_load_peak(f->d, best_u);
     while (f->reserved + need > f->cells_cap) {
