@@ -4,7 +4,7 @@
  * vr-render under the real mpirun, read back through --stats
  * (docs/ddm.md, "Ranks").
  *
- *   build/bench/bench_mpi out/materials.db [--scenes room,hotel,batch]
+ *   build/bench/bench_mpi out/materials.db [--scenes room,hotel,batch,pair,queues]
  *       [--ranks 1,2,4] [--threads 1,2] [--subdomains 1,2,4,8,16]
  *       [--launcher "mpirun --oversubscribe"] [--hotel DIR] [--spp N]
  *
@@ -15,8 +15,9 @@
  * memory of a rank, and whether the image is that of one process; then
  * image space on the same ranks and threads; then, on the sample room,
  * the rays per message; then, for the hotel floor, four ranks each under a
- * budget of a quarter of the scene; and last a model of 4 nodes x 4 cores
- * from the measured costs.
+ * budget of a quarter of the scene.  With --scenes pair: the hotel floor on
+ * 2 ranks against 1 (and image space on 2); with --scenes queues: the
+ * queue memory of 2 ranks from 4 to 256 spp.
  *
  * On a machine with more cores, or across machines, the same program runs
  * unchanged with other lists and a launcher: for 4 nodes of 4 cores,
@@ -57,14 +58,15 @@ typedef struct run_out {
   int status;
   double wall;
   double sent, bytes, idle, rss, traced, crossings;
+  double queue, loads_max, load_s_max, credit_waits; /* largest of a rank, or summed */
   int ranks;
   char msg[512];
-  double cell_s[4096];
-  int ncells;
 } run_out;
 
 static char *launcher_words[16];
 static int nlauncher;
+/* More options for every render (NULL-terminated), e.g. a resolution. */
+static char *extra_args[4];
 
 static run_out render(const char *vr_render, const char *scene, const char *db, const char *cache,
                       const char *prefix, int R, int T, int S, bool image_space,
@@ -88,6 +90,7 @@ static run_out render(const char *vr_render, const char *scene, const char *db, 
   n = bench_render_args(argv, n, &ro);
   if (image_space) argv[n++] = "--image-space";
   if (batch > 0) argv[n++] = "--send-batch", argv[n++] = bt;
+  for (int i = 0; extra_args[i]; i++) argv[n++] = extra_args[i];
   argv[n] = NULL;
   unlink(stats);
   run_out o = {0};
@@ -109,21 +112,20 @@ static run_out render(const char *vr_render, const char *scene, const char *db, 
     o.idle += bench_json_num(p, "idle_seconds");
     o.traced += bench_json_num(p, "rays_traced");
     o.rss = fmax(o.rss, bench_json_num(p, "peak_rss_bytes"));
+    o.queue = fmax(o.queue, bench_json_num(p, "peak_queue_bytes"));
+    o.loads_max = fmax(o.loads_max, bench_json_num(p, "cell_loads"));
+    o.load_s_max = fmax(o.load_s_max, bench_json_num(p, "load_seconds"));
+    o.credit_waits += bench_json_num(p, "credit_waits");
   }
-  p = strstr(text, "\"cells\": [");
-  while (p && o.ncells < 4096 && (p = strstr(p + 1, "{\"seconds\": ")))
-    o.cell_s[o.ncells++] = strtod(p + 12, NULL);
   free(text);
   return o;
 }
 
 static const char *yes(double diff) { return diff <= 1e-6 ? "same" : isnan(diff) ? "?" : "DIFFERS"; }
 
-/* The paper's table for one scene; returns the one-process time and its
- * per-cell costs at the largest S (for the model). */
-static double study(const char *bin, const char *db, const char *name, const char *scene,
-                    const char *dir, list R, list T, list S, const char *spp, run_out *model_in,
-                    run_out *two_ranks, run_out *two_threads) {
+/* The paper's table for one scene. */
+static void study(const char *bin, const char *db, const char *name, const char *scene,
+                    const char *dir, list R, list T, list S, const char *spp) {
   char vr_render[4300], cache[4300], pre[4400], ref[4500];
   snprintf(vr_render, sizeof vr_render, "%s/render/vr-render", bin);
   snprintf(cache, sizeof cache, "%s/cache", dir);
@@ -156,9 +158,6 @@ static double study(const char *bin, const char *db, const char *name, const cha
                o.sent > 0 ? o.bytes / o.sent : 0, o.ranks ? o.idle / o.ranks : 0,
                o.rss / 1048576.0, yes(bench_image_diff(refexr, exr)));
         fflush(stdout);
-        if (r == 1 && t == 1 && si == S.n - 1 && model_in) *model_in = o;
-        if (r == 2 && t == 1 && si == S.n - 1 && two_ranks) *two_ranks = o;
-        if (r == 1 && t == 2 && si == S.n - 1 && two_threads) *two_threads = o;
       }
   printf("\nImage space (every rank holds the whole scene and traces its share of the tiles):\n\n");
   printf("| ranks | threads | wall | speedup | largest rank RSS | image |\n|---|---|---|---|---|---|\n");
@@ -177,26 +176,74 @@ static double study(const char *bin, const char *db, const char *name, const cha
       fflush(stdout);
     }
   printf("\n");
-  return base.wall;
 }
 
-/* Longest-first assignment of cell costs to n ranks; the largest load. */
-static double lpt(const double *cost, int S, int n) {
-  double load[64] = {0}, c[4096];
-  memcpy(c, cost, (size_t)S * sizeof *c);
-  for (int i = 0; i < S; i++) {
-    int big = 0;
-    for (int k = 1; k < S; k++)
-      if (c[k] > c[big]) big = k;
-    int least = 0;
-    for (int k = 1; k < n; k++)
-      if (load[k] < load[least]) least = k;
-    load[least] += c[big];
-    c[big] = -1;
+
+/* The hotel floor's room view on 2 ranks x 1 thread against 1 rank x 1
+ * thread, both with 16 sub-domains and no budget, and image space on 2
+ * ranks beside them (issue 31's first target); each run twice. */
+static void pair_study(const char *db, const char *hdir, const char *dir, const char *spp) {
+  char vr_render[4300], cache[4300], scene[4300], pre[4400], ref[4400];
+  snprintf(vr_render, sizeof vr_render, "%s/render/vr-render", VR_BINARY_DIR);
+  snprintf(scene, sizeof scene, "%s/hotel.scn", hdir);
+  snprintf(cache, sizeof cache, "%s/cache", hdir);
+  const char *n = spp ? spp : "8";
+  snprintf(ref, sizeof ref, "%s/pair-1", dir);
+  render(vr_render, scene, db, cache, ref, 1, 2, 16, false, 0, 0, "1"); /* the cache, built */
+  printf("### The hotel floor on 2 ranks against 1 (16 sub-domains, 1 thread a rank, %s spp)\n\n", n);
+  printf("| run | ranks | wall | speedup | loads (largest rank) | load time (largest rank) | "
+         "rays sent | waiting per rank | largest rank RSS | image |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  double one = 0;
+  for (int rep = 0; rep < 2; rep++) {
+    run_out a = render(vr_render, scene, db, cache, ref, 1, 1, 16, false, 0, 0, n);
+    if (a.status) bench_die(a.msg);
+    if (!rep || a.wall < one) one = a.wall;
+    printf("| %d | 1 | %.2f s | 1.00 | %.0f | %.2f s | 0 | %.2f s | %.0f MiB | |\n", rep + 1, a.wall,
+           a.loads_max, a.load_s_max, a.idle, a.rss / 1048576.0);
+    char refexr[4600], exr[4600];
+    snprintf(refexr, sizeof refexr, "%s.exr", ref);
+    const char *modes[2] = {"sub-domains", "image space"};
+    for (int m = 0; m < 2; m++) {
+      snprintf(pre, sizeof pre, "%s/pair-2-%d", dir, m);
+      run_out o = render(vr_render, scene, db, cache, pre, 2, 1, 16, m == 1, 0, 0, n);
+      if (o.status) {
+        printf("| %d | 2, %s | failed: %s |\n", rep + 1, modes[m], o.msg);
+        continue;
+      }
+      snprintf(exr, sizeof exr, "%s.exr", pre);
+      printf("| %d | 2, %s | %.2f s | %.2f | %.0f | %.2f s | %.0f | %.2f s | %.0f MiB | %s |\n", rep + 1,
+             modes[m], o.wall, a.wall / o.wall, o.loads_max, o.load_s_max, o.sent,
+             o.ranks ? o.idle / o.ranks : 0, o.rss / 1048576.0, yes(bench_image_diff(refexr, exr)));
+      fflush(stdout);
+    }
   }
-  double mx = 0;
-  for (int k = 0; k < n; k++) mx = fmax(mx, load[k]);
-  return mx;
+  printf("\n");
+}
+
+/* The queues of 2 ranks without a budget as the work grows: the sample
+ * room at 160 x 120 from 4 to 256 samples per pixel (issue 31: flow
+ * control bounds them at any spp). */
+static void queue_study(const char *db, const char *room, const char *dir, int S) {
+  char vr_render[4300], cache[4300], pre[4400];
+  snprintf(vr_render, sizeof vr_render, "%s/render/vr-render", VR_BINARY_DIR);
+  snprintf(cache, sizeof cache, "%s/cache", dir);
+  extra_args[0] = "--resolution", extra_args[1] = "160x120", extra_args[2] = NULL;
+  printf("### Queue memory on 2 ranks without a budget (room, 160 x 120, S = %d)\n\n", S);
+  printf("| spp | wall | largest rank's peak queues | rays sent | waits for credit |\n|---|---|---|---|---|\n");
+  const char *spps[] = {"4", "16", "64", "256"};
+  for (int k = 0; k < 4; k++) {
+    snprintf(pre, sizeof pre, "%s/queues-%s", dir, spps[k]);
+    run_out o = render(vr_render, room, db, cache, pre, 2, 1, S, false, 0, 0, spps[k]);
+    if (o.status) {
+      printf("| %s | failed: %s |\n", spps[k], o.msg);
+      continue;
+    }
+    printf("| %s | %.2f s | %.1f MiB | %.0f | %.0f |\n", spps[k], o.wall, o.queue / 1048576.0, o.sent,
+           o.credit_waits);
+    fflush(stdout);
+  }
+  extra_args[0] = NULL;
+  printf("\n");
 }
 
 int main(int argc, char **argv) {
@@ -223,10 +270,8 @@ int main(int argc, char **argv) {
   snprintf(hdir, sizeof hdir, "%s", hotel ? hotel : VR_BINARY_DIR "/bench-ddm");
   snprintf(room, sizeof room, "%s/samples/room.scn", VR_SOURCE_DIR);
   printf("## Ranks x threads x sub-domains (vr-render under mpirun)\n\n");
-  static run_out m1, m2, mt;
-  double w1 = 0;
   if (strstr(scenes, "room"))
-    w1 = study(VR_BINARY_DIR, db, "room", room, dir, R, T, S, spp, &m1, &m2, &mt);
+    study(VR_BINARY_DIR, db, "room", room, dir, R, T, S, spp);
 
   /* Rays per message, on the sample room: 2 ranks, 1 thread, largest S
    * (also alone, with --scenes batch). */
@@ -255,17 +300,17 @@ int main(int argc, char **argv) {
     printf("\n");
   }
 
+  char hscene[4300], vr_hotel[4300];
+  snprintf(hscene, sizeof hscene, "%s/hotel.scn", hdir);
+  if ((strstr(scenes, "hotel") || strstr(scenes, "pair")) && access(hscene, R_OK)) {
+    char log[4400];
+    snprintf(vr_hotel, sizeof vr_hotel, "%s/samples/hotel/vr-hotel", VR_BINARY_DIR);
+    snprintf(log, sizeof log, "%s/vr-hotel.log", dir);
+    char *av[] = {vr_hotel, hdir, NULL};
+    if (bench_run(av, log)) bench_die("vr-hotel failed");
+  }
   if (strstr(scenes, "hotel")) {
-    char hscene[4300], vr_hotel[4300];
-    snprintf(hscene, sizeof hscene, "%s/hotel.scn", hdir);
-    if (access(hscene, R_OK)) {
-      char log[4400];
-      snprintf(vr_hotel, sizeof vr_hotel, "%s/samples/hotel/vr-hotel", VR_BINARY_DIR);
-      snprintf(log, sizeof log, "%s/vr-hotel.log", dir);
-      char *av[] = {vr_hotel, hdir, NULL};
-      if (bench_run(av, log)) bench_die("vr-hotel failed");
-    }
-    study(VR_BINARY_DIR, db, "hotel", hscene, dir, R, T, S, spp ? spp : "4", NULL, NULL, NULL);
+    study(VR_BINARY_DIR, db, "hotel", hscene, dir, R, T, S, spp ? spp : "4");
     /* Four ranks each under a budget of a quarter of the scene. */
     char vr_render[4300], cache[4300], pre[4400], ref[4400];
     snprintf(vr_render, sizeof vr_render, "%s/render/vr-render", VR_BINARY_DIR);
@@ -298,33 +343,7 @@ int main(int argc, char **argv) {
              bench_image_diff(e1, e2));
   }
 
-  /* A model of 4 nodes x 4 cores from the measured costs (docs/ddm.md). */
-  if (m1.ncells && m2.ranks == 2) {
-    double W = 0;
-    for (int c = 0; c < m1.ncells; c++) W += m1.cell_s[c];
-    /* A ray sent costs the sender and the receiver this much (the extra
-     * time of two ranks over one, per ray sent), and a rank's serial
-     * part (generation, reductions) is what the cells' time leaves. */
-    double serial = fmax(0, m1.wall - W);
-    double per_ray = fmax(0, (2 * m2.wall - m1.wall - m2.idle) / fmax(1, m2.sent));
-    /* Threads: the measured efficiency of two on one rank, per doubling. */
-    double eff2 = mt.wall > 0 ? fmin(1.0, m1.wall / mt.wall / 2) : 1.0;
-    printf("### A model of 4 nodes x 4 cores (room, S = %d)\n\n", m1.ncells);
-    printf("measured: %.2f s of tracing in the cells, %.2f s besides, %.2f us per ray sent, two "
-           "threads %.0f %% efficient; the busiest of 4 ranks holds %.0f %% of the tracing\n\n",
-           W, serial, per_ray * 1e6, 100 * eff2, 100 * lpt(m1.cell_s, m1.ncells, 4) / W);
-    printf("| ranks x threads | sub-domain time of the busiest rank | rays sent | predicted speedup |\n|---|---|---|---|\n");
-    const int rk[] = {1, 2, 4, 4, 4}, th[] = {4, 4, 1, 2, 4};
-    for (int k = 0; k < 5; k++) {
-      double speed = th[k] * pow(eff2, log2(th[k])); /* threads' worth of one */
-      double busiest = lpt(m1.cell_s, m1.ncells, rk[k]) / speed;
-      /* crossings to another rank: (ranks - 1) / ranks of them */
-      double sent = m1.crossings * (rk[k] - 1) / rk[k];
-      double t = busiest + serial / speed + per_ray * sent / rk[k];
-      printf("| %d x %d | %.2f s | %.0f | %.1f |\n", rk[k], th[k], busiest, sent, m1.wall / t);
-    }
-    printf("\n");
-  }
-  (void)w1;
+  if (strstr(scenes, "pair")) pair_study(db, hdir, dir, spp);
+  if (strstr(scenes, "queues")) queue_study(db, room, dir, S.v[S.n - 1]);
   return 0;
 }

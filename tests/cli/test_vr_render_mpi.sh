@@ -66,9 +66,10 @@ runN() { local n=$1; shift; (cd "$tmp" && timeout 300 "${mpi[@]}" -np "$n" "$bin
 # The reference is one process with the whole scene in one cell.
 S=1 run1 -o one --stats one.json; check "one process renders" test $? -eq 0
 # Ranks x sub-domains, including more ranks than cells.  Without a budget
-# a rank loads the cells that take much of its work (the camera's cell,
-# where every rank's paths start, is held by several) and sends the
-# rays of the others to the one rank that holds them (docs/ddm.md, "Ranks").
+# a rank loads the cells that take much of its work or cost little to load
+# (the camera's cell, where every rank's paths start, is held by several)
+# and sends the rays of the others to a rank that holds them (docs/ddm.md,
+# "Ranks").
 for case in 2x8 3x8 4x8 2x1 4x2 3x27; do
   n=${case%x*} S=${case#*x}
   runN $n -o ranks$case --stats ranks$case.json; rc=$?
@@ -94,12 +95,9 @@ held = [c["ranks"] for c in s["cells"] if c["ranks"] > 0]
 # a hot cell (the camera's, where every rank's paths start) is loaded by
 # several ranks: no cell has a single owner
 assert max(held) >= 2, s["cells"]
-# a cold cell is loaded by one rank, which the others send its rays to
-# (docs/ddm.md, "Ranks"): some cell is held by fewer than all ranks
-assert S == 1 or min(held) < n, s["cells"]
 print("# cells held by", held, "rays sent", sent, file=sys.stderr)
 PY
-  check "$n ranks, S = $S: the same readings, rays created = finished, rays sent = received, a hot cell on several ranks, cold cells on one" test $? -eq 0
+  check "$n ranks, S = $S: the same readings, rays created = finished, rays sent = received, a hot cell on several ranks" test $? -eq 0
 done
 S=8
 check "only rank 0 wrote outputs" test -z "$(ls "$tmp" | grep -v -e '^one' -e '^ranks' -e '^cmp' -e '^batch' -e '^room' -e '\.db' -e 'vrcache')"

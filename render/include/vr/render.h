@@ -114,8 +114,9 @@ typedef struct vr_rank_stats {
   size_t peak_queue_bytes;    /* its queues', push buffers' and outboxes' peak */
   uint64_t rays_sent, rays_received, messages, bytes_sent, waves;
   uint64_t rays_traced;       /* rays taken from this rank's queues */
-  double idle_seconds;        /* its workers' time without a ray, summed over threads */
+  double idle_seconds;        /* its workers' time without a ray or a load, summed over threads */
   uint64_t cell_loads;
+  double load_seconds;        /* the time its cells took to load (read, check, build) */
   size_t peak_cells_bytes;
   long long peak_rss_bytes;
 } vr_rank_stats;

@@ -247,6 +247,15 @@ static void report_progress(flow *f) {
   pthread_mutex_unlock(&f->progress_lock);
 }
 
+/* A worker with nothing to trace since idle_since found work: the time
+ * counts as idle, but for the loads it did meanwhile (ahead of rays). */
+static void end_idle(vr_flow_worker *w, double *idle_since) {
+  if (*idle_since <= 0) return;
+  double t = clock_s() - *idle_since - w->loads_since_idle;
+  if (t > 0) w->st.idle_seconds += t;
+  *idle_since = 0;
+}
+
 static void *queued_worker(vr_flow_worker *w) {
   flow *f = w->f;
   vr_ray batch[BATCH];
@@ -264,6 +273,7 @@ static void *queued_worker(vr_flow_worker *w) {
       if (u >= f->units) u = -1;
     }
     if (u >= 0) {
+      end_idle(w, &idle_since);
       f->ops->generate(f->ctx, w, unit_of(f, u));
       flush(w);
       atomic_fetch_add(&f->done_units, 1);
@@ -274,8 +284,7 @@ static void *queued_worker(vr_flow_worker *w) {
     int c = vr_flow_sched_pick(f, w);
     if (c >= 0) {
       double t0 = clock_s();
-      if (idle_since > 0) w->st.idle_seconds += t0 - idle_since;
-      idle_since = 0;
+      end_idle(w, &idle_since);
       int n = vr_flow_queue_take(f, c, batch, w);
       atomic_fetch_add_explicit(&f->traced[c], (unsigned long long)n, memory_order_relaxed);
       for (int i = 0; i < n; i++) trace(w, &batch[i], false);
@@ -287,7 +296,10 @@ static void *queued_worker(vr_flow_worker *w) {
       idle = 0;
       continue;
     }
-    if (idle_since == 0) idle_since = clock_s();
+    if (idle_since == 0) {
+      idle_since = clock_s();
+      w->loads_since_idle = 0;
+    }
     /* Out of work, with every ray of ours flushed: give the credit back,
      * then the run is over when every unit has been generated (a unit
      * being generated is not yet done) and the count, which is never below
@@ -322,7 +334,7 @@ static void *queued_worker(vr_flow_worker *w) {
       pthread_mutex_unlock(&f->idle_lock);
     }
   }
-  if (idle_since > 0) w->st.idle_seconds += clock_s() - idle_since;
+  end_idle(w, &idle_since);
   flush(w);
   give_back(w);
   return NULL;
@@ -416,6 +428,7 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   bool ranks = f.nranks > 1 && !image_space;
   f.held_by = ranks ? calloc((size_t)f.ncells * (size_t)f.nranks, sizeof *f.held_by) : NULL;
   f.routed = ranks ? calloc((size_t)f.ncells, sizeof *f.routed) : NULL;
+  f.prefetch_left = ranks ? calloc((size_t)f.nranks, sizeof *f.prefetch_left) : NULL;
   f.adopt_rays = VR_FLOW_ADOPT_RAYS;
   f.lazy = ranks && !f.budget;
   f.walk_loaded = !f.budget;
@@ -424,7 +437,7 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   vr_status st = VR_OK;
   for (int c = 0; f.q && c < f.ncells; c++) vr_flow_queue_init(&f.q[c]);
   if ((!image_space && !f.q) || !ws || !tids || !f.pins || !f.loading || !f.traced ||
-      !f.cell_ns || (ranks && (!f.held_by || !f.routed))) {
+      !f.cell_ns || (ranks && (!f.held_by || !f.routed || !f.prefetch_left))) {
     st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory");
     goto done;
   }
@@ -518,6 +531,7 @@ done:
   free(f.loading);
   free(f.held_by);
   free(f.routed);
+  free(f.prefetch_left);
   pthread_mutex_destroy(&f.progress_lock);
   pthread_mutex_destroy(&f.sched_lock);
   pthread_mutex_destroy(&f.pool_lock);

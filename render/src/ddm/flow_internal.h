@@ -23,9 +23,9 @@
  * for a cell, the more each load of it serves. */
 #define VR_FLOW_BUDGET_PENDING (1L << 20)
 /* Several ranks: a cell is hot on a rank once it took more than this many
- * of its rays (and an eighth of them): the rank loads it too when it has
- * the room, instead of sending its rays to a rank that holds it
- * (ownership follows the work). */
+ * of its rays and either an eighth of them or more than a load costs: the
+ * rank loads it too when it has the room, instead of sending its rays to
+ * a rank that holds it (ownership follows the work). */
 #define VR_FLOW_ADOPT_RAYS 1024
 /* Rays of in-flight count a worker reserves at a time. */
 #define VR_FLOW_CREDIT 1024
@@ -74,6 +74,7 @@ typedef struct vr_flow {
   _Atomic unsigned char *held_by;
   _Atomic long *routed;
   long adopt_rays;
+  int *prefetch_left;          /* scratch of the scheduler: per rank, cells no rank holds */
   _Atomic long put_rays;       /* rays this rank handed to queues or other ranks in this run */
   _Atomic long outbox_rays;    /* rays in the outboxes, waiting to be sent */
   /* Cells are loaded when rays need them, not all before the run (several
@@ -120,6 +121,7 @@ struct vr_flow_worker {
   bool oom;
   long credit;        /* reserved in f->in_flight and not yet used; >= 0 */
   vr_flow_stats st;   /* this worker's share of the statistics */
+  double loads_since_idle; /* seconds of loads since it last had nothing to trace */
   /* Queued flow: f->batch rays per cell waiting to go to the cell's queue. */
   vr_ray *out;
   int *nout;
@@ -159,7 +161,8 @@ int vr_flow_home(const vr_flow *f, int c);
 /* Sends what this rank has to tell the others (credit, what it loads). */
 void vr_flow_net_flush(vr_flow *f);
 /* Whether cell c is hot here: it took more than VR_FLOW_ADOPT_RAYS of this
- * rank's rays and more than an eighth of them (counting those waiting). */
+ * rank's rays (counting those waiting) and more than an eighth of them or
+ * more than loading it costs. */
 bool vr_flow_hot(vr_flow *f, int c);
 /* Sends the rays waiting here for cell c to rank dest; whether any went. */
 bool vr_flow_net_forward(vr_flow *f, int c, int dest);

@@ -209,7 +209,14 @@ int vr_flow_route(vr_flow *f, int c, int n) {
 bool vr_flow_hot(vr_flow *f, int c) {
   long r = atomic_load_explicit(&f->routed[c], memory_order_relaxed) +
            atomic_load_explicit(&f->q[c].pending, memory_order_relaxed);
-  return r > f->adopt_rays && 8 * r > atomic_load_explicit(&f->put_rays, memory_order_relaxed);
+  if (r <= f->adopt_rays) return false;
+  /* Hot: a large share of this rank's work, or more rays than a load
+   * costs.  A load costs about a byte of the cell per 64 rays sent (an
+   * Embree build of ~1e-8 s a byte against ~0.6 us a ray sent and traced
+   * elsewhere, docs/ddm.md): small cells are loaded wherever their rays
+   * are, large ones only where they take much of the work. */
+  return 8 * r > atomic_load_explicit(&f->put_rays, memory_order_relaxed) ||
+         (double)r > (double)vr_domains_cell_bytes(f->d, c) / 64.0;
 }
 
 bool vr_flow_net_forward(vr_flow *f, int c, int dest) {

@@ -23,8 +23,10 @@
  * largest cell alone. */
 #include "ddm/flow_internal.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 void vr_flow_fail(vr_flow *f, const vr_error *e) {
   pthread_mutex_lock(&f->sched_lock);
@@ -128,7 +130,7 @@ static int busiest(vr_flow *f) {
 /* Loads cell c for the worker (sched_lock held on entry and on return).
  * The other ranks are told at once, so that they send its rays here
  * rather than load it too. */
-static bool load(vr_flow *f, int c) {
+static bool load(vr_flow *f, vr_flow_worker *w, int c) {
   size_t peak = vr_domains_cell_load_peak(f->d, c);
   f->loading[c] = true;
   f->reserved += peak;
@@ -136,7 +138,11 @@ static bool load(vr_flow *f, int c) {
   pthread_mutex_unlock(&f->sched_lock);
   vr_flow_net_flush(f); /* told before the load, which takes a while */
   vr_error e = {0};
+  struct timespec t0, t1;
+  clock_gettime(CLOCK_MONOTONIC, &t0);
   vr_status st = vr_domains_load(f->d, c, &e);
+  clock_gettime(CLOCK_MONOTONIC, &t1);
+  w->loads_since_idle += (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
   pthread_mutex_lock(&f->sched_lock);
   f->loading[c] = false;
   f->reserved -= peak;
@@ -149,8 +155,58 @@ static bool load(vr_flow *f, int c) {
   return true;
 }
 
+/* The cell an idle rank loads ahead of its rays (sched_lock held): one
+ * that no rank holds or loads and that fits without unloading anything,
+ * measured from the cell this rank traced most in (rays spread from
+ * there), or -1. */
+static int prefetch_pick(vr_flow *f) {
+  int busy = -1;
+  unsigned long long most = 0;
+  for (int c = 0; c < f->ncells; c++) {
+    unsigned long long t = atomic_load_explicit(&f->traced[c], memory_order_relaxed);
+    if (t > most) most = t, busy = c;
+  }
+  double at[3] = {0, 0, 0};
+  if (busy >= 0) {
+    double lo[3], hi[3];
+    vr_domains_cell_bounds(f->d, busy, lo, hi);
+    for (int k = 0; k < 3; k++) at[k] = 0.5 * (lo[k] + hi[k]);
+  }
+  /* Its own cells nearest first; when none is left, another rank's that
+   * no rank holds yet, farthest first: that rank loads its own nearest
+   * first, so the two meet only at its last cell, which is left to it
+   * (when they do meet, the cell is loaded twice: time, not
+   * correctness). */
+  int best = -1, other = -1;
+  double nearest = INFINITY, farthest = -1;
+  int *left = f->prefetch_left; /* per rank: its cells no rank holds */
+  memset(left, 0, (size_t)f->nranks * sizeof *left);
+  for (int c = 0; c < f->ncells; c++) {
+    if (f->loading[c] || vr_domains_loaded(f->d, c) || vr_flow_holder(f, c) >= 0 ||
+        !vr_domains_cell_primitives(f->d, c))
+      continue;
+    if (f->budget && f->reserved + vr_domains_cell_load_peak(f->d, c) > f->cells_cap) continue;
+    double lo[3], hi[3], d2 = 0;
+    vr_domains_cell_bounds(f->d, c, lo, hi);
+    for (int k = 0; k < 3; k++) {
+      double e = at[k] < lo[k] ? lo[k] - at[k] : at[k] > hi[k] ? at[k] - hi[k] : 0;
+      d2 += e * e;
+    }
+    int home = vr_flow_home(f, c);
+    left[home]++;
+    if (home == f->rank) {
+      if (d2 < nearest) nearest = d2, best = c;
+    } else if (d2 > farthest) {
+      farthest = d2, other = c;
+    }
+  }
+  /* The last cell of another rank is left to it: it is loading it or
+   * about to. */
+  if (best < 0 && other >= 0 && left[vr_flow_home(f, other)] < 2) other = -1;
+  return best >= 0 ? best : other;
+}
+
 int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w) {
-  (void)w;
   if (!f->budget && !f->lazy) return busiest(f);
   pthread_mutex_lock(&f->sched_lock);
   /* Maps may have grown since the last pick: the cells get what is left. */
@@ -226,13 +282,25 @@ int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w) {
       if (victim == best_l) best_l = -1;
     }
     if (f->reserved + need <= f->cells_cap) {
-      if (!load(f, best_u)) {
+      if (!load(f, w, best_u)) {
         pthread_mutex_unlock(&f->sched_lock);
         return -1;
       }
       f->pins[best_u]++;
       pthread_mutex_unlock(&f->sched_lock);
       return best_u;
+    }
+  }
+  /* Several ranks, and this one holds no ray at all: rather than wait,
+   * it loads a cell no rank holds, if it has the room without unloading
+   * anything.  The other ranks' rays reach those
+   * cells sooner or later (when a few stray rays do, a rank that waited
+   * would load it then, with every rank waiting on it). */
+  if (f->net && best_l < 0 && best_u < 0) {
+    int c = prefetch_pick(f);
+    if (c >= 0 && load(f, w, c)) {
+      pthread_mutex_unlock(&f->sched_lock);
+      return -1;
     }
   }
   if (best_l >= 0) f->pins[best_l]++;

@@ -457,6 +457,8 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
             k ? "," : "", k, q->cells_loaded, q->rays_traced, q->rays_sent, q->rays_received,
             q->messages, q->bytes_sent, q->waves);
     vr_json_number(f, q->idle_seconds);
+    fputs(", \"load_seconds\": ", f);
+    vr_json_number(f, q->load_seconds);
     fprintf(f,
             ", \"cell_loads\": %" PRIu64 ", \"credit_waits\": %" PRIu64
             ", \"ray_messages\": %" PRIu64 ", \"ray_bytes_sent\": %" PRIu64

@@ -176,6 +176,7 @@ vr_status vr_ranks_finish(vr_run *r, vr_rscene *rs, vr_render_result *res, vr_er
   vr_status st = res->rank_stats ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");
   r->mine.peak_rss_bytes = vr_peak_rss_bytes();
   r->mine.cell_loads = res->cell_loads;
+  r->mine.load_seconds = res->cell_load_seconds;
   r->mine.peak_cells_bytes = res->peak_cells_bytes;
   if (R == 1) {
     if (!st) res->rank_stats[0] = r->mine;
