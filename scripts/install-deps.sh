@@ -10,6 +10,7 @@ packages=(
   libopencv-dev libopencv-contrib-dev libopenexr-dev
   libcmocka-dev libsqlite3-dev libyaml-dev
   libembree-dev libassimp-dev libopenmpi-dev openmpi-bin
+  iproute2
   libcairo2-dev clang libclang-rt-14-dev
   hyperfine
 )
