@@ -77,21 +77,7 @@ chmod +x "$tmp/agent.sh"
 printf '%s slots=1\n%s slots=1\n' "$net.2" "$net.3" > "$tmp/hosts"
 mkdir -p "$tmp/cache"
 
-cat > "$tmp/room.scn" <<SCN
-camera pinhole from=2.5,1.6,1.5 to=2.5,-2,1.0 fov=80 resolution=48x32
-material wall lambert reflectance=0.6
-material red lambert reflectance=0.3
-material mirror db:Ag
-material lamp black
-box min=0,-2,0 max=5,2,2.7 material=wall
-mesh $src/samples/meshes/bed.obj material=red rotate=0,0,1,90 translate=1.05,-0.45,0
-mesh $src/samples/meshes/lamp.obj material=mirror translate=4.3,-1.3,0.75
-mesh $src/samples/meshes/table.ply material=red rotate=0,0,1,90 translate=4.3,-0.9,0
-rect center=0.02,0,1.3 normal=1,0,0 size=1.5,1 material=mirror
-rect center=2.5,-1.97,1.5 normal=0,1,0 size=1.5,1 material=lamp emission=2000cd/m2
-light point position=2.5,0,2.4 intensity=200cd
-render integrator=path spp=4 depth=6 seed=3
-SCN
+source "$(dirname "$0")/mpi_room.sh"  # $tmp/room.scn
 
 # The reference: one process, the whole scene in one cell, its own cache.
 (cd "$tmp" && "$bin" room.scn --subdomains 1 --threads 1 --cache "$tmp/cache-one" -o one --quiet)
