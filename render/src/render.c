@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 
 #include "integrators/integrator.h"
 #include "integrators/sensors.h"
@@ -45,8 +46,16 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
                        .lights_exist = rs->L.nsources > 0 && rs->L.total_power > 0};
   vr_status st = vr_accum_create(&acc, W, H, rs->nbins, rs->film_lo, rs->film_step, 0, 1, 0, err);
   if (!st && rs->bins_mode) st = vr_accum_set_bins(&acc, rs->lmin, rs->lmax, rs->nwl, err);
+  /* The film counts in the budget (its pages fill as the pass writes). */
+  r->film_bytes = (size_t)W * (size_t)H * (3 + rs->nbins) * sizeof(double);
   if (!st) st = ig->render(&job, err);
   if (st) goto done;
+  if (opt->memory_budget) {
+    /* The cells are done with: their memory goes to the image's copies
+     * (the result, the ranks' sum) rather than on top of them. */
+    for (int c = 0; c < vr_domains_count(rs->d); c++) vr_domains_unload(rs->d, c);
+    malloc_trim(0);
+  }
   vr_pass_record *pc = vr_run_record(r, "camera", true, "%d x %d pixels, %d samples per pixel, %s",
                                      W, H, job.spp, ig->what);
   if (pc) pc->seconds = job.seconds;
@@ -83,6 +92,7 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
 done:
   if (job.free_state) job.free_state(job.state);
   vr_accum_destroy(&acc);
+  r->film_bytes = 0;
   return st;
 }
 
@@ -195,6 +205,20 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   const vr_integrator_ops *ig = vr_integrator_ops_of((size_t)s->settings.integrator);
   vr_status st = ig->check ? ig->check(s, opt, r.nranks, err) : VR_OK;
   if (!st) st = vr_rscene_create(s, db, opt, S, &r.rs, err);
+  if (!st && opt->memory_budget) {
+    /* Under a budget the resident memory is watched, from here: the
+     * budget is what the render adds to what the process holds now (its
+     * libraries' data, the scene's tables).  Transparent huge pages are
+     * off for the process: a 2 MiB page that holds a few KiB of an Embree
+     * block made the resident memory a fifth larger than what was
+     * allocated (docs/ddm.md, "The memory budget"), and freed memory goes
+     * back to the system soon. */
+    prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0);
+    mallopt(M_TRIM_THRESHOLD, 8 << 20);
+    r.rss_base = vr_flow_rss_bytes(true);
+    res->rss_base_bytes = r.mine.rss_base_bytes = r.rss_base;
+    res->rss_start_bytes = r.mine.rss_start_bytes = vr_flow_rss_bytes(false);
+  }
   /* Several ranks: every one must have its scene before they compare. */
   st = vr_ranks_sync(&r, st, err);
   if (!st) st = vr_ranks_check_scene(&r, r.rs, err);

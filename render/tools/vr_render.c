@@ -35,7 +35,7 @@ static const vr_option OPTIONS[] = {
     {"outputs", 0, "LIST", "which files to write: a comma-separated subset of exr, spectral, png, sensors (default: all that apply); the manifest is always written and lists them. Without png (and --falsecolour), OpenCV is never loaded"},
     {"db", 'd', "FILE", "material database, read-only (default: $VR_MATDB, else ./materials.db; made if missing and needed)"},
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
-    {"memory-budget", 0, "SIZE", "hold at most SIZE (e.g. 512M, 2G) of sub-domains, ray queues and maps: sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
+    {"memory-budget", 0, "SIZE", "add at most SIZE (e.g. 512M, 2G) to the process's memory: sub-domains, ray queues, maps and the film, with the resident memory watched (16 MiB allowed beyond); sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
     {"cache", 0, "DIR", "geometry cache folder (default: SCENE.vrcache beside the scene; a temporary one if that folder cannot be written)"},
     {"threads", 0, "P", "worker threads (default: the number of online CPUs; under mpirun, per rank)"},
     {"send-batch", 0, "N", "under mpirun: rays a message between ranks carries at most (default 256; refused when running alone)"},

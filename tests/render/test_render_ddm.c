@@ -130,6 +130,12 @@ static void same_film(const vr_render_result *a, const vr_render_result *b, cons
   assert_true(total > 0);
 }
 
+/* The camera's film, which counts in the budget: 3 XYZ and the bins per
+ * pixel, in doubles. */
+static size_t film_bytes(const vr_render_result *r) {
+  return (size_t)r->width * (size_t)r->height * (3 + r->nbins) * sizeof(double);
+}
+
 /* What cells cost, from a render's cache: sizes of loading cell c. */
 static size_t budget_for(const vr_scene *s, int S, int cells) {
   vr_domains_options o;
@@ -172,7 +178,7 @@ static void test_same_image_with_budget(void **state) {
     assert_int_equal(r->cell_loads, (uint64_t)S); /* all loaded once */
     assert_int_equal(r->cell_unloads, 0);
     vr_render_result_destroy(r);
-    size_t b = budget_for(s, S, S == 1 ? 1 : 2);
+    size_t b = budget_for(s, S, S == 1 ? 1 : 2) + film_bytes(ref);
     r = render(s, S, b, NULL, VR_OK, NULL);
     snprintf(what, sizeof what, "S=%d, budget %zu", S, b);
     same_film(ref, r, what);
@@ -206,7 +212,7 @@ static void test_photon_maps_per_cell(void **state) {
   same_film(ref, r8, "photon mapping, S=8");
   assert_int_equal(r8->photons_global, ref->photons_global);
   /* Under a budget the maps count: give them room, and cells little. */
-  size_t b = budget_for(s, 8, 2) + 3 * (ref->peak_map_bytes + (1 << 20));
+  size_t b = budget_for(s, 8, 2) + film_bytes(ref) + 3 * (ref->peak_map_bytes + (1 << 20));
   vr_render_result *rb = render(s, 8, b, NULL, VR_OK, NULL);
   same_film(ref, rb, "photon mapping, S=8 with a budget");
   assert_true(rb->peak_map_bytes > 0);

@@ -103,7 +103,13 @@ typedef struct vr_flow_stats {
   uint64_t skipped;                   /* crossings into cells the segment could not hit in */
   size_t peak_queue_bytes;            /* rays held in memory by queues and push buffers */
   size_t peak_spill_bytes;            /* rays waiting on disk */
+  size_t peak_uncounted_bytes;        /* budget: the most resident memory above the base and the counted bytes */
 } vr_flow_stats;
+
+/* This process's resident memory now, in bytes, from /proc/self/statm (0
+ * if unknown): all of it, or only the anonymous pages (resident minus
+ * file-backed and shared pages). */
+long long vr_flow_rss_bytes(bool anon_only);
 
 typedef struct vr_flow_options {
   int threads;            /* worker threads, >= 1 (the calling thread is one) */
@@ -114,6 +120,13 @@ typedef struct vr_flow_options {
    * filled, state maps); NULL: none.  Called under the scheduler's lock. */
   size_t (*held)(void *hctx);
   void *hctx;
+  /* The process's anonymous resident memory before the render added any
+   * (vr_flow_rss_bytes(true), taken once per render), or 0.  Under a
+   * budget, what the process holds beyond it and beyond what the run
+   * counts (the film's pages as they are written, allocator slack, other
+   * libraries' buffers) is taken from the cells' share, so that the
+   * resident memory stays within the budget, not only the counted bytes. */
+  long long rss_base;
   const char *spill_dir;  /* where queues spill (NULL: $TMPDIR, else /tmp) */
   long max_pending;       /* rays waiting before no more units are generated (0: default) */
   /* Several ranks (docs/ddm.md, "Ranks"): comm, and the rays a message

@@ -119,6 +119,8 @@ typedef struct vr_rank_stats {
   double load_seconds;        /* the time its cells took to load (read, check, build) */
   size_t peak_cells_bytes;
   long long peak_rss_bytes;
+  long long rss_base_bytes;   /* budget: its anonymous resident memory before the render added any */
+  long long rss_start_bytes;  /* budget: all its resident memory then */
 } vr_rank_stats;
 
 typedef struct vr_render_result {
@@ -174,6 +176,9 @@ typedef struct vr_render_result {
   size_t peak_queue_bytes;    /* rays in memory */
   size_t peak_map_bytes;      /* photon maps and photochromic state maps */
   size_t peak_spill_bytes;    /* rays waiting on disk */
+  long long rss_base_bytes;   /* budget: anonymous resident memory when the render began to add to it */
+  long long rss_start_bytes;  /* budget: all resident memory then */
+  size_t peak_uncounted_bytes; /* budget: the most resident memory above that and the counted bytes */
   uint64_t rays_spilled;
   bool cache_built;           /* the geometry cache was (re)built by this render */
   char cache_reason[1024];    /* why, or "reused" */

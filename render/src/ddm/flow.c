@@ -406,7 +406,7 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   flow f = {.d = d, .ops = ops, .ctx = ctx, .all_units = units, .image_space = image_space,
             .progress = o->progress, .pctx = o->pctx, .threads = threads, .batch = BATCH,
             .budget = o->memory_budget, .spill_dir = o->spill_dir, .held = o->held,
-            .hctx = o->hctx, .unit_list = o->unit_list};
+            .hctx = o->hctx, .unit_list = o->unit_list, .rss_base = o->rss_base};
   f.ncells = vr_domains_count(d);
   f.rank = vr_comm_rank(o->comm);
   f.nranks = vr_comm_size(o->comm);
@@ -513,6 +513,7 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
     stats->other_rank_failed = net_stats.other_rank_failed;
     stats->peak_queue_bytes = (size_t)atomic_load(&f.peak_queue_bytes);
     stats->peak_spill_bytes = (size_t)atomic_load(&f.peak_spill_bytes);
+    stats->peak_uncounted_bytes = f.peak_uncounted;
   }
 done:
   for (int i = 0; ws && i < threads; i++) {

@@ -27,6 +27,10 @@
  * rank loads it too when it has the room, instead of sending its rays to
  * a rank that holds it (ownership follows the work). */
 #define VR_FLOW_ADOPT_RAYS 1024
+/* Under a budget: anonymous resident memory the process may hold beyond
+ * what the run counts before the cells give way (docs/ddm.md, "The memory
+ * budget": resident memory <= memory at the start + budget + this). */
+#define VR_FLOW_RSS_ALLOWANCE (16LL << 20)
 /* Rays of in-flight count a worker reserves at a time. */
 #define VR_FLOW_CREDIT 1024
 #define VR_FLOW_LINE 64
@@ -74,6 +78,13 @@ typedef struct vr_flow {
   _Atomic unsigned char *held_by;
   _Atomic long *routed;
   long adopt_rays;
+  /* Budget: the process's anonymous resident memory before the render
+   * (0: not watched), and the most found beyond it and the counted bytes
+   * (under sched_lock). */
+  long long rss_base;
+  size_t peak_uncounted;
+  size_t rss_extra;     /* the last reading of it */
+  double rss_read_at;   /* when (monotonic seconds) */
   int *prefetch_left;          /* scratch of the scheduler: per rank, cells no rank holds */
   _Atomic long put_rays;       /* rays this rank handed to queues or other ranks in this run */
   _Atomic long outbox_rays;    /* rays in the outboxes, waiting to be sent */

@@ -23,10 +23,12 @@
  * largest cell alone. */
 #include "ddm/flow_internal.h"
 
+#include <malloc.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 void vr_flow_fail(vr_flow *f, const vr_error *e) {
   pthread_mutex_lock(&f->sched_lock);
@@ -45,6 +47,43 @@ static void mib(char *out, size_t n, size_t bytes) {
 }
 
 static size_t held(const vr_flow *f) { return f->held ? f->held(f->hctx) : 0; }
+
+long long vr_flow_rss_bytes(bool anon_only) {
+  /* statm: size resident shared text lib data dt, in pages; resident
+   * minus shared leaves the anonymous pages (file-backed code and
+   * libraries, and shared memory, are not the run's to budget). */
+  FILE *fp = fopen("/proc/self/statm", "r");
+  if (!fp) return 0;
+  long long size = 0, resident = 0, shared = 0;
+  int n = fscanf(fp, "%lld %lld %lld", &size, &resident, &shared);
+  fclose(fp);
+  if (n != 3 || resident < shared) return 0;
+  long page = sysconf(_SC_PAGESIZE);
+  return (anon_only ? resident - shared : resident) * (page > 0 ? page : 4096);
+}
+
+/* Budget: resident memory the run does not count (sched_lock held): what
+ * the process holds beyond its base, the cells, queues, maps and film, and
+ * the allowance. */
+static size_t uncounted(vr_flow *f, size_t maps) {
+  if (!f->rss_base) return 0;
+  /* /proc is read at most every 10 ms: picks come every batch of rays. */
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  double t = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+  if (t - f->rss_read_at < 0.01) return f->rss_extra;
+  f->rss_read_at = t;
+  long long now = vr_flow_rss_bytes(true);
+  long long counted = (long long)f->reserved + atomic_load(&f->queue_bytes) + (long long)maps;
+  long long extra = now > 0 ? now - f->rss_base - counted : 0;
+  if (extra > 0 && (size_t)extra > f->peak_uncounted) f->peak_uncounted = (size_t)extra;
+  /* The process's own small allocations (thread stacks, MPI's buffers,
+   * the allocator's free lists) are allowed for: only what passes the
+   * allowance takes room from the cells. */
+  extra -= VR_FLOW_RSS_ALLOWANCE;
+  f->rss_extra = extra > 0 ? (size_t)extra : 0;
+  return f->rss_extra;
+}
 
 vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err) {
   size_t fixed = held(f);
@@ -107,7 +146,7 @@ vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err) {
                       "memory budget %s is too small: sub-domain %d needs %s to load (%s "
                       "kept, %s more while Embree builds it), and it is the smallest of the "
                       "%d sub-domain%s that do not fit in the %s left after ray queues (%s) "
-                      "and photon and state maps (%s); this scene needs at least %s with %d "
+                      "and the image and photon and state maps (%s); this scene needs at least %s with %d "
                       "sub-domains (more sub-domains make smaller ones)",
                       b, worst, w, g, e, nfit, nfit == 1 ? "" : "s", cap, q, fx, need,
                       f->ncells);
@@ -209,20 +248,24 @@ static int prefetch_pick(vr_flow *f) {
 int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w) {
   if (!f->budget && !f->lazy) return busiest(f);
   pthread_mutex_lock(&f->sched_lock);
-  /* Maps may have grown since the last pick: the cells get what is left. */
-  size_t other = f->queue_cap + held(f);
+  /* Maps may have grown since the last pick, and the process may hold
+   * more than the run counts: the cells get what is left. */
+  size_t maps = held(f), extra = uncounted(f, maps);
+  size_t other = f->queue_cap + maps + extra;
   if (f->budget) f->cells_cap = f->budget > other ? f->budget - other : 0;
   if (f->budget && f->cells_cap < f->largest) {
-    char b[32], h[32], l[32];
+    char b[32], h[32], x[32], l[32];
     mib(b, sizeof b, f->budget);
-    mib(h, sizeof h, other - f->queue_cap);
+    mib(h, sizeof h, maps);
+    mib(x, sizeof x, extra);
     mib(l, sizeof l, f->largest);
     if (!f->fail_err.status)
       vr_error_set(&f->fail_err, VR_E_ARG,
-                   "memory budget %s exceeded: photon and state maps grew to %s, which "
-                   "leaves less than the largest sub-domain needs (%s); raise "
+                   "memory budget %s exceeded: the image and photon and state maps grew to %s and the "
+                   "process holds %s more than the run counts (the image's pages, allocator "
+                   "slack), which leaves less than the largest sub-domain needs (%s); raise "
                    "--memory-budget, use more sub-domains, or shoot fewer photons",
-                   b, h, l);
+                   b, h, x, l);
     atomic_store(&f->failed, 1);
     pthread_mutex_unlock(&f->sched_lock);
     return -1;
@@ -280,6 +323,9 @@ int vr_flow_sched_pick(vr_flow *f, vr_flow_worker *w) {
       vr_domains_unload(f->d, victim);
       vr_flow_net_resident(f, victim, false);
       if (victim == best_l) best_l = -1;
+      /* What the cell's Embree scene freed goes back to the system, not
+       * to the heap's free lists: resident memory follows the budget. */
+      malloc_trim(0);
     }
     if (f->reserved + need <= f->cells_cap) {
       if (!load(f, w, best_u)) {

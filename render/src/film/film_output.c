@@ -463,18 +463,22 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
             ", \"cell_loads\": %" PRIu64 ", \"credit_waits\": %" PRIu64
             ", \"ray_messages\": %" PRIu64 ", \"ray_bytes_sent\": %" PRIu64
             ", \"ray_wire_bytes\": %zu, \"peak_uncredited\": %" PRIu64
-            ", \"peak_queue_bytes\": %zu, \"peak_cells_bytes\": %zu, \"peak_rss_bytes\": %lld}",
+            ", \"peak_queue_bytes\": %zu, \"peak_cells_bytes\": %zu, \"peak_rss_bytes\": %lld"
+            ", \"rss_start_bytes\": %lld, \"rss_base_bytes\": %lld}",
             q->cell_loads, q->credit_waits, q->ray_messages, q->ray_bytes_sent, vr_ray_wire_bytes,
-            q->peak_uncredited, q->peak_queue_bytes, q->peak_cells_bytes, q->peak_rss_bytes);
+            q->peak_uncredited, q->peak_queue_bytes, q->peak_cells_bytes, q->peak_rss_bytes,
+            q->rss_start_bytes, q->rss_base_bytes);
   }
   fputs(r->rank_stats && r->ranks ? "\n  ],\n" : "],\n", f);
   json_key(f, "  ", "memory");
   fprintf(f,
           "{\"budget_bytes\": %zu, \"peak_cells_bytes\": %zu, \"peak_geometry_bytes\": %zu, "
           "\"peak_embree_bytes\": %zu, \"peak_queue_bytes\": %zu, \"peak_map_bytes\": %zu, "
-          "\"peak_spill_bytes\": %zu},\n",
+          "\"peak_spill_bytes\": %zu, \"rss_start_bytes\": %lld, \"rss_base_bytes\": %lld, "
+          "\"peak_uncounted_bytes\": %zu},\n",
           r->memory_budget, r->peak_cells_bytes, r->peak_geometry_bytes, r->peak_embree_bytes,
-          r->peak_queue_bytes, r->peak_map_bytes, r->peak_spill_bytes);
+          r->peak_queue_bytes, r->peak_map_bytes, r->peak_spill_bytes, r->rss_start_bytes,
+          r->rss_base_bytes, r->peak_uncounted_bytes);
   json_key(f, "  ", "peak_rss_bytes");
   fprintf(f, "%lld,\n", vr_peak_rss_bytes());
   json_key(f, "  ", "seconds_total");

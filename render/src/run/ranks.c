@@ -190,7 +190,8 @@ vr_status vr_ranks_finish(vr_run *r, vr_rscene *rs, vr_render_result *res, vr_er
                       res->cell_loads, res->cell_unloads, res->cell_bytes_read, 0};
   double secs[1] = {res->cell_load_seconds};
   uint64_t mx[7] = {res->peak_cells_bytes, res->peak_geometry_bytes, res->peak_embree_bytes,
-                    res->peak_queue_bytes, res->peak_map_bytes, res->peak_spill_bytes, 0};
+                    res->peak_queue_bytes, res->peak_map_bytes, res->peak_spill_bytes,
+                    res->peak_uncounted_bytes};
   st = vr_comm_sum_u64(r->comm, sum, 12, err);
   if (!st) st = vr_comm_sum_doubles(r->comm, secs, 1, err);
   if (!st) st = vr_comm_sum_doubles(r->comm, res->cell_seconds, (size_t)S, err);
@@ -212,6 +213,7 @@ vr_status vr_ranks_finish(vr_run *r, vr_rscene *rs, vr_render_result *res, vr_er
   res->peak_cells_bytes = (size_t)mx[0], res->peak_geometry_bytes = (size_t)mx[1];
   res->peak_embree_bytes = (size_t)mx[2], res->peak_queue_bytes = (size_t)mx[3];
   res->peak_map_bytes = (size_t)mx[4], res->peak_spill_bytes = (size_t)mx[5];
+  res->peak_uncounted_bytes = (size_t)mx[6];
   memcpy(res->rank_stats, all, (size_t)R * sizeof *res->rank_stats);
   free(all);
   return VR_OK;

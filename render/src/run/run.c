@@ -44,12 +44,12 @@ static void progress_cb(void *u, long done, long total) {
   if (r->opt->progress) r->opt->progress(r->opt->user, r->pass, done, total);
 }
 
-/* What the render holds besides cells and queues: the state maps, and what
- * the integrator in charge holds (photon maps, growing while a photon pass
- * fills them). */
+/* What the render holds besides cells and queues: the state maps, the
+ * film, and what the integrator in charge holds (photon maps, growing
+ * while a photon pass fills them). */
 static size_t held(void *u) {
   const vr_run *r = u;
-  return vr_rscene_map_bytes(r->rs) + (r->held ? r->held(r->held_ctx) : 0);
+  return vr_rscene_map_bytes(r->rs) + r->film_bytes + (r->held ? r->held(r->held_ctx) : 0);
 }
 
 void vr_run_note_held(vr_run *r) {
@@ -97,6 +97,7 @@ vr_status vr_run_flow_units(vr_run *r, const vr_flow_ops *ops, void *ctx, const 
   o.memory_budget = r->opt->memory_budget;
   o.held = held;
   o.hctx = r;
+  o.rss_base = r->rss_base;
   o.spill_dir = r->opt->cache_dir;
   o.progress = progress_cb;
   o.pctx = r;
@@ -127,6 +128,8 @@ vr_status vr_run_flow_units(vr_run *r, const vr_flow_ops *ops, void *ctx, const 
   r->mine.waves += st.waves, r->mine.idle_seconds += st.idle_seconds;
   r->mine.credit_waits += st.credit_waits;
   r->mine.ray_messages += st.ray_messages, r->mine.ray_bytes_sent += st.ray_bytes;
+  if (st.peak_uncounted_bytes > r->res->peak_uncounted_bytes)
+    r->res->peak_uncounted_bytes = st.peak_uncounted_bytes;
   if (st.peak_uncredited > r->mine.peak_uncredited) r->mine.peak_uncredited = st.peak_uncredited;
   if (st.peak_queue_bytes > r->mine.peak_queue_bytes) r->mine.peak_queue_bytes = st.peak_queue_bytes;
   r->mine.rays_traced += st.traversals;

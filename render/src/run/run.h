@@ -35,6 +35,11 @@ typedef struct vr_run {
    * integrator that holds it sets these (NULL: nothing). */
   size_t (*held)(const void *u);
   const void *held_ctx;
+  /* Under a budget: the anonymous resident memory before the render
+   * added to it (vr_flow_rss_bytes), which the budget is on top of. */
+  long long rss_base;
+  /* The camera pass's film (its accumulators), counted with the maps. */
+  size_t film_bytes;
   /* Several ranks (ranks.c). */
   struct vr_comm *comm;
   int rank, nranks;
