@@ -48,9 +48,8 @@ extern "C" {
 #endif
 
 #define VR_RAY_PAYLOAD 232 /* bytes of integrator state carried by each ray */
-/* A message of rays between ranks: an 8-byte header, then VR_RAY_WIRE_BYTES
- * a ray (ddm/ray_wire.h). */
-extern const size_t vr_ray_wire_bytes;
+/* A message of rays between ranks: an 8-byte header, then each ray as a
+ * mask of its non-zero 8-byte words and those words (ddm/ray_wire.h). */
 
 typedef enum vr_ray_kind {
   VR_RAY_CLOSEST = 0, /* wants its closest hit (camera, bounce, photon, sensor) */

@@ -119,8 +119,6 @@ struct vr_flow_net {
   double last_wave;
 };
 
-const size_t vr_ray_wire_bytes = VR_RAY_WIRE;
-
 static double now(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -293,15 +291,15 @@ static bool send_msg(vr_flow *f, int dest, void *buf, size_t bytes) {
 
 /* A message of k rays to dest, in their wire form. */
 static bool send_rays(vr_flow *f, int dest, const vr_ray *rays, size_t k) {
-  size_t bytes = sizeof(msg_head) + k * VR_RAY_WIRE;
-  unsigned char *buf = malloc(bytes);
+  unsigned char *buf = malloc(sizeof(msg_head) + k * VR_RAY_WIRE_MAX);
   if (!buf) {
     fail(f, VR_E_NOMEM, "ray flow: out of memory for a message");
     return false;
   }
   msg_head h = {MSG_RAYS, (uint32_t)k};
   memcpy(buf, &h, sizeof h);
-  for (size_t i = 0; i < k; i++) vr_ray_pack(&rays[i], buf + sizeof h + i * VR_RAY_WIRE);
+  size_t bytes = sizeof h;
+  for (size_t i = 0; i < k; i++) bytes += vr_ray_pack(&rays[i], buf + bytes);
   if (!send_msg(f, dest, buf, bytes)) return false;
   f->net->sent += (int64_t)k;
   f->net->ray_messages++;
@@ -411,7 +409,7 @@ static bool send_control(vr_flow *f) {
 
 /* ---- rays in ---- */
 
-static void take_rays(vr_flow *f, int src, const unsigned char *body, size_t n) {
+static void take_rays(vr_flow *f, int src, const unsigned char *body, size_t len, size_t n) {
   vr_flow_net *net = f->net;
   atomic_fetch_add(&f->in_flight, (long)n); /* here now: counted before they are visible */
   net->received += (int64_t)n;
@@ -419,12 +417,18 @@ static void take_rays(vr_flow *f, int src, const unsigned char *body, size_t n) 
   if (net->owed[src] > net->peak_owed) net->peak_owed = net->owed[src];
   /* Senders flush cell by cell, so a message is runs of one cell. */
   vr_ray run[VR_FLOW_BATCH];
+  size_t off = 0;
   for (size_t i = 0; i < n;) {
     int k = 0, c = -1;
     while (i < n && k < VR_FLOW_BATCH) {
-      vr_ray_unpack(body + i * VR_RAY_WIRE, &run[k]);
-      if (k && run[k].cell != c) break;
+      size_t used = vr_ray_unpack(body + off, len - off, &run[k]);
+      if (!used) {
+        fail(f, VR_E_IO, "ray flow: a malformed message");
+        return;
+      }
+      if (k && run[k].cell != c) break; /* read again as the next run's first */
       c = run[k++].cell;
+      off += used;
       i++;
     }
     if (c < 0 || c >= f->ncells || !vr_flow_queue_put(f, c, run, k, &net->self)) {
@@ -434,6 +438,7 @@ static void take_rays(vr_flow *f, int src, const unsigned char *body, size_t n) 
       return;
     }
   }
+  if (off != len) fail(f, VR_E_IO, "ray flow: a malformed message");
 }
 
 /* Receives what has arrived. */
@@ -463,8 +468,8 @@ static bool receive(vr_flow *f) {
     memcpy(&h, buf, sizeof h);
     const unsigned char *body = buf + sizeof h;
     size_t rest = bytes - sizeof h;
-    if (h.kind == MSG_RAYS && rest == (size_t)h.n * VR_RAY_WIRE) {
-      take_rays(f, src, body, h.n);
+    if (h.kind == MSG_RAYS && rest >= (size_t)h.n * 8 && rest <= (size_t)h.n * VR_RAY_WIRE_MAX) {
+      take_rays(f, src, body, rest, h.n);
     } else if (h.kind == MSG_CREDIT && rest == 0) {
       net->credit[src] += h.n;
     } else if (h.kind == MSG_RESIDENT && rest == (size_t)h.n * 2 * sizeof(int32_t)) {

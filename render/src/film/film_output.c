@@ -461,11 +461,17 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
     vr_json_number(f, q->load_seconds);
     fprintf(f,
             ", \"cell_loads\": %" PRIu64 ", \"credit_waits\": %" PRIu64
-            ", \"ray_messages\": %" PRIu64 ", \"ray_bytes_sent\": %" PRIu64
-            ", \"ray_wire_bytes\": %zu, \"peak_uncredited\": %" PRIu64
+            ", \"ray_messages\": %" PRIu64 ", \"ray_bytes_sent\": %" PRIu64 ", \"ray_wire_bytes\": ",
+            q->cell_loads, q->credit_waits, q->ray_messages, q->ray_bytes_sent);
+    /* A ray's mean size on the wire: its messages' bytes but their 8-byte
+     * headers, over the rays they carried. */
+    vr_json_number(f, q->rays_sent ? (double)(q->ray_bytes_sent - 8 * q->ray_messages) /
+                                         (double)q->rays_sent
+                                   : 0.0);
+    fprintf(f,
+            ", \"peak_uncredited\": %" PRIu64
             ", \"peak_queue_bytes\": %zu, \"peak_cells_bytes\": %zu, \"peak_rss_bytes\": %lld"
             ", \"rss_start_bytes\": %lld, \"rss_base_bytes\": %lld}",
-            q->cell_loads, q->credit_waits, q->ray_messages, q->ray_bytes_sent, vr_ray_wire_bytes,
             q->peak_uncredited, q->peak_queue_bytes, q->peak_cells_bytes, q->peak_rss_bytes,
             q->rss_start_bytes, q->rss_base_bytes);
   }
