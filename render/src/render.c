@@ -176,6 +176,15 @@ static void domain_stats(const vr_rscene *rs, vr_render_result *res) {
   snprintf(res->cache_reason, sizeof res->cache_reason, "%s", ds.cache_reason);
   res->cache_seconds = ds.cache_seconds;
   res->cache_bytes = ds.cache_bytes;
+  if (res->nprofiles) {
+    int S = vr_domains_count(rs->d);
+    res->profile_load_seconds = calloc((size_t)S, sizeof *res->profile_load_seconds);
+    res->profile_cell_bytes = calloc((size_t)S, sizeof *res->profile_cell_bytes);
+    for (int c = 0; res->profile_load_seconds && res->profile_cell_bytes && c < S; c++) {
+      res->profile_load_seconds[c] = vr_domains_cell_load_seconds(rs->d, c);
+      res->profile_cell_bytes[c] = (double)vr_domains_cell_bytes(rs->d, c);
+    }
+  }
 }
 
 vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_options *opt,
@@ -257,5 +266,8 @@ void vr_render_result_destroy(vr_render_result *r) {
   free(r->rank_stats);
   free(r->cell_seconds);
   free(r->cell_ranks);
+  for (int i = 0; i < r->nprofiles; i++) vr_flow_profile_destroy(r->profiles[i].p);
+  free(r->profile_load_seconds);
+  free(r->profile_cell_bytes);
   free(r);
 }

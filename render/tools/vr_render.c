@@ -48,6 +48,7 @@ static const vr_option OPTIONS[] = {
     {"set", 0, "NAME.state=S", "a material's tint state S in [0, 1], overriding the scene (repeat for several materials)"},
     {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
     {"stats", 0, "FILE.json", "write statistics (passes, rays, photons, sensors, memory, time) as JSON, one of the set of outputs"},
+    {"flow-profile", 0, NULL, "with --stats, alone, not in image space: record each pass's rays cell by cell (their time by kind, the moves between cells, the units' generation; every ray timed, rays wait in queues even between loaded cells) as the statistics' flow_profile, for the model of the decomposition (bench/bench_ddm_sim.c)"},
     {"tonemap", 0, "NAME", "PNG tone mapping: clip (default) or reinhard"},
     {"falsecolour", 0, "LO,HI", "also write PREFIX.falsecolour.png: the luminance map on a log scale from LO to HI cd/m2, with a labelled legend (needs a camera)"},
     {"sensors-only", 0, NULL, "evaluate the sensors only: no camera pass, no images"},
@@ -61,7 +62,7 @@ static const char USAGE[] =
     "SCENE.scn [-o PREFIX] [--outputs LIST] [--db FILE] [--subdomains S] [--memory-budget SIZE]\n"
     "                 [--cache DIR] [--threads P] [--image-space] [--send-batch N] [--send-credit N]\n"
     "                 [--resolution WxH] [--spp N] [--seed N] [--photons N] [--exposure EV|auto]\n"
-    "                 [--set NAME.state=S]... [--stats FILE.json] [--tonemap clip|reinhard]\n"
+    "                 [--set NAME.state=S]... [--stats FILE.json [--flow-profile]] [--tonemap clip|reinhard]\n"
     "                 [--falsecolour LO,HI] [--sensors-only] [--json] [--quiet]\n"
     "       vr-render --verify PREFIX";
 static const char ABOUT[] =
@@ -372,6 +373,10 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   if (vr_args_get(a, "send-credit") && vr_comm_size(comm) == 1)
     return render_usage_error("--send-credit sets the flow control between mpirun ranks: this process "
                        "runs alone");
+  if (vr_args_flag(a, "flow-profile") &&
+      (!vr_args_get(a, "stats") || vr_args_flag(a, "image-space") || vr_comm_size(comm) > 1))
+    return render_usage_error("--flow-profile records one process's queued flow into the statistics: "
+                              "it needs --stats, and neither --image-space nor mpirun");
   const char *tonemap = vr_args_get(a, "tonemap");
   vr_tonemap tm = VR_TONEMAP_CLIP;
   if (vr_tonemap_parse(tonemap, &tm, NULL))
@@ -398,6 +403,7 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   opt.subdomains = (int)subdomains;
   opt.threads = (int)threads;
   opt.image_space = vr_args_flag(a, "image-space");
+  opt.flow_profile = vr_args_flag(a, "flow-profile");
   opt.memory_budget = budget;
   opt.spp = (int)spp;
   opt.photons = photons;

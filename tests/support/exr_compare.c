@@ -19,10 +19,13 @@ int main(int argc, char **argv) {
   vr_error e = {0};
   if (vr_image_read(argv[1], &a, &e) || vr_image_read(argv[2], &b, &e)) {
     fprintf(stderr, "%s\n", e.message);
+    vr_image_free(&a);
     return 2;
   }
   if (a.width != b.width || a.height != b.height) {
     fprintf(stderr, "sizes differ: %dx%d and %dx%d\n", a.width, a.height, b.width, b.height);
+    vr_image_free(&a);
+    vr_image_free(&b);
     return 2;
   }
   double worst = 0, sum = 0;

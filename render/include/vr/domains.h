@@ -129,6 +129,9 @@ bool vr_domains_intersect(const vr_domains *d, int cell, const double org[3], co
 size_t vr_domains_cell_bytes(const vr_domains *d, int cell);
 size_t vr_domains_cell_load_peak(const vr_domains *d, int cell);
 bool vr_domains_loaded(const vr_domains *d, int cell);
+/* Seconds the last load of the cell took (reading, checking, building);
+ * 0 if it was never loaded. */
+double vr_domains_cell_load_seconds(const vr_domains *d, int cell);
 /* Reads the cell's file, checks it again (a file changed since the open is
  * refused with VR_E_PARSE naming it) and builds its Embree scene.  Loads
  * of different cells may run at once; loading a loaded cell does nothing. */

@@ -148,6 +148,10 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
  * seconds for a pass that did not run), for the statistics and --json. */
 void vr_passes_write_json(FILE *f, const vr_render_result *r);
 
+/* The render's flow profiles (vr_render_options.flow_profile) as the
+ * statistics' "flow_profile" member and a comma, or nothing. */
+void vr_flow_profile_write_json(FILE *f, const vr_render_result *r);
+
 /* Peak resident set size of this process so far, in bytes (0 if unknown). */
 long long vr_peak_rss_bytes(void);
 

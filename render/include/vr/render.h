@@ -60,6 +60,11 @@ typedef struct vr_render_options {
   int spp;            /* > 0 overrides the scene's samples per pixel */
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
+  /* Record what each pass's rays did (vr_flow_profile: each cell's rays
+   * and time by kind, the moves between cells, the units' generation),
+   * for the model of the decomposition (bench/bench_ddm_sim.c).  One
+   * process, not image space; every ray is timed. */
+  bool flow_profile;
   void (*log)(void *user, const char *line); /* decisions and timings; may be NULL */
   void (*progress)(void *user, const char *pass, long done, long total); /* may be NULL */
   void *user;
@@ -187,6 +192,15 @@ typedef struct vr_render_result {
   size_t ncells;              /* sub-domains: */
   double *cell_seconds;       /* time spent tracing in each, all passes, summed over ranks */
   int *cell_ranks;            /* how many ranks held each at the end of the render */
+  /* flow_profile: per pass that ran the ray flow, its name and profile,
+   * and each cell's bytes and last load time (seconds). */
+  int nprofiles;
+  struct vr_pass_profile {
+    char name[32];
+    struct vr_flow_profile *p;
+  } profiles[VR_MAX_PASSES];
+  double *profile_load_seconds; /* per cell: its last load's seconds */
+  double *profile_cell_bytes;   /* per cell: its bytes when loaded (arrays + Embree) */
   int ranks;                  /* processes that rendered (1 without MPI) */
   vr_rank_stats *rank_stats;  /* one per rank */
   double seconds_total;

@@ -46,6 +46,7 @@ typedef struct vr_dcell {
   bool loading;
   size_t embree;   /* what its scene holds (measured at the last load) */
   size_t peak;     /* Embree's most during that build */
+  double load_seconds; /* the last load's */
 } vr_dcell;
 
 struct vr_domains {
@@ -505,6 +506,7 @@ vr_status vr_domains_load(vr_domains *d, int cell, vr_error *err) {
       d->geometry_now += (size_t)c->meta->payload_bytes;
       d->loads++;
       d->bytes_read += VR_CELL_HEADER + c->meta->payload_bytes;
+      c->load_seconds = now() - t0;
       atomic_store(&c->loaded, true);
     } else {
       vr_error_prefix(err, "sub-domain %d: ", cell);
@@ -517,6 +519,10 @@ vr_status vr_domains_load(vr_domains *d, int cell, vr_error *err) {
   pthread_cond_broadcast(&d->loaded_cv);
   pthread_mutex_unlock(&d->build_lock);
   return st;
+}
+
+double vr_domains_cell_load_seconds(const vr_domains *d, int cell) {
+  return d->cells[cell].load_seconds;
 }
 
 void vr_domains_unload(vr_domains *d, int cell) {

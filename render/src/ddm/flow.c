@@ -105,9 +105,18 @@ static void flush(vr_flow_worker *w) {
   }
 }
 
+/* Profile: a ray from the worker's cell (or its unit) into cell c. */
+static void note_move(vr_flow_worker *w, int c) {
+  vr_flow_profile *p = w->f->profile;
+  int from = w->cur >= 0 ? w->cur : p->ncells;
+  atomic_fetch_add_explicit(&p->moves[(size_t)from * (size_t)p->ncells + (size_t)c], 1,
+                            memory_order_relaxed);
+}
+
 /* Queues r for cell c (the ray's tnear and cell already set). */
 static void enqueue(vr_flow_worker *w, const vr_ray *r) {
   int c = r->cell, b = w->f->batch;
+  if (w->f->profile) note_move(w, c);
   w->out[(size_t)c * b + (size_t)w->nout[c]++] = *r;
   if (w->nout[c] == b) {
     put(w, c, w->out + (size_t)c * b, b);
@@ -140,6 +149,7 @@ void vr_flow_push(vr_flow_worker *w, const vr_ray *r0) {
   else
     w->st.closest++;
   w->st.by_purpose[r0->purpose & 7]++;
+  if (f->profile && !f->image_space) note_move(w, c);
   /* Copied once, straight to where it waits. */
   vr_ray *r = f->image_space ? stack_slot(w) : &w->out[(size_t)c * f->batch + (size_t)w->nout[c]];
   if (!r) {
@@ -274,8 +284,14 @@ static void *queued_worker(vr_flow_worker *w) {
     }
     if (u >= 0) {
       end_idle(w, &idle_since);
+      double tg = f->profile ? clock_s() : 0;
+      w->cur = -1;
       f->ops->generate(f->ctx, w, unit_of(f, u));
       flush(w);
+      if (f->profile) {
+        atomic_fetch_add(&f->profile->gen_ns, (uint64_t)((clock_s() - tg) * 1e9));
+        atomic_fetch_add(&f->profile->units, 1);
+      }
       atomic_fetch_add(&f->done_units, 1);
       report_progress(f);
       if (f->net) vr_flow_net_progress(f);
@@ -287,7 +303,22 @@ static void *queued_worker(vr_flow_worker *w) {
       end_idle(w, &idle_since);
       int n = vr_flow_queue_take(f, c, batch, w);
       atomic_fetch_add_explicit(&f->traced[c], (unsigned long long)n, memory_order_relaxed);
-      for (int i = 0; i < n; i++) trace(w, &batch[i], false);
+      if (f->profile) {
+        /* Each ray timed: its cell's cost by kind, for the model. */
+        w->cur = c;
+        vr_flow_profile *p = f->profile;
+        for (int i = 0; i < n; i++) {
+          int k = batch[i].kind == VR_RAY_SHADOW;
+          double tr = clock_s();
+          trace(w, &batch[i], false);
+          atomic_fetch_add_explicit(&p->ns[k][c], (uint64_t)((clock_s() - tr) * 1e9),
+                                    memory_order_relaxed);
+          atomic_fetch_add_explicit(&p->rays[k][c], 1, memory_order_relaxed);
+        }
+        w->cur = -1;
+      } else {
+        for (int i = 0; i < n; i++) trace(w, &batch[i], false);
+      }
       vr_flow_sched_release(f, c);
       flush(w);
       atomic_fetch_add_explicit(&f->cell_ns[c], (unsigned long long)((clock_s() - t0) * 1e9),
@@ -392,6 +423,29 @@ static void add_stats(vr_flow_stats *to, const vr_flow_stats *s) {
   for (int i = 0; i < 8; i++) to->by_purpose[i] += s->by_purpose[i];
 }
 
+vr_flow_profile *vr_flow_profile_create(int ncells) {
+  vr_flow_profile *p = calloc(1, sizeof *p);
+  if (!p) return NULL;
+  p->ncells = ncells;
+  p->moves = calloc((size_t)(ncells + 1) * (size_t)ncells, sizeof *p->moves);
+  for (int k = 0; k < 2; k++) {
+    p->rays[k] = calloc((size_t)ncells, sizeof *p->rays[k]);
+    p->ns[k] = calloc((size_t)ncells, sizeof *p->ns[k]);
+  }
+  if (!p->moves || !p->rays[0] || !p->rays[1] || !p->ns[0] || !p->ns[1]) {
+    vr_flow_profile_destroy(p);
+    return NULL;
+  }
+  return p;
+}
+
+void vr_flow_profile_destroy(vr_flow_profile *p) {
+  if (!p) return;
+  free(p->moves);
+  for (int k = 0; k < 2; k++) free(p->rays[k]), free(p->ns[k]);
+  free(p);
+}
+
 void vr_flow_options_default(vr_flow_options *o) {
   memset(o, 0, sizeof *o);
   o->threads = 1;
@@ -406,7 +460,8 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   flow f = {.d = d, .ops = ops, .ctx = ctx, .all_units = units, .image_space = image_space,
             .progress = o->progress, .pctx = o->pctx, .threads = threads, .batch = BATCH,
             .budget = o->memory_budget, .spill_dir = o->spill_dir, .held = o->held,
-            .hctx = o->hctx, .unit_list = o->unit_list, .rss_base = o->rss_base};
+            .hctx = o->hctx, .unit_list = o->unit_list, .rss_base = o->rss_base,
+            .profile = o->profile};
   f.ncells = vr_domains_count(d);
   f.rank = vr_comm_rank(o->comm);
   f.nranks = vr_comm_size(o->comm);
@@ -431,7 +486,7 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   f.prefetch_left = ranks ? calloc((size_t)f.nranks, sizeof *f.prefetch_left) : NULL;
   f.adopt_rays = VR_FLOW_ADOPT_RAYS;
   f.lazy = ranks && !f.budget;
-  f.walk_loaded = !f.budget;
+  f.walk_loaded = !f.budget && !f.profile;
   vr_flow_worker *ws = alloc_lines((size_t)threads, sizeof *ws);
   pthread_t *tids = calloc((size_t)threads, sizeof *tids);
   vr_status st = VR_OK;
@@ -439,6 +494,10 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   if ((!image_space && !f.q) || !ws || !tids || !f.pins || !f.loading || !f.traced ||
       !f.cell_ns || (ranks && (!f.held_by || !f.routed || !f.prefetch_left))) {
     st = vr_error_set(err, VR_E_NOMEM, "ray flow: out of memory");
+    goto done;
+  }
+  if (f.profile && (image_space || f.profile->ncells != f.ncells)) {
+    st = vr_error_set(err, VR_E_ARG, "ray flow: a profile is for the queued flow over the same cells");
     goto done;
   }
   if (f.budget && image_space) {
@@ -474,6 +533,7 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
   for (int i = 0; i < threads; i++) {
     ws[i].f = &f;
     ws[i].index = i;
+    ws[i].cur = -1;
     if (image_space) continue;
     ws[i].out = malloc((size_t)f.ncells * (size_t)f.batch * sizeof(vr_ray));
     ws[i].nout = calloc((size_t)f.ncells, sizeof(int));

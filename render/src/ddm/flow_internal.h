@@ -94,6 +94,7 @@ typedef struct vr_flow {
   /* Rays that reach a loaded cell are traced on at once, not queued (no
    * budget: a loaded cell stays loaded all the run). */
   bool walk_loaded;
+  vr_flow_profile *profile;   /* NULL: not recorded */
   _Atomic int terminated;      /* several ranks: the termination waves say so */
   /* Idle workers sleep here until rays are queued (or 1 ms passes). */
   pthread_mutex_t idle_lock;
@@ -133,6 +134,7 @@ struct vr_flow_worker {
   long credit;        /* reserved in f->in_flight and not yet used; >= 0 */
   vr_flow_stats st;   /* this worker's share of the statistics */
   double loads_since_idle; /* seconds of loads since it last had nothing to trace */
+  int cur;            /* profile: the cell whose ray it traces, or -1 (generating) */
   /* Queued flow: f->batch rays per cell waiting to go to the cell's queue. */
   vr_ray *out;
   int *nout;
@@ -172,8 +174,8 @@ int vr_flow_home(const vr_flow *f, int c);
 /* Sends what this rank has to tell the others (credit, what it loads). */
 void vr_flow_net_flush(vr_flow *f);
 /* Whether cell c is hot here: it took more than VR_FLOW_ADOPT_RAYS of this
- * rank's rays (counting those waiting) and more than an eighth of them or
- * more than loading it costs. */
+ * rank's rays (counting those waiting) and more than an eighth of them
+ * (1/N of them on N > 8 ranks) or more than loading it costs. */
 bool vr_flow_hot(vr_flow *f, int c);
 /* Sends the rays waiting here for cell c to rank dest; whether any went. */
 bool vr_flow_net_forward(vr_flow *f, int c, int dest);

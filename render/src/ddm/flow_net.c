@@ -212,8 +212,14 @@ bool vr_flow_hot(vr_flow *f, int c) {
    * costs.  A load costs about a byte of the cell per 64 rays sent (an
    * Embree build of ~1e-8 s a byte against ~0.6 us a ray sent and traced
    * elsewhere, docs/ddm.md): small cells are loaded wherever their rays
-   * are, large ones only where they take much of the work. */
-  return 8 * r > atomic_load_explicit(&f->put_rays, memory_order_relaxed) ||
+   * are, large ones only where they take much of the work.  The share is
+   * an eighth, or 1/N on N > 8 ranks: every rank sends a holder about as
+   * many rays as this one, so a cell with more than 1/N of the work would
+   * give its holder more than a rank's part (the simulation of 16 ranks
+   * put 13 % of the hotel's tracing on one rank under a fixed eighth,
+   * docs/ddm.md). */
+  long share = f->nranks > 8 ? f->nranks : 8;
+  return share * r > atomic_load_explicit(&f->put_rays, memory_order_relaxed) ||
          (double)r > (double)vr_domains_cell_bytes(f->d, c) / 64.0;
 }
 

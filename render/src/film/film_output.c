@@ -485,6 +485,7 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
           r->memory_budget, r->peak_cells_bytes, r->peak_geometry_bytes, r->peak_embree_bytes,
           r->peak_queue_bytes, r->peak_map_bytes, r->peak_spill_bytes, r->rss_start_bytes,
           r->rss_base_bytes, r->peak_uncounted_bytes);
+  vr_flow_profile_write_json(f, r);
   json_key(f, "  ", "peak_rss_bytes");
   fprintf(f, "%lld,\n", vr_peak_rss_bytes());
   json_key(f, "  ", "seconds_total");

@@ -106,6 +106,13 @@ vr_status vr_run_flow_units(vr_run *r, const vr_flow_ops *ops, void *ctx, const 
   o.send_credit = r->opt->send_credit;
   o.unit_list = unit_list;
   o.cell_ns = rs->cell_ns;
+  vr_render_result *res = r->res;
+  if (r->opt->flow_profile && !r->opt->image_space && res->nprofiles < VR_MAX_PASSES) {
+    o.profile = vr_flow_profile_create(S);
+    if (!o.profile) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+    snprintf(res->profiles[res->nprofiles].name, sizeof res->profiles[0].name, "%s", name);
+    res->profiles[res->nprofiles++].p = o.profile;
+  }
   s = vr_flow_run_with(rs->d, ops, ctx, units, &o, &st, err);
   if (r->nranks > 1) {
     if (r->opt->image_space) {
