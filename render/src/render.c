@@ -19,6 +19,7 @@
 #include "integrators/sensors.h"
 #include "integrators/uv.h"
 #include "vr/comm.h"
+#include "vr/models.h"
 #include "vr/fisheye.h"
 
 void vr_render_options_default(vr_render_options *o) {
@@ -198,6 +199,11 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
    * in the heap for the next pass (bounded by the largest pass's queues). */
   mallopt(M_MMAP_THRESHOLD, 64 << 20);
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  if (vr_scene_models_pending(s))
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: mesh lines take their materials from their files: call "
+                        "vr_scene_load_models before rendering",
+                        s->path ? s->path : "<scene>");
   if (opt->memory_budget && opt->image_space)
     return vr_error_set(err, VR_E_ARG,
                         "image space keeps the whole scene in every thread; it cannot run under "

@@ -26,6 +26,7 @@
 #include "vr/image.h"
 #include "vr/matdb.h"
 #include "vr/progress.h"
+#include "vr/models.h"
 #include "vr/render.h"
 #include "vr/scene.h"
 #include "vr/sky.h"
@@ -431,7 +432,7 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
     vr_error_set(&err, VR_E_NOMEM, "out of memory");
     goto ready;
   }
-  if (vr_scene_read(path, &scene, &err)) goto ready;
+  if (vr_scene_read(path, &scene, &err) || vr_scene_load_models(scene, &err)) goto ready;
   if (render_overrides_apply(&ov, scene, &err) || render_options_check(a, scene, &err)) goto ready;
   /* No camera line: the scene exists for its sensors. */
   opt.no_camera = vr_args_flag(a, "sensors-only") || !scene->camera.given;

@@ -132,6 +132,12 @@ typedef struct vr_quantity {
  * (vr_scene_inline_spectrum); NULL for the default of the element. */
 typedef char *vr_spectrum_ref;
 
+/* A linear sRGB colour (components in [0, 1]) as an inline reflectance
+ * spectrum "[360:v,365:v,...,830:v]": Jakob & Hanika's sigmoid fitted to
+ * it under D65 (vr/rgb_spectrum.h).  NULL with *err set when the colour is
+ * out of range or no reflectance reaches it. */
+char *vr_scene_colour_spectrum(const double rgb_linear[3], vr_error *err);
+
 typedef struct vr_scene_object {
   char *name;             /* optional name=..., else NULL */
   vr_shape_kind shape;
@@ -142,8 +148,13 @@ typedef struct vr_scene_object {
   double size[2];                 /* rect: width, height */
   double bmin[3], bmax[3];        /* box */
   char *mesh_path;                /* mesh: resolved against the scene file's folder */
+  int mesh_material;              /* mesh: -1 for all its triangles, else only those of the
+                                     file's material of that index (a mesh line with
+                                     material.NAME= or without material= becomes one
+                                     object per material of the file) */
   vr_xform xform;                 /* translate/rotate/scale options, in the order written */
-  int material;                   /* index into vr_scene.materials */
+  int material;                   /* index into vr_scene.materials; -1 for a mesh line
+                                     without material= until vr_scene_load_models */
   vr_quantity emission;           /* emissive surface: cd/m2 or W/(m2 sr); value 0 if none */
   vr_spectrum_ref emission_spectrum;
   int texels[2];                  /* photochromic state map resolution, default 16 x 16 */
@@ -322,6 +333,15 @@ typedef struct vr_scene_annual {
   vr_scene_loc loc;
 } vr_scene_annual;
 
+/* A mesh line's material.PATTERN=NAME: the file's materials whose names
+ * match PATTERN (shell wildcards) take the scene material NAME. */
+typedef struct vr_scene_mesh_map {
+  size_t object;   /* the mesh line's object */
+  char *pattern;
+  int material;    /* index into vr_scene.materials */
+  vr_scene_loc loc;
+} vr_scene_mesh_map;
+
 typedef struct vr_scene {
   char *path, *dir;           /* the file and its folder ("." when the name has none) */
   vr_scene_camera camera;
@@ -338,6 +358,13 @@ typedef struct vr_scene {
   vr_scene_sensor *sensors;
   vr_scene_settings settings;
   vr_scene_annual annual;
+  size_t nmesh_maps;
+  struct vr_scene_mesh_map *mesh_maps; /* mesh lines' material.PATTERN=NAME, in order,
+                                          until vr_scene_load_models (vr/models.h) */
+  size_t nnotes;
+  char **notes;               /* what the parser decided for the user to hear once (a
+                                 model's materials taken from its file), for the
+                                 renderer's decision lines */
 } vr_scene;
 
 /* Parses a scene from text (name is used in messages and to resolve

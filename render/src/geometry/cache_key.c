@@ -49,6 +49,8 @@ vr_status vr_cache_key_scene(const vr_scene *s, int S, uint8_t key[32], vr_error
     add(&c, o->xform.m, sizeof o->xform.m);
     add_u64(&c, o->emission.value != 0.0);
     if (o->shape != VR_SHAPE_MESH || !o->mesh_path) continue;
+    /* A file material's part of the mesh (keys of whole meshes unchanged). */
+    if (o->mesh_material >= 0) add_u64(&c, (uint64_t)o->mesh_material);
     size_t j = 0;
     while (j < npaths && strcmp(paths[j], o->mesh_path)) j++;
     if (j == npaths) {

@@ -313,20 +313,52 @@ static vr_status build_sphere(vr_mesh_builder *b, uint32_t object, const vr_scen
   return VR_OK;
 }
 
+/* Whether triangle t of md belongs to object o (all of them, or those of
+ * its file material). */
+static bool mesh_tri_in(const vr_scene_object *o, const vr_mesh_data *md, size_t t) {
+  return o->mesh_material < 0 || (md->tri_material && md->tri_material[t] == (uint32_t)o->mesh_material);
+}
+
 static vr_status build_mesh_data(vr_mesh_builder *b, uint32_t object, const vr_scene_object *o,
                                  bool flip, const vr_mesh_data *md) {
+  /* An object of one file material takes only the vertices its triangles
+   * use (remap[i]: the vertex's index here, UINT32_MAX if unused). */
+  uint32_t *remap = malloc((md->nverts ? md->nverts : 1) * sizeof *remap);
+  if (!remap) return nomem(b);
+  size_t nv = 0, nt = 0;
+  for (size_t i = 0; i < md->nverts; i++) remap[i] = o->mesh_material < 0 ? (uint32_t)nv++ : UINT32_MAX;
+  for (size_t t = 0; t < md->ntris; t++) {
+    if (!mesh_tri_in(o, md, t)) continue;
+    nt++;
+    for (int k = 0; k < 3 && o->mesh_material >= 0; k++) {
+      uint32_t v = md->tris[3 * t + (size_t)k];
+      if (remap[v] == UINT32_MAX) remap[v] = (uint32_t)nv++;
+    }
+  }
   vr_status st;
-  if ((st = reserve_verts(b, md->nverts)) != VR_OK || (st = reserve_tris(b, md->ntris)) != VR_OK)
+  if ((st = reserve_verts(b, nv)) != VR_OK || (st = reserve_tris(b, nt)) != VR_OK) {
+    free(remap);
     return st;
+  }
   vr_geometry *g = b->g;
   size_t base = g->nverts;
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (size_t i = 0; i < md->nverts; i++) {
+  /* order: the inverse of remap, the file's vertex for each new index. */
+  uint32_t *order = malloc((nv ? nv : 1) * sizeof *order);
+  if (!order) {
+    free(remap);
+    return nomem(b);
+  }
+  for (size_t i = 0; i < md->nverts; i++)
+    if (remap[i] != UINT32_MAX) order[remap[i]] = (uint32_t)i;
+  for (size_t j = 0; j < nv; j++) {
+    size_t i = order[j];
     double w[3];
     vr_xform_point(&o->xform, md->pos + 3 * i, w);
     float f[3] = {(float)w[0], (float)w[1], (float)w[2]};
     if (!finite3(md->pos + 3 * i) || !isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
       const double *p = md->pos + 3 * i;
+      free(remap), free(order);
       return fail(b, o, VR_E_RANGE, "a vertex is not finite (%g, %g, %g)", p[0], p[1], p[2]);
     }
     double n[3];
@@ -338,13 +370,15 @@ static vr_status build_mesh_data(vr_mesh_builder *b, uint32_t object, const vr_s
       if (f[k] > hi[k]) hi[k] = f[k];
     }
   }
+  free(order);
   double diag2 = 0.0;
   for (int k = 0; k < 3; k++) diag2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
   double min_area = DEGENERATE_REL_AREA * diag2;
   size_t kept = 0, dropped = 0;
   for (size_t t = 0; t < md->ntris; t++) {
+    if (!mesh_tri_in(o, md, t)) continue;
     uint32_t c[3];
-    for (int k = 0; k < 3; k++) c[k] = (uint32_t)(base + md->tris[3 * t + (size_t)k]);
+    for (int k = 0; k < 3; k++) c[k] = (uint32_t)(base + remap[md->tris[3 * t + (size_t)k]]);
     double area = 0.5 * tri_area2(g->verts, c[0], c[1], c[2], NULL);
     if (!(area > 0.0) || area < min_area) {
       dropped++;
@@ -359,8 +393,9 @@ static vr_status build_mesh_data(vr_mesh_builder *b, uint32_t object, const vr_s
     add_tri(b, object, c[0], c[1], c[2], uv, flip, area);
     kept++;
   }
+  free(remap);
   if (kept == 0)
-    return fail(b, o, VR_E_RANGE, "all %zu triangles are degenerate (zero area)", md->ntris);
+    return fail(b, o, VR_E_RANGE, "all %zu triangles are degenerate (zero area)", nt);
   g->degenerate_dropped += dropped;
   return VR_OK;
 }

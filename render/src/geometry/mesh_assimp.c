@@ -21,6 +21,7 @@ void vr_mesh_data_free(vr_mesh_data *m) {
   free(m->nrm);
   free(m->uv);
   free(m->tris);
+  free(m->tri_material);
   memset(m, 0, sizeof *m);
 }
 
@@ -53,7 +54,8 @@ static vr_status copy_scene(const struct aiScene *sc, const char *path, vr_mesh_
   out->nrm = any_nrm ? calloc(3 * nverts, sizeof *out->nrm) : NULL;
   out->uv = any_uv ? calloc(2 * nverts, sizeof *out->uv) : NULL;
   out->tris = malloc(3 * ntris * sizeof *out->tris);
-  if (!out->pos || !out->tris || (any_nrm && !out->nrm) || (any_uv && !out->uv)) {
+  out->tri_material = malloc(ntris * sizeof *out->tri_material);
+  if (!out->pos || !out->tris || !out->tri_material || (any_nrm && !out->nrm) || (any_uv && !out->uv)) {
     vr_mesh_data_free(out);
     return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
   }
@@ -88,6 +90,7 @@ static vr_status copy_scene(const struct aiScene *sc, const char *path, vr_mesh_
         }
         out->tris[3 * t + (size_t)c] = (uint32_t)(v + face->mIndices[c]);
       }
+      out->tri_material[t] = m->mMaterialIndex;
       t++;
     }
     v += m->mNumVertices;
@@ -189,8 +192,9 @@ static vr_status check_finite(const struct aiScene *sc, const char *path, vr_err
   return VR_OK;
 }
 
-vr_status vr_mesh_read(const char *path, vr_mesh_data *out, vr_error *err) {
-  memset(out, 0, sizeof *out);
+/* The file through Assimp, triangulated, node transforms baked in. */
+static vr_status import(const char *path, const struct aiScene **out, vr_error *err) {
+  *out = NULL;
   if (!path || !*path) return vr_error_set(err, VR_E_ARG, "mesh: no file name");
   vr_status st = ply_precheck(path, err);
   if (st != VR_OK) return st;
@@ -202,6 +206,59 @@ vr_status vr_mesh_read(const char *path, vr_mesh_data *out, vr_error *err) {
     return vr_error_set(err, opens ? VR_E_PARSE : VR_E_IO, "mesh '%s': %s", path,
                         why && *why ? why : (opens ? "cannot be read" : "cannot be opened"));
   }
+  *out = sc;
+  return VR_OK;
+}
+
+vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n, vr_error *err) {
+  *out = NULL, *n = 0;
+  const struct aiScene *sc;
+  vr_status st = import(path, &sc, err);
+  if (st) return st;
+  vr_mesh_material *m = calloc(sc->mNumMaterials ? sc->mNumMaterials : 1, sizeof *m);
+  if (!m) {
+    aiReleaseImport(sc);
+    return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
+  }
+  for (unsigned i = 0; i < sc->mNumMaterials; i++) {
+    const struct aiMaterial *am = sc->mMaterials[i];
+    struct aiString name, tex;
+    if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) == AI_SUCCESS)
+      snprintf(m[i].name, sizeof m[i].name, "%.127s", name.data);
+    else
+      snprintf(m[i].name, sizeof m[i].name, "material%u", i);
+    m[i].invented = !strcmp(m[i].name, AI_DEFAULT_MATERIAL_NAME);
+    struct aiColor4D c;
+    /* glTF's base colour first (Assimp gives it as the diffuse colour too,
+     * but not every version), then the diffuse colour. */
+    if (!m[i].invented && (aiGetMaterialColor(am, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS ||
+                           aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS)) {
+      m[i].has_colour = true;
+      m[i].rgb[0] = c.r, m[i].rgb[1] = c.g, m[i].rgb[2] = c.b;
+    }
+    if (aiGetMaterialTexture(am, aiTextureType_BASE_COLOR, 0, &tex, NULL, NULL, NULL, NULL, NULL,
+                             NULL) == AI_SUCCESS ||
+        aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex, NULL, NULL, NULL, NULL, NULL,
+                             NULL) == AI_SUCCESS)
+      snprintf(m[i].texture, sizeof m[i].texture, "%.255s", tex.data);
+  }
+  for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+    const struct aiMesh *me = sc->mMeshes[i];
+    size_t tri = 0;
+    for (unsigned f = 0; f < me->mNumFaces; f++) tri += me->mFaces[f].mNumIndices == 3;
+    if (me->mMaterialIndex < sc->mNumMaterials) m[me->mMaterialIndex].triangles += tri;
+  }
+  *n = sc->mNumMaterials;
+  *out = m;
+  aiReleaseImport(sc);
+  return VR_OK;
+}
+
+vr_status vr_mesh_read(const char *path, vr_mesh_data *out, vr_error *err) {
+  memset(out, 0, sizeof *out);
+  const struct aiScene *sc;
+  vr_status st = import(path, &sc, err);
+  if (st) return st;
   if ((st = check_finite(sc, path, err)) != VR_OK) {
     aiReleaseImport(sc);
     return st;

@@ -3,6 +3,7 @@
 #ifndef VR_MESH_ASSIMP_H
 #define VR_MESH_ASSIMP_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -18,7 +19,24 @@ typedef struct vr_mesh_data {
   double *uv;      /* 2 per vertex (first UV set), NULL if no mesh has one; 0 where absent */
   size_t ntris;
   uint32_t *tris;  /* 3 per triangle, indices into the vertices */
+  uint32_t *tri_material; /* per triangle: the index of its material in the file
+                             (vr_mesh_materials' order) */
 } vr_mesh_data;
+
+/* A material of a model file, as the file gives it (OBJ/MTL newmtl,
+ * glTF materials, ...). */
+typedef struct vr_mesh_material {
+  char name[128];      /* the file's name for it (Assimp's AI_MATKEY_NAME) */
+  bool invented;       /* Assimp's DefaultMaterial for a file without materials:
+                          not the file's (its colour is Assimp's, not the file's) */
+  bool has_colour;     /* the file gives a base colour (glTF baseColorFactor) or a
+                          diffuse colour (MTL Kd) */
+  double rgb[3];       /* that colour, linear (glTF's base colour is linear by
+                          its specification; MTL's Kd is read as linear, as
+                          Blender's and Assimp's importers do) */
+  char texture[256];   /* its base-colour or diffuse texture's file, or "" */
+  size_t triangles;    /* triangles that use it */
+} vr_mesh_material;
 
 /* Fills *out (zeroed first).  Errors carry no location, the caller adds it:
  * VR_E_IO "mesh 'PATH': <Assimp's message>" when the file cannot be opened,
@@ -27,5 +45,9 @@ typedef struct vr_mesh_data {
  * large for 32-bit indices. */
 vr_status vr_mesh_read(const char *path, vr_mesh_data *out, vr_error *err);
 void vr_mesh_data_free(vr_mesh_data *m);
+
+/* The materials of a model file in the file's order (*out, *n; free(*out)),
+ * with the triangles each has; errors as vr_mesh_read's. */
+vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n, vr_error *err);
 
 #endif

@@ -32,6 +32,10 @@ void vr_scene_destroy(vr_scene *s) {
     free(s->lights[i].spectrum);
   }
   for (size_t i = 0; i < s->nsensors; i++) free(s->sensors[i].name);
+  for (size_t i = 0; i < s->nmesh_maps; i++) free(s->mesh_maps[i].pattern);
+  free(s->mesh_maps);
+  for (size_t i = 0; i < s->nnotes; i++) free(s->notes[i]);
+  free(s->notes);
   free(s->sky.spectrum);
   free(s->sky.weather_path);
   free(s->portals);
@@ -59,7 +63,12 @@ vr_status scn_options(vr_scn_stmt *t, size_t first, const char *const *allowed) 
       return scn_fail(p, w, "unexpected \"%s\" in %s (options are key=value)", w, t->what);
     size_t k = (size_t)(eq - w);
     bool known = false;
-    for (size_t a = 0; allowed[a] && !known; a++) known = strlen(allowed[a]) == k && !strncmp(allowed[a], w, k);
+    for (size_t a = 0; allowed[a] && !known; a++) {
+      size_t n = strlen(allowed[a]);
+      /* "material.*" allows material.NAME= for any NAME. */
+      if (n > 2 && !strcmp(allowed[a] + n - 2, ".*")) known = k > n - 1 && !strncmp(allowed[a], w, n - 1);
+      else known = n == k && !strncmp(allowed[a], w, k);
+    }
     if (!known) {
       char list[512];
       size_t used = 0;
@@ -94,6 +103,12 @@ const vr_scn_opt *scn_get(const vr_scn_stmt *t, const char *key) {
 vr_status scn_need(const vr_scn_stmt *t, const char *key, const vr_scn_opt **o) {
   *o = scn_get(t, key);
   return *o ? VR_OK : scn_fail(t->p, t->w[0], "%s needs %s=", t->what, key);
+}
+
+int scn_material_index(const vr_scene *s, const char *name) {
+  for (size_t j = 0; j < s->nmaterials; j++)
+    if (!strcmp(s->materials[j].name, name)) return (int)j;
+  return -1;
 }
 
 /* The later of two words on the line, to blame when both are given. */
@@ -191,12 +206,26 @@ static vr_status statement(vr_scn_parser *p, char **w, size_t nw) {
 /* What needs the whole file: material names, the sky's sun, something to render. */
 static vr_status finish(vr_scn_parser *p) {
   vr_scene *s = p->s;
-  for (size_t i = 0; i < s->nobjects; i++) {
-    for (size_t j = 0; j < s->nmaterials && s->objects[i].material < 0; j++)
-      if (!strcmp(s->materials[j].name, p->alias[i])) s->objects[i].material = (int)j;
-    if (s->objects[i].material < 0)
+  for (size_t i = 0; i < p->nalias; i++) {
+    if (!p->alias[i]) continue; /* a mesh that takes its materials from its file */
+    int m = scn_material_index(s, p->alias[i]);
+    if (m < 0)
       return vr_error_at(p->err, VR_E_PARSE, p->file, p->alias_loc[i].line, p->alias_loc[i].col,
                          "unknown material \"%s\" (no 'material %s ...' line)", p->alias[i], p->alias[i]);
+    s->objects[i].material = m;
+  }
+  /* material.PATTERN=NAME: the names resolved, the patterns kept for
+   * vr_scene_load_models, which reads the files. */
+  if (p->nmaps && !(s->mesh_maps = calloc(p->nmaps, sizeof *s->mesh_maps))) return scn_nomem(p);
+  for (size_t k = 0; k < p->nmaps; k++) {
+    vr_scn_mesh_map *m = &p->maps[k];
+    int idx = scn_material_index(s, m->alias);
+    if (idx < 0)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, m->loc.line, m->loc.col,
+                         "unknown material \"%s\" (no 'material %s ...' line)", m->alias, m->alias);
+    s->mesh_maps[k] = (vr_scene_mesh_map){m->object, m->pattern, idx, m->loc};
+    m->pattern = NULL; /* the scene's now */
+    s->nmesh_maps = k + 1;
   }
   vr_status st = scn_sky_finish(p);
   if (st) return st;
@@ -239,10 +268,12 @@ static void defaults(vr_scene *s) {
 }
 
 /* Splits a line into words in place; the rest of the line after '#' is a
- * comment.  A value that opens with '[' ("spectrum=[400 0.1 700 0.5]")
- * runs to its ']', spaces and all: pbrt-v4's inline spectra have spaces. */
+ * comment, unless the '#' opens a value ("color=#c8b49a").  A value that
+ * opens with '[' ("spectrum=[400 0.1 700 0.5]") runs to its ']', spaces
+ * and all: pbrt-v4's inline spectra have spaces. */
 static vr_status words(vr_scn_parser *p, char *line, char **w, size_t *nw) {
   char *hash = strchr(line, '#');
+  while (hash && hash > line && hash[-1] == '=') hash = strchr(hash + 1, '#');
   if (hash) *hash = '\0';
   *nw = 0;
   for (char *q = line; *q;) {
@@ -302,8 +333,10 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
   }
   free(line);
   if (!st) st = finish(&p);
-  for (size_t i = 0; i < s->nobjects; i++) free(p.alias[i]);
+  for (size_t i = 0; i < p.nalias; i++) free(p.alias[i]);
   free(p.alias);
+  for (size_t i = 0; i < p.nmaps; i++) free(p.maps[i].pattern), free(p.maps[i].alias);
+  free(p.maps);
   free(p.alias_loc);
   free(p.annual_glass);
   free(p.annual_sensor);

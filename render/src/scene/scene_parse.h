@@ -20,8 +20,12 @@ typedef struct vr_scn_parser {
   long line;
   const char *text;  /* the current line, for columns */
   vr_error *err;
-  char **alias;      /* per object: its material= name until resolved */
+  char **alias;      /* per object: its material= name until resolved (NULL: a mesh
+                        without one, whose materials come from its file) */
   vr_scene_loc *alias_loc;
+  size_t nalias;     /* objects with an alias slot (the parser's objects) */
+  struct vr_scn_mesh_map *maps; /* mesh lines' material.NAME=ALIAS, in order */
+  size_t nmaps;
   size_t sun;        /* index + 1 of the sun light, 0 if none */
   char *annual_glass, *annual_sensor; /* annual glass= and control_sensor= until resolved */
   vr_scene_loc annual_glass_loc, annual_sensor_loc;
@@ -160,6 +164,19 @@ void scn_inline_free(vr_scn_inline *s);
 /* The same checks on the value v of word ("reflectance=[...]"), an error
  * at the entry at fault that names the option. */
 vr_status scn_inline_check(const vr_scn_parser *p, const char *word, const char *v, double vmax);
+/* A mesh line's material.PATTERN=ALIAS until the aliases are resolved. */
+typedef struct vr_scn_mesh_map {
+  size_t object;
+  char *pattern, *alias;
+  vr_scene_loc loc;
+} vr_scn_mesh_map;
+
+/* The index of the material named name, or -1. */
+int scn_material_index(const vr_scene *s, const char *name);
+
+/* scene_colour.c: a lambert line's color=#RRGGBB or rgb=R,G,B [space=srgb|linear]
+ * as an inline reflectance spectrum (new string in *spectrum). */
+vr_status scn_colour(vr_scn_stmt *t, char **spectrum);
 /* Applies translate=, rotate= or scale= (key) after *x. */
 vr_status scn_transform(const vr_scn_parser *p, const char *word, const char *key, const char *v,
                         vr_xform *x);

@@ -116,10 +116,16 @@ vr_status scn_material(vr_scn_stmt *t) {
   const char *src = t->w[2];
   t->what = "a material";
   if (!strcmp(src, "lambert")) {
-    static const char *const LAMBERT[] = {"reflectance", NULL};
+    static const char *const LAMBERT[] = {"reflectance", "color", "rgb", "space", NULL};
     m->source = VR_MATSRC_LAMBERT_CONST;
     const vr_scn_opt *o;
-    if ((st = scn_options(t, 3, LAMBERT)) || (st = scn_need(t, "reflectance", &o))) return st;
+    if ((st = scn_options(t, 3, LAMBERT))) return st;
+    const vr_scn_opt *colour = scn_get(t, "color") ? scn_get(t, "color") : scn_get(t, "rgb");
+    if (colour && (o = scn_get(t, "reflectance")))
+      return scn_fail(p, scn_later(o, colour), "give reflectance= or a colour, not both");
+    if (colour) return scn_colour(t, &m->reflectance_spectrum);
+    if ((o = scn_get(t, "space"))) return scn_fail(p, o->word, "\"%s\": space= goes with rgb=", o->word);
+    if ((st = scn_need(t, "reflectance", &o))) return st;
     if (o->val[0] != '[') return scn_range(t, "reflectance", 0, 1, false, false, &m->reflectance);
     /* An inline reflectance spectrum, each value in [0, 1]. */
     if ((st = scn_inline_check(p, o->word, o->val, 1.0))) return st;
@@ -257,7 +263,7 @@ vr_status scn_object(vr_scn_stmt *t, vr_shape_kind kind) {
   static const char *const SPHERE[] = {"center", "radius", OBJECT_OPTIONS, NULL};
   static const char *const RECT[] = {"center", "normal", "size", "up", OBJECT_OPTIONS, NULL};
   static const char *const BOX[] = {"min", "max", OBJECT_OPTIONS, NULL};
-  static const char *const MESH[] = {OBJECT_OPTIONS, NULL};
+  static const char *const MESH[] = {OBJECT_OPTIONS, "material.*", NULL};
   static const char *const *const ALLOWED[] = {SPHERE, RECT, BOX, MESH};
   static const char *const WHAT[] = {"a sphere", "a rectangle", "a box", "a mesh"};
   t->what = WHAT[kind];
@@ -269,6 +275,7 @@ vr_status scn_object(vr_scn_stmt *t, vr_shape_kind kind) {
   if (!alias) return scn_nomem(p);
   p->alias = alias;
   alias[s->nobjects] = NULL;
+  p->nalias = s->nobjects + 1;
   vr_scene_loc *aloc = realloc(p->alias_loc, (s->nobjects + 1) * sizeof *aloc);
   if (!aloc) return scn_nomem(p);
   p->alias_loc = aloc;
@@ -277,6 +284,7 @@ vr_status scn_object(vr_scn_stmt *t, vr_shape_kind kind) {
   ob->shape = kind;
   ob->loc = scn_loc(p, t->w[0]);
   ob->material = -1;
+  ob->mesh_material = -1;
   ob->texels[0] = ob->texels[1] = 16;
   vr_xform_identity(&ob->xform);
   const vr_scn_opt *o, *o2;
@@ -301,9 +309,21 @@ vr_status scn_object(vr_scn_stmt *t, vr_shape_kind kind) {
     if (!(ob->mesh_path = scn_resolve(s, t->w[1]))) return scn_nomem(p);
     break;
   }
-  if ((st = scn_need(t, "material", &o))) return st;
-  if (!(alias[s->nobjects - 1] = strdup(o->val))) return scn_nomem(p);
-  aloc[s->nobjects - 1] = scn_loc(p, o->word);
+  /* A mesh may leave material= out: its file's materials are used. */
+  o = scn_get(t, "material");
+  if (!o && kind != VR_SHAPE_MESH && (st = scn_need(t, "material", &o))) return st;
+  if (o && !(alias[s->nobjects - 1] = strdup(o->val))) return scn_nomem(p);
+  aloc[s->nobjects - 1] = scn_loc(p, o ? o->word : t->w[0]);
+  for (size_t i = 0; i < t->no; i++) {
+    const vr_scn_opt *m = &t->o[i];
+    if (m->klen <= 9 || strncmp(m->word, "material.", 9)) continue;
+    vr_scn_mesh_map *map = scn_grow((void **)&p->maps, &p->nmaps, sizeof *map);
+    if (!map) return scn_nomem(p);
+    map->object = s->nobjects - 1;
+    map->loc = scn_loc(p, m->word);
+    if (!(map->pattern = strndup(m->word + 9, m->klen - 9)) || !(map->alias = strdup(m->val)))
+      return scn_nomem(p);
+  }
   if ((o = scn_get(t, "name")) && !(ob->name = strdup(o->val))) return scn_nomem(p);
   static const vr_light_unit EMISSION[] = {VR_UNIT_CD_M2, VR_UNIT_W_M2_SR, VR_UNIT_NONE};
   if ((o = scn_get(t, "emission")) &&

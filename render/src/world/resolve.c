@@ -118,6 +118,8 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
     goto fail;
   }
   if (rs->nbins < 1) rs->nbins = 1;
+  /* What the parser decided for the user (a model's own materials). */
+  for (size_t i = 0; opt->log && i < s->nnotes; i++) opt->log(opt->user, s->notes[i]);
   vr_domains_options dopt;
   vr_domains_options_default(&dopt);
   dopt.subdomains = subdomains;

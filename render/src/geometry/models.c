@@ -1,0 +1,213 @@
+/* A model's own materials (vr/models.h).  A mesh line with
+ * material.PATTERN=NAME options, or without material=, becomes one object
+ * per material of its file that has triangles: the first PATTERN (shell
+ * wildcards) that matches the file's material name gives the scene
+ * material; else material= when the line has one; else a lambert reflector
+ * made from the file's own colour (glTF base colour, MTL Kd) as a sigmoid
+ * spectrum (vr/rgb_spectrum.h), which the user hears about once through
+ * s->notes.  The geometry then takes each object's triangles of its file
+ * material only (vr_scene_object.mesh_material). */
+#include <fnmatch.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "geometry/mesh_assimp.h"
+#include "vr/models.h"
+
+static vr_status nomem(vr_error *err) { return vr_error_set(err, VR_E_NOMEM, "out of memory"); }
+
+static vr_status add_note(vr_scene *s, const char *text, vr_error *err) {
+  char **n = realloc(s->notes, (s->nnotes + 1) * sizeof *n);
+  if (!n) return nomem(err);
+  s->notes = n;
+  if (!(n[s->nnotes] = strdup(text))) return nomem(err);
+  s->nnotes++;
+  return VR_OK;
+}
+
+static int material_index(const vr_scene *s, const char *name) {
+  for (size_t j = 0; j < s->nmaterials; j++)
+    if (!strcmp(s->materials[j].name, name)) return (int)j;
+  return -1;
+}
+
+/* The file's name without its folder. */
+static const char *base(const char *path) {
+  const char *b = strrchr(path, '/');
+  return b ? b + 1 : path;
+}
+
+/* The scene material for the file's material mm of object i; made from
+ * its colour when nothing maps it. */
+static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
+                              const vr_mesh_material *mm, int *out, vr_error *err) {
+  for (size_t k = 0; k < s->nmesh_maps; k++) {
+    const vr_scene_mesh_map *map = &s->mesh_maps[k];
+    if (map->object != i || fnmatch(map->pattern, mm->name, 0)) continue;
+    *out = map->material;
+    return VR_OK;
+  }
+  if (ob->material >= 0) {
+    *out = ob->material;
+    return VR_OK;
+  }
+  /* From the file: one scene material per file material, shared by every
+   * line that names the file. */
+  char name[512];
+  snprintf(name, sizeof name, "%s:%s", base(ob->mesh_path), mm->name);
+  if ((*out = material_index(s, name)) >= 0) return VR_OK;
+  vr_scene_material *g = realloc(s->materials, (s->nmaterials + 1) * sizeof *g);
+  if (!g) return nomem(err);
+  s->materials = g;
+  vr_scene_material *m = &g[s->nmaterials++];
+  memset(m, 0, sizeof *m);
+  if (!(m->name = strdup(name))) return nomem(err);
+  m->loc = ob->loc;
+  m->source = VR_MATSRC_LAMBERT_CONST;
+  m->roughness = m->thickness_m = m->state = m->charge_mC_cm2 = m->temperature_K = NAN;
+  *out = (int)(s->nmaterials - 1);
+  char note[1024];
+  if (!mm->has_colour) {
+    m->reflectance = 0.5;
+    snprintf(note, sizeof note,
+             "mesh '%s': material '%s' (%zu triangles) is mapped to nothing and has no colour: "
+             "grey 0.5 (map it with material.%s=NAME)",
+             base(ob->mesh_path), mm->name, mm->triangles, mm->name);
+    return add_note(s, note, err);
+  }
+  double rgb[3];
+  bool clipped = false;
+  for (int k = 0; k < 3; k++) {
+    rgb[k] = isfinite(mm->rgb[k]) ? fmin(fmax(mm->rgb[k], 0), 1) : 0;
+    clipped |= rgb[k] != mm->rgb[k];
+  }
+  vr_error e = {0};
+  if (!(m->reflectance_spectrum = vr_scene_colour_spectrum(rgb, &e)))
+    return vr_error_at(err, e.status, s->path, ob->loc.line, ob->loc.col,
+                       "mesh '%s': material '%s': %s", base(ob->mesh_path), mm->name, e.message);
+  int n = snprintf(note, sizeof note,
+                   "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its colour "
+                   "(linear %.3g, %.3g, %.3g%s) as a spectrum, material '%s'",
+                   base(ob->mesh_path), mm->name, mm->triangles, rgb[0], rgb[1], rgb[2],
+                   clipped ? ", clipped to [0, 1]" : "", name);
+  if (mm->texture[0] && n > 0 && (size_t)n < sizeof note)
+    snprintf(note + n, sizeof note - (size_t)n, "; its texture '%s' is not rendered (textures are not read yet)",
+             mm->texture);
+  return add_note(s, note, err);
+}
+
+/* Object i as one object per used material of its file, appended to *out. */
+static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *nout, vr_error *err) {
+  vr_scene_object *ob = &s->objects[i];
+  vr_mesh_material *mm = NULL;
+  size_t nm = 0;
+  vr_error e = {0};
+  vr_status st = vr_mesh_materials(ob->mesh_path, &mm, &nm, &e);
+  if (st) return vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "%s", e.message);
+  size_t used = 0;
+  for (size_t k = 0; k < nm; k++) used += mm[k].triangles > 0 && !mm[k].invented;
+  if (!used && ob->material < 0) {
+    free(mm);
+    return vr_error_at(err, VR_E_PARSE, s->path, ob->loc.line, ob->loc.col,
+                       "mesh '%s' has no materials of its own: give material=NAME",
+                       base(ob->mesh_path));
+  }
+  /* Every pattern must name some material of the file. */
+  for (size_t k = 0; k < s->nmesh_maps; k++) {
+    const vr_scene_mesh_map *map = &s->mesh_maps[k];
+    if (map->object != i) continue;
+    bool any = false;
+    for (size_t j = 0; j < nm && !any; j++) any = mm[j].triangles && !fnmatch(map->pattern, mm[j].name, 0);
+    if (any) continue;
+    char list[512] = "";
+    size_t len = 0;
+    for (size_t j = 0; j < nm && len + 4 < sizeof list; j++)
+      if (mm[j].triangles) {
+        int w = snprintf(list + len, sizeof list - len, "%s%s", len ? ", " : "", mm[j].name);
+        if (w < 0 || (size_t)w >= sizeof list - len) break;
+        len += (size_t)w;
+      }
+    free(mm);
+    return vr_error_at(err, VR_E_PARSE, s->path, map->loc.line, map->loc.col,
+                       "material.%s= matches no material of '%s' (its materials: %s)", map->pattern,
+                       base(ob->mesh_path), len ? list : "none");
+  }
+  for (size_t k = 0; k < nm && !st; k++) {
+    if (!mm[k].triangles) continue;
+    int mat;
+    if ((st = material_for(s, i, ob, &mm[k], &mat, err))) break;
+    vr_scene_object *n = realloc(*out, (*nout + 1) * sizeof *n);
+    if (!n) {
+      st = nomem(err);
+      break;
+    }
+    *out = n;
+    vr_scene_object *c = &n[(*nout)++];
+    *c = *ob;
+    c->mesh_material = (int)k;
+    c->material = mat;
+    c->name = c->emission_spectrum = NULL;
+    c->mesh_path = strdup(ob->mesh_path);
+    char label[512];
+    snprintf(label, sizeof label, "%s:%s", ob->name ? ob->name : base(ob->mesh_path), mm[k].name);
+    c->name = strdup(label);
+    if (ob->emission_spectrum) c->emission_spectrum = strdup(ob->emission_spectrum);
+    if (!c->mesh_path || !c->name || (ob->emission_spectrum && !c->emission_spectrum)) st = nomem(err);
+  }
+  free(mm);
+  return st;
+}
+
+static bool needs(const vr_scene *s, size_t i) {
+  const vr_scene_object *ob = &s->objects[i];
+  if (ob->shape != VR_SHAPE_MESH) return false;
+  if (ob->material < 0) return true;
+  for (size_t k = 0; k < s->nmesh_maps; k++)
+    if (s->mesh_maps[k].object == i) return true;
+  return false;
+}
+
+bool vr_scene_models_pending(const vr_scene *s) {
+  for (size_t i = 0; i < s->nobjects; i++)
+    if (needs(s, i)) return true;
+  return false;
+}
+
+vr_status vr_scene_load_models(vr_scene *s, vr_error *err) {
+  if (!vr_scene_models_pending(s)) return VR_OK;
+  vr_scene_object *out = NULL;
+  size_t nout = 0;
+  vr_status st = VR_OK;
+  for (size_t i = 0; i < s->nobjects && !st; i++) {
+    vr_scene_object *ob = &s->objects[i];
+    if (!needs(s, i)) {
+      vr_scene_object *n = realloc(out, (nout + 1) * sizeof *n);
+      if (!n) {
+        st = nomem(err);
+        break;
+      }
+      out = n;
+      out[nout++] = *ob;
+      memset(ob, 0, sizeof *ob); /* moved */
+      continue;
+    }
+    st = expand(s, i, &out, &nout, err);
+  }
+  /* The originals' strings: the moved ones were zeroed. */
+  for (size_t i = 0; i < s->nobjects; i++) {
+    free(s->objects[i].name);
+    free(s->objects[i].mesh_path);
+    free(s->objects[i].emission_spectrum);
+  }
+  free(s->objects);
+  s->objects = out;
+  s->nobjects = nout;
+  /* The patterns are spent: the objects now say which material is theirs. */
+  for (size_t k = 0; k < s->nmesh_maps; k++) free(s->mesh_maps[k].pattern);
+  free(s->mesh_maps);
+  s->mesh_maps = NULL;
+  s->nmesh_maps = 0;
+  return st;
+}

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Command-line test: a model's own materials (docs/scene-format.md,
+# "Materials from the model file"), on a real public file: tinyobjloader's
+# Cornell box OBJ with its MTL (tests/data/models/cornell_tinyobj, MIT),
+# nine objects over the materials white, red, green, blue and light with
+# their Kd colours (blue names no face).
+#   - one mesh line without material=: one object per file material with
+#     faces (4), each unmapped one heard once on stderr with its colour;
+#   - material.*=wall maps every group: no note, and the image is the one
+#     of material=wall (the same triangles, split over 4 objects);
+#   - material.red=grey maps one: the others still from the file;
+#   - refusals (docs/bad-input.md): a pattern that matches nothing lists
+#     the file's materials, an unknown scene material, a file without
+#     materials and no material=, bad colours.
+set -u
+bin="$(cd "$VR_BIN" && pwd)/vr-render"
+cmp="$(cd "$VR_TEST_BIN" && pwd)/vr-test-exr-compare"
+source "$(dirname "$0")/harness.sh"
+cp "$VR_SOURCE_DIR"/tests/data/models/cornell_tinyobj/cornell_box.{obj,mtl} "$tmp/"
+cd "$tmp"
+scene() { # the mesh line's options, the output scene
+  cat > "$2" <<SCN
+material wall lambert reflectance=0.7
+material grey lambert reflectance=0.3
+mesh cornell_box.obj $1 scale=0.001
+camera pinhole from=0.278,0.27,-0.8 to=0.278,0.27,0.28 up=0,1,0 fov=40 resolution=32x32
+light point position=0.278,0.5,0.28 intensity=5cd
+render integrator=path spp=4
+SCN
+}
+
+scene "" own.scn
+"$bin" own.scn -o own --outputs exr 2> own.err
+check "renders a mesh without material= from its file's materials" test $? -eq 0
+check "4 objects, one per file material with faces" grep -q "scene: 4 objects, 36 triangles" own.err
+for m in white red green light; do
+  check "material '$m' heard once" test "$(grep -c "material '$m' ([0-9]* triangles) is mapped to nothing" own.err)" -eq 1
+done
+check "the red wall's Kd (1 0 0) is said" grep -q "material 'red' (2 triangles) is mapped to nothing: its colour (linear 1, 0, 0)" own.err
+check "blue, which names no face, is not" bash -c "! grep -q \"material 'blue'\" own.err"
+
+scene "material.*=wall" all.scn
+scene "material=wall" one.scn
+"$bin" all.scn -o all --outputs exr 2> all.err && "$bin" one.scn -o one --outputs exr 2> /dev/null
+check "material.*=wall and material=wall render" test $? -eq 0
+check "every group mapped: no note" bash -c "! grep -q 'mapped to nothing' all.err"
+check "material.*=wall gives the image of material=wall" "$cmp" all.exr one.exr 1e-6
+
+scene "material.red=grey material=wall" red.scn
+"$bin" red.scn -o red --outputs exr 2> red.err
+check "material.red= with material= for the rest" test $? -eq 0
+check "no group falls back to the file" bash -c "! grep -q 'mapped to nothing' red.err"
+check "and the image differs from all-wall" bash -c "! '$cmp' red.exr one.exr 1e-3 > /dev/null 2>&1"
+
+scene "material.marble=wall" bad1.scn
+refuse render-mesh-map-matches-nothing "$bin" bad1.scn -o bad1
+check "the refusal names the line" grep -q "bad1.scn:3:" "$tmp/refused.err"
+check "and writes nothing" test ! -e bad1.exr -a ! -e bad1.png
+scene "material.red=nosuch" bad2.scn
+refuse render-mesh-map-unknown-material "$bin" bad2.scn -o bad2
+grep -v -E "^(mtllib|usemtl)" cornell_box.obj > plain.obj
+sed 's/cornell_box.obj/plain.obj/' own.scn > bad3.scn
+refuse render-mesh-no-materials "$bin" bad3.scn -o bad3
+sed 's/^material grey .*/material grey lambert color=#80808g/' own.scn > bad4.scn
+refuse render-colour-hex-bad "$bin" bad4.scn -o bad4
+sed 's/^material grey .*/material grey lambert rgb=0.5,1.2,0.5/' own.scn > bad5.scn
+refuse render-colour-out-of-range "$bin" bad5.scn -o bad5
+finish
