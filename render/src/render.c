@@ -115,6 +115,11 @@ static vr_status describe(vr_run *r, int S, double t0, vr_error *err) {
              rs->s->nobjects, (unsigned long long)rs->t->ntris,
              (unsigned long long)rs->t->nspheres, rs->L.n, rs->L.has_sky ? " + sky" : "", S,
              S == 1 ? "" : "s");
+  /* Where the geometry is, to place a camera in a model of unknown units. */
+  vr_run_say(r, "scene: bounds x %.4g to %.4g, y %.4g to %.4g, z %.4g to %.4g (m, %.4g x %.4g x %.4g)",
+             rs->t->bmin[0], rs->t->bmax[0], rs->t->bmin[1], rs->t->bmax[1], rs->t->bmin[2],
+             rs->t->bmax[2], rs->t->bmax[0] - rs->t->bmin[0], rs->t->bmax[1] - rs->t->bmin[1],
+             rs->t->bmax[2] - rs->t->bmin[2]);
   vr_pass_record *prep = vr_run_record(r, "prepare", true,
                                        "materials from the database, geometry, %d sub-domain%s", S,
                                        S == 1 ? "" : "s");

@@ -9,9 +9,13 @@
 #   - material.*=wall maps every group: no note, and the image is the one
 #     of material=wall (the same triangles, split over 4 objects);
 #   - material.red=grey maps one: the others still from the file;
+#   - units=mm up=y turn the file's millimetres, y up, into the scene's
+#     metres, z up (the printed bounds are the Cornell box's);
 #   - refusals (docs/bad-input.md): a pattern that matches nothing lists
 #     the file's materials, an unknown scene material, a file without
-#     materials and no material=, bad colours.
+#     materials and no material=, bad colours, an unknown unit or up axis,
+#     a format Assimp does not read (a Radiance .rad), with the list of
+#     those it does.
 set -u
 bin="$(cd "$VR_BIN" && pwd)/vr-render"
 cmp="$(cd "$VR_TEST_BIN" && pwd)/vr-test-exr-compare"
@@ -65,4 +69,21 @@ sed 's/^material grey .*/material grey lambert color=#80808g/' own.scn > bad4.sc
 refuse render-colour-hex-bad "$bin" bad4.scn -o bad4
 sed 's/^material grey .*/material grey lambert rgb=0.5,1.2,0.5/' own.scn > bad5.scn
 refuse render-colour-out-of-range "$bin" bad5.scn -o bad5
+# Units and up axis: the Cornell data are millimetres with y up; turned to
+# metres and z up, the room spans 0 to 0.556 in x, -0.5592 to 0 in y (its
+# depth, 559.2 mm, along -y) and 0 to 0.5488 in z (its height, 548.8 mm):
+# the published Cornell box dimensions.
+scene "units=mm up=y" frame.scn
+sed -i 's/ scale=0.001//' frame.scn
+"$bin" frame.scn -o frame --outputs exr 2> frame.err
+check "units=mm up=y render" test $? -eq 0
+check "the bounds say metres, z up" grep -q "scene: bounds x 0 to 0.556, y -0.5592 to 0, z 0 to 0.5488" frame.err
+sed 's/units=mm up=y/units=yd/' frame.scn > bad6.scn
+refuse render-mesh-units-unknown "$bin" bad6.scn -o bad6
+sed 's/units=mm up=y/up=x/' frame.scn > bad7.scn
+refuse render-mesh-up-unknown "$bin" bad7.scn -o bad7
+printf 'void plastic red\n0\n0\n5 .7 .1 .1 0 0\n' > room.rad
+sed 's/cornell_box.obj units=mm up=y/room.rad material=wall/' frame.scn > bad8.scn
+refuse render-mesh-format-unknown "$bin" bad8.scn -o bad8
+check "the list names obj, gltf and fbx" grep -q "obj .*fbx.*gltf" "$tmp/refused.err"
 finish

@@ -14,6 +14,8 @@
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/importerdesc.h>
+#include <assimp/version.h>
 
 void vr_mesh_data_free(vr_mesh_data *m) {
   if (!m) return;
@@ -203,6 +205,24 @@ static vr_status import(const char *path, const struct aiScene **out, vr_error *
   if (!sc) {
     const char *why = aiGetErrorString();
     bool opens = file_opens(path);
+    /* A format Assimp does not read: say which it does (a Radiance .rad
+     * model is not one of them). */
+    if (opens && why && strstr(why, "No suitable reader")) {
+      char list[1400];
+      size_t n = 0;
+      list[0] = '\0';
+      for (size_t i = 0; i < aiGetImportFormatCount() && n + 16 < sizeof list; i++) {
+        const struct aiImporterDesc *d = aiGetImportFormatDescription(i);
+        int w = d && d->mFileExtensions ? snprintf(list + n, sizeof list - n, "%s%s", n ? " " : "",
+                                                  d->mFileExtensions)
+                                        : 0;
+        if (w > 0) n += (size_t)w < sizeof list - n ? (size_t)w : sizeof list - n - 1;
+      }
+      return vr_error_set(err, VR_E_PARSE,
+                          "mesh '%s': Assimp %u.%u has no reader for it; the extensions it reads "
+                          "are: %s",
+                          path, aiGetVersionMajor(), aiGetVersionMinor(), list);
+    }
     return vr_error_set(err, opens ? VR_E_PARSE : VR_E_IO, "mesh '%s': %s", path,
                         why && *why ? why : (opens ? "cannot be read" : "cannot be opened"));
   }

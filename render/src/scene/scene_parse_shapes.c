@@ -257,13 +257,28 @@ vr_status scn_portal(vr_scn_stmt *t) {
   return VR_OK;
 }
 
+/* units=mm|cm|m|in|ft (to metres) and up=y|z (y up turned to the
+ * renderer's z up: +90 degrees about x, so +y goes to +z and +z to -y). */
+static vr_status mesh_frame(vr_scn_stmt *t, vr_xform *x) {
+  static const char *const UNITS[] = {"m", "mm", "cm", "in", "ft", NULL};
+  static const char *const SCALE[] = {"1", "0.001", "0.01", "0.0254", "0.3048"};
+  static const char *const UP[] = {"z", "y", NULL};
+  int unit = -1, up = -1;
+  vr_status st;
+  if ((st = scn_choice(t, "units", UNITS, &unit)) || (st = scn_choice(t, "up", UP, &up))) return st;
+  if (up == 1 && (st = scn_transform(t->p, scn_get(t, "up")->word, "rotate", "1,0,0,90", x))) return st;
+  if (unit > 0 && (st = scn_transform(t->p, scn_get(t, "units")->word, "scale", SCALE[unit], x)))
+    return st;
+  return VR_OK;
+}
+
 vr_status scn_object(vr_scn_stmt *t, vr_shape_kind kind) {
   vr_scn_parser *p = t->p;
   vr_scene *s = p->s;
   static const char *const SPHERE[] = {"center", "radius", OBJECT_OPTIONS, NULL};
   static const char *const RECT[] = {"center", "normal", "size", "up", OBJECT_OPTIONS, NULL};
   static const char *const BOX[] = {"min", "max", OBJECT_OPTIONS, NULL};
-  static const char *const MESH[] = {OBJECT_OPTIONS, "material.*", NULL};
+  static const char *const MESH[] = {OBJECT_OPTIONS, "material.*", "units", "up", NULL};
   static const char *const *const ALLOWED[] = {SPHERE, RECT, BOX, MESH};
   static const char *const WHAT[] = {"a sphere", "a rectangle", "a box", "a mesh"};
   t->what = WHAT[kind];
@@ -339,6 +354,8 @@ vr_status scn_object(vr_scn_stmt *t, vr_shape_kind kind) {
     if ((st = scn_ints(p, o->word, o->val, ',', 2, 1, 4096, n))) return st;
     ob->texels[0] = (int)n[0], ob->texels[1] = (int)n[1];
   }
+  /* A mesh file's units and up axis come before the transforms written. */
+  if (kind == VR_SHAPE_MESH && (st = mesh_frame(t, &ob->xform))) return st;
   for (size_t i = 0; i < t->no; i++) {
     char key[16];
     if (!scn_is_transform(t->o[i].word, t->o[i].klen)) continue;
