@@ -36,6 +36,7 @@
 
 #include "vr/material_io.h"
 #include "vr/matdb.h"
+#include "vr/models.h"
 #include "vr/render.h"
 #include "vr/scene.h"
 
@@ -70,7 +71,7 @@ static double render(vr_matdb *db, vr_integrator integ, int spp, int threads, do
   snprintf(path, sizeof path, "%s/samples/cornell/cornell.scn", VR_SOURCE_DIR);
   vr_scene *s = NULL;
   vr_error err = {0};
-  if (vr_scene_read(path, &s, &err)) die(path, err.message);
+  if (vr_scene_read(path, &s, &err) || vr_scene_load_models(s, &err)) die(path, err.message);
   s->camera.width = s->camera.height = RES;
   s->settings.integrator = integ;
   s->settings.spp = spp;

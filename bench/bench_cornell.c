@@ -17,6 +17,7 @@
 
 #include "vr/material_io.h"
 #include "vr/matdb.h"
+#include "vr/models.h"
 #include "vr/render.h"
 #include "vr/scene.h"
 
@@ -48,7 +49,7 @@ static double run(vr_matdb *db, int threads, vr_sensor_estimator how, long photo
   snprintf(path, sizeof path, "%s/samples/cornell/cornell.scn", VR_SOURCE_DIR);
   vr_scene *s = NULL;
   vr_error err = {0};
-  if (vr_scene_read(path, &s, &err)) die(path, &err);
+  if (vr_scene_read(path, &s, &err) || vr_scene_load_models(s, &err)) die(path, &err);
   s->settings.sensors = how;
   s->settings.photons = photons;
   s->settings.knn = knn;

@@ -42,6 +42,7 @@
 #include "vr/domains.h"
 #include "vr/file.h"
 #include "vr/image.h"
+#include "vr/models.h"
 #include "vr/scene.h"
 
 #define now bench_now
@@ -201,7 +202,7 @@ static void sample_room(const char *bin, const char *db) {
 static void worker_memory(const char *path, const char *cache) {
   vr_scene *s = NULL;
   vr_error err = {0};
-  if (vr_scene_read(path, &s, &err)) die(err.message);
+  if (vr_scene_read(path, &s, &err) || vr_scene_load_models(s, &err)) die(err.message);
   size_t held[2] = {0};
   for (int k = 0; k < 2; k++) {
     vr_domains_options o;

@@ -35,6 +35,7 @@
 #include "vr/flow.h"
 #include "vr/geometry.h"
 #include "vr/matdb.h"
+#include "vr/models.h"
 #include "vr/render.h"
 #include "vr/scene.h"
 
@@ -437,7 +438,7 @@ int main(int argc, char **argv) {
   machine();
   vr_error err = {0};
   vr_scene *s = NULL;
-  if (vr_scene_read(scene_path, &s, &err)) die(scene_path, &err);
+  if (vr_scene_read(scene_path, &s, &err) || vr_scene_load_models(s, &err)) die(scene_path, &err);
   part_a(s);
   part_b(s, dbpath, quick);
   vr_scene_destroy(s);

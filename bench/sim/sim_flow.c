@@ -463,6 +463,15 @@ static bool run_pass(sim *m) {
   return true;
 }
 
+/* The cores a load of a rank uses: its threads, at most the node's cores
+ * (more threads than cores build no faster), each adding less than a
+ * core: T^load_scaling. */
+static double load_weight(const sim_config *c) {
+  double t = c->threads < c->cores ? c->threads : c->cores;
+  double w = t > 1 ? pow(t, c->load_scaling) : 1;
+  return w > c->cores ? c->cores : w;
+}
+
 /* ---- image space ---- */
 
 static void image_space(const sim_profile *p, const sim_config *c, sim_result *res) {
@@ -478,7 +487,7 @@ static void image_space(const sim_profile *p, const sim_config *c, sim_result *r
   int busy = per_node * c->threads;
   double cpu = busy > c->cores ? (double)busy / c->cores : 1;
   int shared = (busy < c->cores ? busy : c->cores) - 1;
-  double lw = c->threads > 1 ? pow(c->threads, c->load_scaling) : 1;
+  double lw = load_weight(c);
   if (lw > c->cores) lw = c->cores;
   double load = 0, lbusy = per_node * lw;
   for (int k = 0; k < p->S; k++) load += p->load_s[k] / lw;
@@ -507,8 +516,7 @@ bool sim_run(const sim_profile *p, const sim_config *c, sim_result *res) {
   m.r = calloc((size_t)R, sizeof *m.r);
   m.busy = calloc((size_t)c->nodes, sizeof *m.busy);
   /* A load builds on the rank's threads, as fast as load_speedup says. */
-  m.load_weight = c->threads > 1 ? pow(c->threads, c->load_scaling) : 1;
-  if (m.load_weight > c->cores) m.load_weight = c->cores;
+  m.load_weight = load_weight(c);
   bool ok = m.r && m.busy;
   for (int k = 0; ok && k < R; k++) {
     rank_st *r = &m.r[k];

@@ -41,8 +41,9 @@ typedef struct sim_config {
   double wire_bytes;       /* bytes a ray takes in a message */
   double ray_overhead;     /* CPU seconds per ray sent, sender and receiver together */
   double load_contention, trace_contention;
-  /* A load on a rank of T threads runs T^load_scaling times as fast (Embree
-   * builds on the rank's threads), using as many cores (at most the node's). */
+  /* A load on a rank of T threads runs min(T, cores)^load_scaling times as
+   * fast (Embree builds on the rank's threads; threads beyond the node's
+   * cores add nothing), using as many cores (at most the node's). */
   double load_scaling;
   double prepare_s;        /* seconds before the passes (reading the scene, the cache) */
   unsigned long long seed;
