@@ -9,6 +9,8 @@
 #   - material.*=wall maps every group: no note, and the image is the one
 #     of material=wall (the same triangles, split over 4 objects);
 #   - material.red=grey maps one: the others still from the file;
+#   - Khronos's Box.gltf (CC BY 4.0) without material= takes its
+#     baseColorFactor (0.8, 0, 0);
 #   - units=mm up=y turn the file's millimetres, y up, into the scene's
 #     metres, z up (the printed bounds are the Cornell box's);
 #   - refusals (docs/bad-input.md): a pattern that matches nothing lists
@@ -69,6 +71,21 @@ sed 's/^material grey .*/material grey lambert color=#80808g/' own.scn > bad4.sc
 refuse render-colour-hex-bad "$bin" bad4.scn -o bad4
 sed 's/^material grey .*/material grey lambert rgb=0.5,1.2,0.5/' own.scn > bad5.scn
 refuse render-colour-out-of-range "$bin" bad5.scn -o bad5
+# A glTF's base colour: Khronos's Box sample (tests/data/models/khronos_box,
+# CC BY 4.0), one material with baseColorFactor [0.8, 0, 0, 1].
+cp "$VR_SOURCE_DIR"/tests/data/models/khronos_box/Box.gltf "$tmp/"
+cat > box.scn <<SCN
+mesh Box.gltf
+camera pinhole from=0,-3,0 to=0,0,0 fov=40 resolution=16x16
+light point position=0,-3,2 intensity=5cd
+render integrator=path spp=1
+SCN
+"$bin" box.scn -o box --outputs exr 2> box.err
+check "a glTF without material= renders" test $? -eq 0
+check "with its base colour (linear 0.8, 0, 0), said once" \
+  test "$(grep -c "(12 triangles) is mapped to nothing: its colour (linear 0.8, 0, 0)" box.err)" -eq 1
+check "the unit cube's bounds" grep -q "scene: bounds x -0.5 to 0.5, y -0.5 to 0.5, z -0.5 to 0.5" box.err
+
 # Units and up axis: the Cornell data are millimetres with y up; turned to
 # metres and z up, the room spans 0 to 0.556 in x, -0.5592 to 0 in y (its
 # depth, 559.2 mm, along -y) and 0 to 0.5488 in z (its height, 548.8 mm):
