@@ -9,6 +9,8 @@
 #   - material.*=wall maps every group: no note, and the image is the one
 #     of material=wall (the same triangles, split over 4 objects);
 #   - material.red=grey maps one: the others still from the file;
+#   - an OBJ whose mtllib is commented out: its usemtl names are grey 0.5,
+#     said to be defined nowhere (not Assimp's 0.6 passed off as theirs);
 #   - Khronos's Box.gltf (CC BY 4.0) without material= takes its
 #     baseColorFactor (0.8, 0, 0);
 #   - units=mm up=y turn the file's millimetres, y up, into the scene's
@@ -71,6 +73,17 @@ sed 's/^material grey .*/material grey lambert color=#80808g/' own.scn > bad4.sc
 refuse render-colour-hex-bad "$bin" bad4.scn -o bad4
 sed 's/^material grey .*/material grey lambert rgb=0.5,1.2,0.5/' own.scn > bad5.scn
 refuse render-colour-out-of-range "$bin" bad5.scn -o bad5
+# An OBJ whose usemtl names no .mtl defines (tinyobjloader's
+# missing_material_file.obj, mtllib commented out): Assimp's stand-in grey
+# must not pass for the file's colour.
+cp "$VR_SOURCE_DIR"/tests/data/models/cornell_tinyobj/missing_material_file.obj "$tmp/"
+sed 's/cornell_box.obj/missing_material_file.obj/' own.scn > miss.scn
+"$bin" miss.scn -o miss --outputs exr 2> miss.err
+check "an OBJ without its .mtl renders" test $? -eq 0
+check "its red is said to be defined nowhere, grey 0.5" \
+  grep -q "material 'red' (2 triangles) is mapped to nothing and has no colour (no newmtl .* defines it): grey 0.5" miss.err
+check "no colour is claimed for it" bash -c "! grep -q 'its colour' miss.err"
+
 # A glTF's base colour: Khronos's Box sample (tests/data/models/khronos_box,
 # CC BY 4.0), one material with baseColorFactor [0.8, 0, 0, 1].
 cp "$VR_SOURCE_DIR"/tests/data/models/khronos_box/Box.gltf "$tmp/"

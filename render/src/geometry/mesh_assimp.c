@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
@@ -230,6 +231,49 @@ static vr_status import(const char *path, const struct aiScene **out, vr_error *
   return VR_OK;
 }
 
+/* Whether an OBJ file's mtllib files define material name (a newmtl line):
+ * Assimp gives a usemtl name its own default colour when no .mtl defines
+ * it, which must not pass for the file's. */
+static bool mtl_defines(const char *obj, const char *name) {
+  FILE *f = fopen(obj, "r");
+  if (!f) return false;
+  const char *slash = strrchr(obj, '/');
+  int dirlen = slash ? (int)(slash - obj + 1) : 0;
+  char line[1024];
+  bool found = false;
+  while (!found && fgets(line, sizeof line, f)) {
+    char *p = line;
+    while (*p == ' ' || *p == '\t') p++;
+    if (strncmp(p, "mtllib", 6) || (p[6] != ' ' && p[6] != '\t')) continue;
+    for (char *save = NULL, *lib = strtok_r(p + 6, " \t\r\n", &save); lib && !found;
+         lib = strtok_r(NULL, " \t\r\n", &save)) {
+      char mtl[4096];
+      snprintf(mtl, sizeof mtl, "%.*s%s", dirlen, obj, lib);
+      FILE *m = fopen(mtl, "r");
+      if (!m) continue;
+      char ml[1024];
+      while (!found && fgets(ml, sizeof ml, m)) {
+        char *q = ml;
+        while (*q == ' ' || *q == '\t') q++;
+        if (strncmp(q, "newmtl", 6) || (q[6] != ' ' && q[6] != '\t')) continue;
+        q += 6;
+        while (*q == ' ' || *q == '\t') q++;
+        size_t len = strcspn(q, "\r\n");
+        while (len && (q[len - 1] == ' ' || q[len - 1] == '\t')) len--;
+        found = len == strlen(name) && !strncmp(q, name, len);
+      }
+      fclose(m);
+    }
+  }
+  fclose(f);
+  return found;
+}
+
+static bool is_obj(const char *path) {
+  size_t n = strlen(path);
+  return n > 4 && !strcasecmp(path + n - 4, ".obj");
+}
+
 vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n, vr_error *err) {
   *out = NULL, *n = 0;
   const struct aiScene *sc;
@@ -248,10 +292,11 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
     else
       snprintf(m[i].name, sizeof m[i].name, "material%u", i);
     m[i].invented = !strcmp(m[i].name, AI_DEFAULT_MATERIAL_NAME);
+    m[i].undefined = !m[i].invented && is_obj(path) && !mtl_defines(path, m[i].name);
     struct aiColor4D c;
     /* glTF's base colour first (Assimp gives it as the diffuse colour too,
      * but not every version), then the diffuse colour. */
-    if (!m[i].invented && (aiGetMaterialColor(am, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS ||
+    if (!m[i].invented && !m[i].undefined && (aiGetMaterialColor(am, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS ||
                            aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS)) {
       m[i].has_colour = true;
       m[i].rgb[0] = c.r, m[i].rgb[1] = c.g, m[i].rgb[2] = c.b;

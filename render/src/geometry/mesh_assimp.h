@@ -29,6 +29,9 @@ typedef struct vr_mesh_material {
   char name[128];      /* the file's name for it (Assimp's AI_MATKEY_NAME) */
   bool invented;       /* Assimp's DefaultMaterial for a file without materials:
                           not the file's (its colour is Assimp's, not the file's) */
+  bool undefined;      /* OBJ: named by usemtl but defined by no newmtl of the .mtl
+                          files its mtllib lines name (missing or incomplete):
+                          Assimp's defaults stand in, so it has no colour here */
   bool has_colour;     /* the file gives a base colour (glTF baseColorFactor) or a
                           diffuse colour (MTL Kd) */
   double rgb[3];       /* that colour, linear (glTF's base colour is linear by

@@ -72,9 +72,11 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   if (!mm->has_colour) {
     m->reflectance = 0.5;
     snprintf(note, sizeof note,
-             "mesh '%s': material '%s' (%zu triangles) is mapped to nothing and has no colour: "
+             "mesh '%s': material '%s' (%zu triangles) is mapped to nothing and has no colour%s: "
              "grey 0.5 (map it with material.%s=NAME)",
-             base(ob->mesh_path), mm->name, mm->triangles, mm->name);
+             base(ob->mesh_path), mm->name, mm->triangles,
+             mm->undefined ? " (no newmtl of the .mtl files its mtllib lines name defines it)" : "",
+             mm->name);
     return add_note(s, note, err);
   }
   double rgb[3];
