@@ -488,7 +488,6 @@ static void image_space(const sim_profile *p, const sim_config *c, sim_result *r
   double cpu = busy > c->cores ? (double)busy / c->cores : 1;
   int shared = (busy < c->cores ? busy : c->cores) - 1;
   double lw = load_weight(c);
-  if (lw > c->cores) lw = c->cores;
   double load = 0, lbusy = per_node * lw;
   for (int k = 0; k < p->S; k++) load += p->load_s[k] / lw;
   double lshared = (lbusy < c->cores ? lbusy : c->cores) - 1;

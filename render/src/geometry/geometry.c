@@ -322,37 +322,41 @@ static bool mesh_tri_in(const vr_scene_object *o, const vr_mesh_data *md, size_t
 static vr_status build_mesh_data(vr_mesh_builder *b, uint32_t object, const vr_scene_object *o,
                                  bool flip, const vr_mesh_data *md) {
   /* An object of one file material takes only the vertices its triangles
-   * use (remap[i]: the vertex's index here, UINT32_MAX if unused). */
-  uint32_t *remap = malloc((md->nverts ? md->nverts : 1) * sizeof *remap);
-  if (!remap) return nomem(b);
-  size_t nv = 0, nt = 0;
-  for (size_t i = 0; i < md->nverts; i++) remap[i] = o->mesh_material < 0 ? (uint32_t)nv++ : UINT32_MAX;
-  for (size_t t = 0; t < md->ntris; t++) {
-    if (!mesh_tri_in(o, md, t)) continue;
-    nt++;
-    for (int k = 0; k < 3 && o->mesh_material >= 0; k++) {
-      uint32_t v = md->tris[3 * t + (size_t)k];
-      if (remap[v] == UINT32_MAX) remap[v] = (uint32_t)nv++;
+   * use: remap[i] is file vertex i's index here (UINT32_MAX if unused) and
+   * order its inverse; a whole file keeps its vertices as they are (both
+   * NULL). */
+  uint32_t *remap = NULL, *order = NULL;
+  size_t nv = md->nverts, nt = md->ntris;
+  if (o->mesh_material >= 0) {
+    remap = malloc((md->nverts ? md->nverts : 1) * sizeof *remap);
+    if (!remap) return nomem(b);
+    nv = nt = 0;
+    for (size_t i = 0; i < md->nverts; i++) remap[i] = UINT32_MAX;
+    for (size_t t = 0; t < md->ntris; t++) {
+      if (!mesh_tri_in(o, md, t)) continue;
+      nt++;
+      for (int k = 0; k < 3; k++) {
+        uint32_t v = md->tris[3 * t + (size_t)k];
+        if (remap[v] == UINT32_MAX) remap[v] = (uint32_t)nv++;
+      }
     }
+    if (!(order = malloc((nv ? nv : 1) * sizeof *order))) {
+      free(remap);
+      return nomem(b);
+    }
+    for (size_t i = 0; i < md->nverts; i++)
+      if (remap[i] != UINT32_MAX) order[remap[i]] = (uint32_t)i;
   }
   vr_status st;
   if ((st = reserve_verts(b, nv)) != VR_OK || (st = reserve_tris(b, nt)) != VR_OK) {
-    free(remap);
+    free(remap), free(order);
     return st;
   }
   vr_geometry *g = b->g;
   size_t base = g->nverts;
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  /* order: the inverse of remap, the file's vertex for each new index. */
-  uint32_t *order = malloc((nv ? nv : 1) * sizeof *order);
-  if (!order) {
-    free(remap);
-    return nomem(b);
-  }
-  for (size_t i = 0; i < md->nverts; i++)
-    if (remap[i] != UINT32_MAX) order[remap[i]] = (uint32_t)i;
   for (size_t j = 0; j < nv; j++) {
-    size_t i = order[j];
+    size_t i = order ? order[j] : j;
     double w[3];
     vr_xform_point(&o->xform, md->pos + 3 * i, w);
     float f[3] = {(float)w[0], (float)w[1], (float)w[2]};
@@ -378,7 +382,10 @@ static vr_status build_mesh_data(vr_mesh_builder *b, uint32_t object, const vr_s
   for (size_t t = 0; t < md->ntris; t++) {
     if (!mesh_tri_in(o, md, t)) continue;
     uint32_t c[3];
-    for (int k = 0; k < 3; k++) c[k] = (uint32_t)(base + remap[md->tris[3 * t + (size_t)k]]);
+    for (int k = 0; k < 3; k++) {
+      uint32_t v = md->tris[3 * t + (size_t)k];
+      c[k] = (uint32_t)(base + (remap ? remap[v] : v));
+    }
     double area = 0.5 * tri_area2(g->verts, c[0], c[1], c[2], NULL);
     if (!(area > 0.0) || area < min_area) {
       dropped++;

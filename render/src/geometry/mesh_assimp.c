@@ -231,42 +231,57 @@ static vr_status import(const char *path, const struct aiScene **out, vr_error *
   return VR_OK;
 }
 
-/* Whether an OBJ file's mtllib files define material name (a newmtl line):
- * Assimp gives a usemtl name its own default colour when no .mtl defines
- * it, which must not pass for the file's. */
-static bool mtl_defines(const char *obj, const char *name) {
+/* The material names an OBJ file's mtllib files define (their newmtl
+ * lines), each as "\nNAME\n" in one string (NULL if none or out of
+ * memory): Assimp gives a usemtl name its own default colour when no .mtl
+ * defines it, which must not pass for the file's.  The files are read
+ * once, whatever the number of materials. */
+static char *mtl_names(const char *obj) {
   FILE *f = fopen(obj, "r");
-  if (!f) return false;
+  if (!f) return NULL;
   const char *slash = strrchr(obj, '/');
   int dirlen = slash ? (int)(slash - obj + 1) : 0;
-  char line[1024];
-  bool found = false;
-  while (!found && fgets(line, sizeof line, f)) {
+  char line[1024], *names = NULL;
+  size_t len = 0;
+  while (fgets(line, sizeof line, f)) {
     char *p = line;
     while (*p == ' ' || *p == '\t') p++;
     if (strncmp(p, "mtllib", 6) || (p[6] != ' ' && p[6] != '\t')) continue;
-    for (char *save = NULL, *lib = strtok_r(p + 6, " \t\r\n", &save); lib && !found;
+    for (char *save = NULL, *lib = strtok_r(p + 6, " \t\r\n", &save); lib;
          lib = strtok_r(NULL, " \t\r\n", &save)) {
       char mtl[4096];
       snprintf(mtl, sizeof mtl, "%.*s%s", dirlen, obj, lib);
       FILE *m = fopen(mtl, "r");
       if (!m) continue;
       char ml[1024];
-      while (!found && fgets(ml, sizeof ml, m)) {
+      while (fgets(ml, sizeof ml, m)) {
         char *q = ml;
         while (*q == ' ' || *q == '\t') q++;
         if (strncmp(q, "newmtl", 6) || (q[6] != ' ' && q[6] != '\t')) continue;
         q += 6;
         while (*q == ' ' || *q == '\t') q++;
-        size_t len = strcspn(q, "\r\n");
-        while (len && (q[len - 1] == ' ' || q[len - 1] == '\t')) len--;
-        found = len == strlen(name) && !strncmp(q, name, len);
+        size_t n = strcspn(q, "\r\n");
+        while (n && (q[n - 1] == ' ' || q[n - 1] == '\t')) n--;
+        char *g = realloc(names, len + n + 3);
+        if (!g) break;
+        names = g;
+        names[len++] = '\n';
+        memcpy(names + len, q, n), len += n;
+        names[len++] = '\n';
+        names[len] = '\0';
       }
       fclose(m);
     }
   }
   fclose(f);
-  return found;
+  return names;
+}
+
+static bool names_have(const char *names, const char *name) {
+  if (!names) return false;
+  char key[132];
+  snprintf(key, sizeof key, "\n%s\n", name);
+  return strstr(names, key) != NULL;
 }
 
 static bool is_obj(const char *path) {
@@ -284,6 +299,8 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
     aiReleaseImport(sc);
     return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
   }
+  bool obj = is_obj(path);
+  char *defined = obj ? mtl_names(path) : NULL;
   for (unsigned i = 0; i < sc->mNumMaterials; i++) {
     const struct aiMaterial *am = sc->mMaterials[i];
     struct aiString name, tex;
@@ -292,7 +309,7 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
     else
       snprintf(m[i].name, sizeof m[i].name, "material%u", i);
     m[i].invented = !strcmp(m[i].name, AI_DEFAULT_MATERIAL_NAME);
-    m[i].undefined = !m[i].invented && is_obj(path) && !mtl_defines(path, m[i].name);
+    m[i].undefined = !m[i].invented && obj && !names_have(defined, m[i].name);
     struct aiColor4D c;
     /* glTF's base colour first (Assimp gives it as the diffuse colour too,
      * but not every version), then the diffuse colour. */
@@ -313,6 +330,7 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
     for (unsigned f = 0; f < me->mNumFaces; f++) tri += me->mFaces[f].mNumIndices == 3;
     if (me->mMaterialIndex < sc->mNumMaterials) m[me->mMaterialIndex].triangles += tri;
   }
+  free(defined);
   *n = sc->mNumMaterials;
   *out = m;
   aiReleaseImport(sc);
