@@ -14,14 +14,18 @@
 #include <math.h>
 #include <string.h>
 
+#include "rgb_fit.h"
 #include "vr/colour.h"
 
-#define LO_NM 360.0
-#define HI_NM 830.0
-#define STEP_NM 5.0
-#define NS 95 /* (830 - 360) / 5 + 1 */
 #define STEPS 24
 #define ITERS 40
+
+double vr_rgbfit_goal(const vr_rgbfit_w *W, const double rgb[3], double lab[3]) {
+  double xyz[3];
+  vr_srgb_linear_to_xyz(rgb, xyz);
+  vr_xyz_to_lab(xyz, W->white, lab);
+  return lab[0];
+}
 
 static double sigmoid(double x) {
   if (isinf(x)) return x > 0 ? 1 : 0;
@@ -29,23 +33,17 @@ static double sigmoid(double x) {
 }
 
 double vr_rgb_spectrum_eval(const vr_rgb_spectrum *s, double nm) {
-  double t = (nm - LO_NM) / (HI_NM - LO_NM);
+  double t = (nm - VR_RGBFIT_LO_NM) / (VR_RGBFIT_HI_NM - VR_RGBFIT_LO_NM);
   if (isinf(s->c[2])) return s->c[2] > 0 ? 1 : 0;
   return sigmoid((s->c[0] * t + s->c[1]) * t + s->c[2]);
 }
 
-/* D65 times the CMFs at the 5 nm samples, scaled so that R = 1 has Y = 1;
- * the white's XYZ. */
-typedef struct weights {
-  double w[NS][3], white[3];
-} weights;
-
-static vr_status make_weights(weights *W, vr_error *err) {
+vr_status vr_rgbfit_weights(vr_rgbfit_w *W, vr_error *err) {
   vr_spectrum *d65 = vr_illuminant("D65", err);
   if (!d65) return err ? err->status : VR_E_NOMEM;
   double ysum = 0;
-  for (int i = 0; i < NS; i++) {
-    double nm = LO_NM + STEP_NM * i, cmf[3];
+  for (int i = 0; i < VR_RGBFIT_NS; i++) {
+    double nm = VR_RGBFIT_LO_NM + 5.0 * i, cmf[3];
     vr_cmf_eval(VR_CIE1931_2DEG, nm, cmf);
     double e = vr_spectrum_eval(d65, nm, VR_INTERP_LINEAR);
     for (int k = 0; k < 3; k++) W->w[i][k] = e * cmf[k];
@@ -53,15 +51,15 @@ static vr_status make_weights(weights *W, vr_error *err) {
   }
   vr_spectrum_destroy(d65);
   memset(W->white, 0, sizeof W->white);
-  for (int i = 0; i < NS; i++)
+  for (int i = 0; i < VR_RGBFIT_NS; i++)
     for (int k = 0; k < 3; k++) W->white[k] += (W->w[i][k] /= ysum);
   return VR_OK;
 }
 
-static void lab_of(const weights *W, const double c[3], double lab[3]) {
+void vr_rgbfit_lab(const vr_rgbfit_w *W, const double c[3], double lab[3]) {
   double xyz[3] = {0, 0, 0};
-  for (int i = 0; i < NS; i++) {
-    double t = (double)i / (NS - 1);
+  for (int i = 0; i < VR_RGBFIT_NS; i++) {
+    double t = (double)i / (VR_RGBFIT_NS - 1);
     double r = sigmoid((c[0] * t + c[1]) * t + c[2]);
     for (int k = 0; k < 3; k++) xyz[k] += W->w[i][k] * r;
   }
@@ -92,18 +90,18 @@ static bool solve3(const double A[3][3], const double b[3], double x[3]) {
 }
 
 /* Levenberg-Marquardt from c towards the goal's Lab; returns Delta E. */
-static double fit_lab(const weights *W, const double goal[3], double c[3]) {
+double vr_rgbfit_step(const vr_rgbfit_w *W, const double goal[3], double c[3], int iters) {
   double lab[3], mu = 1e-3;
-  lab_of(W, c, lab);
+  vr_rgbfit_lab(W, c, lab);
   double de = dist(lab, goal);
-  for (int it = 0; it < ITERS && de > 1e-9; it++) {
+  for (int it = 0; it < iters && de > 1e-9; it++) {
     /* Central differences: the Jacobian of Lab in the coefficients. */
     double J[3][3];
     for (int j = 0; j < 3; j++) {
       double h = 1e-6 * fmax(1, fabs(c[j])), cp[3], cm[3], lp[3], lm[3];
       memcpy(cp, c, sizeof cp), memcpy(cm, c, sizeof cm);
       cp[j] += h, cm[j] -= h;
-      lab_of(W, cp, lp), lab_of(W, cm, lm);
+      vr_rgbfit_lab(W, cp, lp), vr_rgbfit_lab(W, cm, lm);
       for (int i = 0; i < 3; i++) J[i][j] = (lp[i] - lm[i]) / (2 * h);
     }
     double A[3][3], g[3];
@@ -125,7 +123,7 @@ static double fit_lab(const weights *W, const double goal[3], double c[3]) {
         continue;
       }
       double cn[3] = {c[0] + step[0], c[1] + step[1], c[2] + step[2]}, ln[3];
-      lab_of(W, cn, ln);
+      vr_rgbfit_lab(W, cn, ln);
       double dn = dist(ln, goal);
       if (dn < de) {
         memcpy(c, cn, sizeof cn), memcpy(lab, ln, sizeof ln);
@@ -147,8 +145,8 @@ vr_status vr_rgb_spectrum_fit(const double rgb[3], vr_rgb_spectrum *out, vr_erro
       return vr_error_set(err, VR_E_RANGE,
                           "colour (%g, %g, %g): linear sRGB components must lie in [0, 1]", rgb[0],
                           rgb[1], rgb[2]);
-  weights W;
-  vr_status st = make_weights(&W, err);
+  vr_rgbfit_w W;
+  vr_status st = vr_rgbfit_weights(&W, err);
   if (st) return st;
   /* Greys: the flat spectrum S(c2) = g exactly (y = 2g - 1, c2 = y / sqrt(1 - y^2)). */
   if (rgb[0] == rgb[1] && rgb[1] == rgb[2]) {
@@ -156,17 +154,16 @@ vr_status vr_rgb_spectrum_fit(const double rgb[3], vr_rgb_spectrum *out, vr_erro
     out->c[2] = y >= 1 ? INFINITY : y <= -1 ? -INFINITY : y / sqrt(1 - y * y);
     return VR_OK;
   }
-  double xyz[3], goal[3];
-  vr_srgb_linear_to_xyz(rgb, xyz);
-  vr_xyz_to_lab(xyz, W.white, goal);
+  double goal[3];
+  vr_rgbfit_goal(&W, rgb, goal);
   /* From mid grey (c = 0) to the goal in steps of its Lab. */
   double start[3], c[3] = {0, 0, 0};
-  lab_of(&W, c, start);
+  vr_rgbfit_lab(&W, c, start);
   double de = 0;
   for (int s = 1; s <= STEPS; s++) {
     double f = (double)s / STEPS, g[3];
     for (int k = 0; k < 3; k++) g[k] = start[k] + f * (goal[k] - start[k]);
-    de = fit_lab(&W, g, c);
+    de = vr_rgbfit_step(&W, g, c, ITERS);
   }
   out->c[0] = c[0], out->c[1] = c[1], out->c[2] = c[2];
   out->delta_e = de;
