@@ -55,6 +55,7 @@ void vr_image_free(vr_image *img) {
   if (!img) return;
   free(img->data);
   free(img->codes);
+  free(img->alpha_data);
   memset(img, 0, sizeof *img);
 }
 
@@ -211,6 +212,17 @@ static long count_grey_level(const vr_image *img, long level) {
   return hits;
 }
 
+/* The alpha of a grey PNG whose tRNS makes one grey level transparent. */
+static vr_status grey_level_alpha(vr_image *img, long level, const char *path, vr_error *err) {
+  const double top = img->bit_depth == 16 ? 65535.0 : 255.0;
+  const size_t n = (size_t)img->width * (size_t)img->height;
+  if (!(img->alpha_data = vr_image_pixels_alloc(n * sizeof *img->alpha_data)))
+    return vr_error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory for the alpha channel");
+  for (size_t i = 0; i < n; i++)
+    img->alpha_data[i] = lround((double)img->data[3 * i] * top) == level ? 0.0f : 1.0f;
+  return VR_OK;
+}
+
 /* Unsigned integer of n bytes (2, 4 or 8) at b + at, in the TIFF's byte
  * order (little-endian when le). */
 static uint64_t tiff_uint(const unsigned char *b, size_t at, int n, int le) {
@@ -256,7 +268,10 @@ static void tiff_alpha_tags(const unsigned char *b, size_t len, int *samples, in
   }
 }
 
-static vr_status read_image(const char *path, int keep_codes, vr_image *out, vr_error *err) {
+static vr_status decode_image(const unsigned char *buf, size_t len, const char *path, int keep,
+                              vr_image *out, vr_error *err);
+
+static vr_status read_image(const char *path, int keep, vr_image *out, vr_error *err) {
   if (!out) return vr_error_set(err, VR_E_ARG, "vr_image_read: output image is NULL");
   memset(out, 0, sizeof *out);
   if (!path) return vr_error_set(err, VR_E_ARG, "vr_image_read: path is NULL");
@@ -264,6 +279,15 @@ static vr_status read_image(const char *path, int keep_codes, vr_image *out, vr_
   size_t len;
   vr_status st = read_whole_file(path, &buf, &len, err);
   if (st != VR_OK) return st;
+  st = decode_image(buf, len, path, keep, out, err);
+  free(buf);
+  return st;
+}
+
+/* Decodes the bytes of an image file (named path in messages). */
+static vr_status decode_image(const unsigned char *buf, size_t len, const char *path, int keep,
+                              vr_image *out, vr_error *err) {
+  vr_status st = VR_OK;
   static const unsigned char png[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
   /* The IEND chunk that closes every PNG: its type and its fixed CRC. */
   static const unsigned char png_end[8] = {'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
@@ -274,11 +298,12 @@ static vr_status read_image(const char *path, int keep_codes, vr_image *out, vr_
     if (!contains(buf, len, png_end, sizeof png_end))
       st = vr_error_at(err, VR_E_PARSE, path, 0, 0, "truncated PNG: no IEND chunk at its end");
     else
-      st = vr_image_decode_cv(buf, len, path, "PNG", keep_codes, out, err);
+      st = vr_image_decode_cv(buf, len, path, "PNG", keep, out, err);
     long level = st == VR_OK && !out->alpha ? png_grey_transparent_level(buf, len) : -1;
     if (level >= 0) {
       out->alpha = 1;
       out->transparent = count_grey_level(out, level);
+      if (keep & VR_IMAGE_KEEP_ALPHA) st = grey_level_alpha(out, level, path, err);
     }
   } else if (len >= 3 && buf[0] == 0xFF && buf[1] == 0xD8 && buf[2] == 0xFF) {
     format = VR_IMAGE_FORMAT_JPEG;
@@ -286,13 +311,13 @@ static vr_status read_image(const char *path, int keep_codes, vr_image *out, vr_
       st = vr_error_at(err, VR_E_PARSE, path, 0, 0,
                        "truncated JPEG: no end-of-image marker after its last scan");
     else
-      st = vr_image_decode_cv(buf, len, path, "JPEG", keep_codes, out, err);
+      st = vr_image_decode_cv(buf, len, path, "JPEG", keep, out, err);
   } else if (len >= 4 && ((buf[0] == 'I' && buf[1] == 'I' && (buf[2] == 42 || buf[2] == 43) &&
                            buf[3] == 0) ||
                           (buf[0] == 'M' && buf[1] == 'M' && buf[2] == 0 &&
                            (buf[3] == 42 || buf[3] == 43)))) {
     format = VR_IMAGE_FORMAT_TIFF;
-    st = vr_image_decode_cv(buf, len, path, "TIFF", keep_codes, out, err);
+    st = vr_image_decode_cv(buf, len, path, "TIFF", keep, out, err);
     int samples, extra_alpha;
     tiff_alpha_tags(buf, len, &samples, &extra_alpha);
     /* A fourth channel from OpenCV is alpha only when the file says so (it
@@ -307,7 +332,7 @@ static vr_status read_image(const char *path, int keep_codes, vr_image *out, vr_
                        "RGBA", samples);
   } else if (len >= 4 && memcmp(buf, exr, 4) == 0) {
     format = VR_IMAGE_FORMAT_EXR;
-    st = vr_image_decode_exr(buf, len, path, out, err);
+    st = vr_image_decode_exr(buf, len, path, keep, out, err);
   } else {
     char shown[48] = "";
     for (size_t i = 0; i < len && i < 8; i++)
@@ -316,7 +341,6 @@ static vr_status read_image(const char *path, int keep_codes, vr_image *out, vr_
     st = vr_error_at(err, VR_E_PARSE, path, 0, 0,
                      "not a PNG, TIFF, JPEG or OpenEXR file (it starts with bytes %s)", shown);
   }
-  free(buf);
   if (st != VR_OK) vr_image_free(out);
   else out->format = format;
   return st;
@@ -327,7 +351,19 @@ vr_status vr_image_read(const char *path, vr_image *out, vr_error *err) {
 }
 
 vr_status vr_image_read_codes(const char *path, vr_image *out, vr_error *err) {
-  return read_image(path, 1, out, err);
+  return read_image(path, VR_IMAGE_KEEP_CODES, out, err);
+}
+
+vr_status vr_image_read_alpha(const char *path, vr_image *out, vr_error *err) {
+  return read_image(path, VR_IMAGE_KEEP_ALPHA, out, err);
+}
+
+vr_status vr_image_decode_alpha(const void *bytes, size_t len, const char *name, vr_image *out,
+                                vr_error *err) {
+  if (!out) return vr_error_set(err, VR_E_ARG, "vr_image_decode_alpha: output image is NULL");
+  memset(out, 0, sizeof *out);
+  if (!bytes || !name) return vr_error_set(err, VR_E_ARG, "vr_image_decode_alpha: no bytes or name");
+  return decode_image(bytes, len, name, VR_IMAGE_KEEP_ALPHA, out, err);
 }
 
 static vr_status write_bytes_atomic(const char *path, const unsigned char *bytes, size_t len,

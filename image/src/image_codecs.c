@@ -124,12 +124,12 @@ static const char *format_of(const char *ext) {
 }
 
 vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, const char *path,
-                             const char *format, int keep_codes, vr_image *out, vr_error *err) {
+                             const char *format, int keep, vr_image *out, vr_error *err) {
   memset(out, 0, sizeof *out);
   char what[64];
   snprintf(what, sizeof what, "reading a %s", format);
   const vr_image_cv_codecs *c = codecs(path, what, err);
-  return c ? c->decode(&HOST, buf, len, path, format, keep_codes, out, err) : VR_E_IO;
+  return c ? c->decode(&HOST, buf, len, path, format, keep, out, err) : VR_E_IO;
 }
 
 vr_status vr_image_encode_cv(const vr_image *img, const char *path, const char *ext, int bits,

@@ -113,6 +113,12 @@ long convert_row(const T *src, int width, int nc, float top, float *dst) {
   return below;
 }
 
+/* The alpha of one decoded row (the last of 2 or 4 channels) over top. */
+template <typename T>
+void alpha_row(const T *src, int width, int nc, float top, float *dst) {
+  for (int x = 0; x < width; ++x, src += nc) dst[x] = (float)src[nc - 1] / top;
+}
+
 /* Copies one decoded row of 8- or 16-bit codes (1-4 channels, BGR order)
  * into RGB codes and returns how many of its pixels have an alpha below
  * top, as convert_row does. */
@@ -174,9 +180,10 @@ void fill_bgr(const vr_image *img, cv::Mat &m, double top) {
 }
 
 vr_status decode(const vr_image_cv_host *host, const unsigned char *buf, size_t len,
-                 const char *path, const char *format, int keep_codes, vr_image *out,
+                 const char *path, const char *format, int keep, vr_image *out,
                  vr_error *err) {
   std::memset(out, 0, sizeof *out);
+  const bool keep_codes = keep & 1, keep_alpha = keep & 2; /* VR_IMAGE_KEEP_* */
   if (len > (size_t)std::numeric_limits<int>::max())
     return host->error_at(err, VR_E_PARSE, path, 0, 0, "%s file of %zu bytes is too large (2 GiB "
                        "at most)", format, len);
@@ -262,6 +269,23 @@ vr_status decode(const vr_image_cv_host *host, const unsigned char *buf, size_t 
     out->bit_depth = depth == CV_8U ? 8 : depth == CV_16U ? 16 : 32;
     out->alpha = nc == 2 || nc == 4;
     out->transparent = below;
+    if (keep_alpha && out->alpha) {
+      out->alpha_data = static_cast<float *>(
+          host->pixels_alloc((size_t)m.cols * (size_t)m.rows * sizeof(float)));
+      if (!out->alpha_data) {
+        host->image_free(out);
+        return host->error_at(err, VR_E_NOMEM, path, 0, 0, "out of memory for the alpha channel");
+      }
+      for (int y = 0; y < m.rows; ++y) {
+        float *dst = out->alpha_data + (size_t)y * (size_t)m.cols;
+        if (depth == CV_8U)
+          alpha_row(m.ptr<unsigned char>(y), m.cols, nc, 255.0f, dst);
+        else if (depth == CV_16U)
+          alpha_row(m.ptr<unsigned short>(y), m.cols, nc, 65535.0f, dst);
+        else
+          alpha_row(m.ptr<float>(y), m.cols, nc, 1.0f, dst);
+      }
+    }
     return VR_OK;
   } catch (...) {
     host->image_free(out);

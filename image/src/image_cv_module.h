@@ -23,7 +23,7 @@
 extern "C" {
 #endif
 
-#define VR_IMAGE_CV_ABI 1
+#define VR_IMAGE_CV_ABI 2
 #define VR_IMAGE_CV_ENTRY "vr_image_cv_module_codecs"
 
 /* What the module may call back into: vr_image_pixels_alloc,
@@ -43,7 +43,7 @@ typedef struct vr_image_cv_codecs {
   size_t vr_error_size; /* sizeof(vr_error) there */
   /* What vr_image_decode_cv and vr_image_encode_cv (image_internal.h) do. */
   vr_status (*decode)(const vr_image_cv_host *host, const unsigned char *buf, size_t len,
-                      const char *path, const char *format, int keep_codes, vr_image *out,
+                      const char *path, const char *format, int keep, vr_image *out,
                       vr_error *err);
   vr_status (*encode)(const vr_image_cv_host *host, const vr_image *img, const char *path,
                       const char *ext, int bits, unsigned char **bytes, size_t *len,

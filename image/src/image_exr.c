@@ -76,7 +76,7 @@ static vr_status decode_pixels(exr_context_t ctxt, const char *path, const exr_s
 }
 
 static vr_status read_context(exr_context_t ctxt, const char *path, const exr_stream *s,
-                              vr_image *out, vr_error *err) {
+                              int keep, vr_image *out, vr_error *err) {
   exr_storage_t storage;
   exr_result_t rv = exr_get_storage(ctxt, 0, &storage);
   if (rv != EXR_ERR_SUCCESS) return vr_exr_read_failed(err, path, s, rv, "storage type");
@@ -140,13 +140,14 @@ static vr_status read_context(exr_context_t ctxt, const char *path, const exr_st
       if (!(alpha[i] >= 1.0f)) below++;
     out->alpha = 1;
     out->transparent = below;
+    if (keep & VR_IMAGE_KEEP_ALPHA) out->alpha_data = alpha, alpha = NULL;
   }
   free(alpha);
   return st;
 }
 
 vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *path,
-                              vr_image *out, vr_error *err) {
+                              int keep, vr_image *out, vr_error *err) {
   memset(out, 0, sizeof *out);
   exr_stream s = {.buf = buf, .len = len};
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
@@ -158,7 +159,7 @@ vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *
   init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
   exr_context_t ctxt = NULL;
   exr_result_t rv = exr_start_read(&ctxt, path, &init);
-  vr_status st = rv == EXR_ERR_SUCCESS ? read_context(ctxt, path, &s, out, err)
+  vr_status st = rv == EXR_ERR_SUCCESS ? read_context(ctxt, path, &s, keep, out, err)
                                        : vr_exr_read_failed(err, path, &s, rv, "header");
   if (ctxt) exr_finish(&ctxt);
   if (st != VR_OK) {

@@ -12,12 +12,18 @@
 extern "C" {
 #endif
 
+/* What a decoder keeps besides RGB floats (the keep argument, bits). */
+enum {
+  VR_IMAGE_KEEP_CODES = 1, /* 8- and 16-bit files as codes (vr_image.codes) */
+  VR_IMAGE_KEEP_ALPHA = 2  /* the alpha values (vr_image.alpha_data); with floats only */
+};
+
 /* Decodes a PNG, TIFF or JPEG held in memory (format names it in messages);
- * with keep_codes, 8- and 16-bit files are kept as codes (vr_image.codes).
+ * keep: VR_IMAGE_KEEP_* bits.
  * This and vr_image_encode_cv load the OpenCV module on first use; VR_E_IO
  * naming path and the module's paths when it cannot be loaded. */
 vr_status vr_image_decode_cv(const unsigned char *buf, size_t len, const char *path,
-                             const char *format, int keep_codes, vr_image *out, vr_error *err);
+                             const char *format, int keep, vr_image *out, vr_error *err);
 
 /* malloc for pixel buffers, offering large ones to transparent huge pages
  * (image.c); freed with free(). */
@@ -30,7 +36,7 @@ vr_status vr_image_encode_cv(const vr_image *img, const char *path, const char *
 
 /* Decodes an OpenEXR file held in memory with the OpenEXR core C API. */
 vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *path,
-                              vr_image *out, vr_error *err);
+                              int keep, vr_image *out, vr_error *err);
 
 /* The check of a vr_exr_colour (exr_colour.c): VR_E_ARG naming path and
  * the value at fault; NULL is fine. */

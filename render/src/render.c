@@ -120,6 +120,12 @@ static vr_status describe(vr_run *r, int S, double t0, vr_error *err) {
              rs->t->bmin[0], rs->t->bmax[0], rs->t->bmin[1], rs->t->bmax[1], rs->t->bmin[2],
              rs->t->bmax[2], rs->t->bmax[0] - rs->t->bmin[0], rs->t->bmax[1] - rs->t->bmin[1],
              rs->t->bmax[2] - rs->t->bmin[2]);
+  res->textures = rs->ntex;
+  res->texture_bytes = rs->tex_bytes;
+  res->texture_seconds = rs->tex_seconds;
+  if (rs->ntex)
+    vr_run_say(r, "textures: %zu loaded, %.1f MiB with their mip-maps, in %.2f s", rs->ntex,
+               (double)rs->tex_bytes / 1048576.0, rs->tex_seconds);
   vr_pass_record *prep = vr_run_record(r, "prepare", true,
                                        "materials from the database, geometry, %d sub-domain%s", S,
                                        S == 1 ? "" : "s");

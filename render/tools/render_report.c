@@ -107,6 +107,9 @@ void render_summary_text(const vr_scene *s, const vr_render_result *r, const ren
   printf("wrote   ");
   for (int i = 0; i < rep->outputs->n; i++) printf(" %s", rep->outputs->path[i]);
   printf("  (%.3f s)\n", rep->film_seconds);
+  if (r->textures)
+    printf("textures %zu, %.1f MiB with their mip-maps, loaded in %.2f s\n", r->textures,
+           (double)r->texture_bytes / 1048576.0, r->texture_seconds);
   printf("cache    %s%s (%.2f s, %.1f MiB)\n", r->cache_built ? "built: " : "",
          r->cache_reason, r->cache_seconds, (double)r->cache_bytes / 1048576.0);
   if (r->memory_budget) {

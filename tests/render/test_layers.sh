@@ -4,7 +4,7 @@
 # a higher one.  Prints every include that runs upwards and fails if any.
 set -euo pipefail
 src=${1:-$(cd "$(dirname "$0")/../.." && pwd)/render/src}
-layers=(sampling scene geometry ddm materials sky film photonmaps camera lights world run integrators daylight . annual)
+layers=(sampling scene geometry ddm materials textures sky film photonmaps camera lights world run integrators daylight . annual)
 layer_of() {
   local i
   for i in "${!layers[@]}"; do [ "${layers[$i]}" = "$1" ] && { echo "$i"; return; }; done

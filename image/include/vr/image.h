@@ -66,6 +66,10 @@ typedef struct vr_image {
    * codes, row-major RGB like data, uint8_t (bit_depth 8) or uint16_t (16);
    * data is NULL then. */
   void *codes;
+  /* Only from vr_image_read_alpha of a file with transparency, else NULL:
+   * width x height alpha values, row-major (1 opaque; integer codes over
+   * 255 or 65535; a PNG tRNS grey level gives 0 at that level, 1 elsewhere). */
+  float *alpha_data;
 } vr_image;
 
 /* Allocates a w x h RGB image set to zero (bit_depth 32, format NONE,
@@ -94,6 +98,14 @@ vr_status vr_image_read(const char *path, vr_image *out, vr_error *err);
  * as its codes (out->codes set, out->data NULL; see "Integer codes" above).
  * Float files come back as floats, as from vr_image_read. */
 vr_status vr_image_read_codes(const char *path, vr_image *out, vr_error *err);
+
+/* vr_image_read, keeping the alpha values too (out->alpha_data) when the
+ * file carries transparency: textures with cut-outs. */
+vr_status vr_image_read_alpha(const char *path, vr_image *out, vr_error *err);
+/* The same from the bytes of such a file held in memory (a model's
+ * embedded texture); name stands for the path in messages. */
+vr_status vr_image_decode_alpha(const void *bytes, size_t len, const char *name, vr_image *out,
+                                vr_error *err);
 
 /* PNG, TIFF and JPEG go through OpenCV, in a module (vr-image-cv.so) loaded
  * the first time such a file is read or written, so that a program that

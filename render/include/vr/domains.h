@@ -61,7 +61,9 @@ typedef struct vr_hit {
   double p[3];       /* org + t dir, in double */
   double ng[3];      /* unit geometric normal, facing where the geometry says (not flipped) */
   double ns[3];      /* unit shading normal (interpolated vertex normals, else ng) */
-  double uv[2];      /* object-local surface coordinates (photochromic state map) */
+  double uv[2];      /* object-local surface coordinates (state maps, textures) */
+  double uv_rate;    /* (u, v) units per unit of length there: sqrt(uv area / area) of
+                        the triangle (texture footprints); 0 when the uv are degenerate */
 } vr_hit;
 
 typedef struct vr_domains_options {

@@ -185,6 +185,9 @@ typedef struct vr_render_result {
   long long rss_start_bytes;  /* budget: all resident memory then */
   size_t peak_uncounted_bytes; /* budget: the most resident memory above that and the counted bytes */
   uint64_t rays_spilled;
+  size_t textures;            /* textures loaded (images and spectral), each once */
+  size_t texture_bytes;       /* their memory, mip-maps included */
+  double texture_seconds;     /* reading them, with the RGB-to-spectrum table's build */
   bool cache_built;           /* the geometry cache was (re)built by this render */
   char cache_reason[1024];    /* why, or "reused" */
   double cache_seconds;       /* checking or building it */

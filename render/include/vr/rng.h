@@ -37,7 +37,9 @@ enum {
   VR_DIM_PIXEL_X = 0, VR_DIM_PIXEL_Y, VR_DIM_LENS_U, VR_DIM_LENS_V, VR_DIM_WAVELENGTH,
   VR_DIM_LOBE, VR_DIM_DIR_U, VR_DIM_DIR_V, VR_DIM_LIGHT_PICK, VR_DIM_LIGHT_U, VR_DIM_LIGHT_V,
   VR_DIM_LIGHT_W, VR_DIM_ROULETTE, VR_DIM_SKY_U, VR_DIM_SKY_V, VR_DIM_EMIT_U, VR_DIM_EMIT_V,
-  VR_DIM_EMIT_W, VR_DIM_EMIT_X, VR_DIM_EMIT_Y, VR_DIM_SKY_PICK, VR_DIM_SKY_W, VR_DIM_GATHER = 32 /* + 2 per gather ray */
+  VR_DIM_EMIT_W, VR_DIM_EMIT_X, VR_DIM_EMIT_Y, VR_DIM_SKY_PICK, VR_DIM_SKY_W,
+  VR_DIM_ALPHA, /* a see-through (alpha-blended) surface: through or not */
+  VR_DIM_GATHER = 32 /* + 2 per gather ray */
 };
 
 /* The samplers (render sampler=, vr_scene_settings.sampler). */

@@ -82,6 +82,13 @@ typedef enum vr_pane_model {
   VR_PANE_INTERFACES   /* two real interfaces (refraction at each) */
 } vr_pane_model;
 
+/* How a texture's alpha cuts a surface out (vr_scene_material.alpha). */
+typedef enum vr_alpha_mode {
+  VR_ALPHA_OFF = 0, /* opaque whatever the alpha */
+  VR_ALPHA_MASK,    /* cut out where alpha < alpha_cutoff (glTF alphaMode MASK) */
+  VR_ALPHA_BLEND    /* let through with probability 1 - alpha (glTF BLEND, stochastically) */
+} vr_alpha_mode;
+
 typedef struct vr_scene_material {
   char *name;            /* scene alias */
   vr_mat_source source;
@@ -97,6 +104,18 @@ typedef struct vr_scene_material {
   double charge_mC_cm2;  /* electrochromic charge instead of a state; NAN when not given */
   double temperature_K;  /* photochromic glass temperature; NAN -> 298.15 */
   char *coating_db;      /* thin-film coating (layered material) name, NULL if none */
+  /* A texture that multiplies the reflectance per point (lambert
+   * texture=FILE, or a model's base colour map): a file (resolved against
+   * the scene's or the model's folder), or the bytes of an image embedded
+   * in a model (texture names it then, "MODEL#N" for messages). */
+  char *texture;
+  unsigned char *texture_bytes;
+  size_t texture_len;
+  bool texture_linear;   /* integer samples are linear (colorspace=linear), not sRGB */
+  vr_alpha_mode alpha;   /* cut-outs from the texture's alpha */
+  double alpha_cutoff;   /* VR_ALPHA_MASK: cut where alpha < this (default 0.5) */
+  double tile[2];        /* (u, v) repeats of the texture (default 1, 1) */
+  bool texture_off;      /* db:NAME texture=none: the database material's texture unused */
   vr_scene_loc loc;
 } vr_scene_material;
 

@@ -127,6 +127,7 @@ bool vr_cell_intersect(RTCScene scene, const vr_cell_view *v, const double org[3
     hit->ng[0] = e1[1] * e2[2] - e1[2] * e2[1];
     hit->ng[1] = e1[2] * e2[0] - e1[0] * e2[2];
     hit->ng[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double area2 = sqrt(hit->ng[0] * hit->ng[0] + hit->ng[1] * hit->ng[1] + hit->ng[2] * hit->ng[2]);
     normalise(hit->ng);
     double u = rh.hit.u, w2 = rh.hit.v, w = 1.0 - u - w2;
     const float *n0 = NULL, *n1 = NULL, *n2 = NULL;
@@ -148,6 +149,9 @@ bool vr_cell_intersect(RTCScene scene, const vr_cell_view *v, const double org[3
     const float *q = v->uv + 6 * (size_t)t;
     hit->uv[0] = w * q[0] + u * q[2] + w2 * q[4];
     hit->uv[1] = w * q[1] + u * q[3] + w2 * q[5];
+    double uv2 = fabs(((double)q[2] - q[0]) * ((double)q[5] - q[1]) -
+                      ((double)q[4] - q[0]) * ((double)q[3] - q[1]));
+    hit->uv_rate = area2 > 0 && isfinite(uv2 / area2) ? sqrt(uv2 / area2) : 0;
   } else {
     uint32_t s = rh.hit.primID;
     const double *sc = v->spheres + 4 * (size_t)s;
@@ -159,6 +163,8 @@ bool vr_cell_intersect(RTCScene scene, const vr_cell_view *v, const double org[3
     memcpy(hit->ns, hit->ng, sizeof hit->ns);
     hit->uv[0] = 0.5 + atan2(hit->ng[1], hit->ng[0]) / (2.0 * M_PI);
     hit->uv[1] = acos(fmax(-1.0, fmin(1.0, hit->ng[2]))) / M_PI;
+    /* u spans 2 pi r, v spans pi r: the geometric mean of the rates. */
+    hit->uv_rate = sc[3] > 0 ? 1.0 / (M_PI * sc[3] * M_SQRT2) : 0;
   }
   return true;
 }

@@ -4,6 +4,7 @@
  * the renderer) nor to drop degenerate triangles (geometry.c counts those,
  * so the user hears about them). */
 #include "geometry/mesh_assimp.h"
+#include "vr/scene.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -12,6 +13,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include <assimp/GltfMaterial.h>
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -289,6 +291,33 @@ static bool is_obj(const char *path) {
   return n > 4 && !strcasecmp(path + n - 4, ".obj");
 }
 
+/* An embedded texture ("*N", or a name that matches an embedded texture's
+ * file name): its compressed bytes (mHeight 0) copied into m.  Raw texel
+ * arrays (mHeight > 0) are not a file: left to the caller's error (no
+ * file of that name).  false when out of memory. */
+static bool embedded(const struct aiScene *sc, const char *name, vr_mesh_material *m) {
+  const struct aiTexture *t = NULL;
+  if (name[0] == '*') {
+    char *end;
+    long k = strtol(name + 1, &end, 10);
+    if (!*end && k >= 0 && (unsigned long)k < sc->mNumTextures) t = sc->mTextures[k];
+  } else {
+    for (unsigned k = 0; k < sc->mNumTextures && !t; k++)
+      if (sc->mTextures[k]->mFilename.length && !strcmp(sc->mTextures[k]->mFilename.data, name))
+        t = sc->mTextures[k];
+  }
+  if (!t || t->mHeight != 0 || !t->mWidth) return true;
+  if (!(m->texture_bytes = malloc(t->mWidth))) return false;
+  memcpy(m->texture_bytes, t->pcData, t->mWidth);
+  m->texture_len = t->mWidth;
+  return true;
+}
+
+void vr_mesh_materials_free(vr_mesh_material *m, size_t n) {
+  for (size_t i = 0; m && i < n; i++) free(m[i].texture_bytes);
+  free(m);
+}
+
 vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n, vr_error *err) {
   *out = NULL, *n = 0;
   const struct aiScene *sc;
@@ -321,8 +350,27 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
     if (aiGetMaterialTexture(am, aiTextureType_BASE_COLOR, 0, &tex, NULL, NULL, NULL, NULL, NULL,
                              NULL) == AI_SUCCESS ||
         aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex, NULL, NULL, NULL, NULL, NULL,
-                             NULL) == AI_SUCCESS)
-      snprintf(m[i].texture, sizeof m[i].texture, "%.255s", tex.data);
+                             NULL) == AI_SUCCESS) {
+      /* Surrounding blanks are not part of a file name (an MTL line's
+       * trailing space: tinyobjloader's issue 92); inner ones are. */
+      const char *t0 = tex.data;
+      while (*t0 == ' ' || *t0 == '\t') t0++;
+      int len = (int)strlen(t0);
+      while (len > 0 && (t0[len - 1] == ' ' || t0[len - 1] == '\t' || t0[len - 1] == '\r')) len--;
+      snprintf(m[i].texture, sizeof m[i].texture, "%.*s", len < 255 ? len : 255, t0);
+      if (!embedded(sc, m[i].texture, &m[i])) {
+        vr_mesh_materials_free(m, sc->mNumMaterials);
+        aiReleaseImport(sc);
+        return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
+      }
+    }
+    struct aiString mode;
+    m[i].alpha_cutoff = 0.5;
+    if (aiGetMaterialString(am, AI_MATKEY_GLTF_ALPHAMODE, &mode) == AI_SUCCESS)
+      m[i].alpha = !strcmp(mode.data, "MASK") ? VR_ALPHA_MASK : !strcmp(mode.data, "BLEND") ? VR_ALPHA_BLEND : VR_ALPHA_OFF;
+    ai_real cut;
+    if (aiGetMaterialFloatArray(am, AI_MATKEY_GLTF_ALPHACUTOFF, &cut, NULL) == AI_SUCCESS && cut >= 0 && cut <= 1)
+      m[i].alpha_cutoff = cut;
   }
   for (unsigned i = 0; i < sc->mNumMeshes; i++) {
     const struct aiMesh *me = sc->mMeshes[i];

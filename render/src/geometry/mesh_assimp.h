@@ -37,7 +37,13 @@ typedef struct vr_mesh_material {
   double rgb[3];       /* that colour, linear (glTF's base colour is linear by
                           its specification; MTL's Kd is read as linear, as
                           Blender's and Assimp's importers do) */
-  char texture[256];   /* its base-colour or diffuse texture's file, or "" */
+  char texture[256];   /* its base-colour or diffuse texture's file as the file
+                          names it (relative to the model's folder), or "" */
+  unsigned char *texture_bytes; /* an embedded texture's file bytes (glTF data: URIs,
+                          GLB buffers; "*N" names), else NULL; vr_mesh_materials_free */
+  size_t texture_len;
+  int alpha;           /* vr_alpha_mode: glTF alphaMode (OPAQUE, MASK, BLEND) */
+  double alpha_cutoff; /* glTF alphaCutoff (default 0.5) */
   size_t triangles;    /* triangles that use it */
 } vr_mesh_material;
 
@@ -52,5 +58,7 @@ void vr_mesh_data_free(vr_mesh_data *m);
 /* The materials of a model file in the file's order (*out, *n; free(*out)),
  * with the triangles each has; errors as vr_mesh_read's. */
 vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n, vr_error *err);
+/* Frees what vr_mesh_materials returned. */
+void vr_mesh_materials_free(vr_mesh_material *m, size_t n);
 
 #endif

@@ -7,11 +7,13 @@
  * spectrum (vr/rgb_spectrum.h), which the user hears about once through
  * s->notes.  The geometry then takes each object's triangles of its file
  * material only (vr_scene_object.mesh_material). */
+#include <errno.h>
 #include <fnmatch.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "geometry/mesh_assimp.h"
 #include "vr/models.h"
@@ -37,6 +39,72 @@ static int material_index(const vr_scene *s, const char *name) {
 static const char *base(const char *path) {
   const char *b = strrchr(path, '/');
   return b ? b + 1 : path;
+}
+
+static bool is_obj(const char *path) {
+  size_t n = strlen(path);
+  return n > 4 && !strcasecmp(path + n - 4, ".obj");
+}
+
+/* The colour factor of a textured file material as a spectrum (none: 1).
+ * glTF: the base colour factor multiplies the texture (glTF 2.0 §3.9.2).
+ * OBJ: the texture alone: the MTL specification multiplies map_Kd by Kd,
+ * but exporters write Kd 0 or 0.8 beside a map and the renderers people
+ * compare with (Blender's importer, pbrt-v4, Mitsuba) use the map alone. */
+static vr_status factor(vr_scene *s, const vr_scene_object *ob, const vr_mesh_material *mm,
+                        vr_scene_material *m, vr_error *err) {
+  m->reflectance = 1;
+  if (!mm->has_colour || is_obj(ob->mesh_path) ||
+      (mm->rgb[0] == 1 && mm->rgb[1] == 1 && mm->rgb[2] == 1))
+    return VR_OK;
+  double rgb[3];
+  for (int k = 0; k < 3; k++) rgb[k] = isfinite(mm->rgb[k]) ? fmin(fmax(mm->rgb[k], 0), 1) : 0;
+  vr_error e = {0};
+  if (!(m->reflectance_spectrum = vr_scene_colour_spectrum(rgb, &e)))
+    return vr_error_at(err, e.status, s->path, ob->loc.line, ob->loc.col,
+                       "mesh '%s': material '%s': %s", base(ob->mesh_path), mm->name, e.message);
+  return VR_OK;
+}
+
+/* A file material with a base-colour texture: the texture (times its
+ * colour factor in glTF, see factor()).  The texture's file is looked for
+ * beside the model (a Windows path's backslashes read as slashes), or is
+ * the bytes embedded in it. */
+static vr_status textured(vr_scene *s, const vr_scene_object *ob, const vr_mesh_material *mm,
+                          vr_scene_material *m, vr_error *err) {
+  vr_status st = factor(s, ob, mm, m, err);
+  if (st) return st;
+  m->alpha = mm->alpha;
+  m->alpha_cutoff = mm->alpha_cutoff;
+  char note[1400];
+  if (mm->texture_bytes) {
+    if (!(m->texture_bytes = malloc(mm->texture_len))) return nomem(err);
+    memcpy(m->texture_bytes, mm->texture_bytes, mm->texture_len);
+    m->texture_len = mm->texture_len;
+    snprintf(note, sizeof note, "%s#%s", ob->mesh_path, mm->texture);
+    if (!(m->texture = strdup(note))) return nomem(err);
+  } else {
+    const char *slash = strrchr(ob->mesh_path, '/');
+    int dir = slash ? (int)(slash - ob->mesh_path + 1) : 0;
+    snprintf(note, sizeof note, "%.*s%s", dir, ob->mesh_path, mm->texture);
+    for (char *c = note + dir; *c; c++)
+      if (*c == '\\') *c = '/';
+    if (!(m->texture = strdup(note))) return nomem(err);
+    FILE *f = fopen(m->texture, "rb");
+    if (!f)
+      return vr_error_at(err, VR_E_IO, s->path, ob->loc.line, ob->loc.col,
+                         "mesh '%s': material '%s': cannot open its texture '%s': %s",
+                         base(ob->mesh_path), mm->name, m->texture, strerror(errno));
+    fclose(f);
+  }
+  snprintf(note, sizeof note,
+           "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its texture '%s'%s%s "
+           "as spectra, material '%s'",
+           base(ob->mesh_path), mm->name, mm->triangles, mm->texture,
+           m->reflectance_spectrum ? " times its colour" : "",
+           mm->alpha == VR_ALPHA_MASK ? ", cut out by its alpha" : mm->alpha == VR_ALPHA_BLEND ? ", see-through by its alpha" : "",
+           m->name);
+  return add_note(s, note, err);
 }
 
 /* The scene material for the file's material mm of object i; made from
@@ -67,8 +135,10 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   m->loc = ob->loc;
   m->source = VR_MATSRC_LAMBERT_CONST;
   m->roughness = m->thickness_m = m->state = m->charge_mC_cm2 = m->temperature_K = NAN;
+  m->alpha_cutoff = 0.5, m->tile[0] = m->tile[1] = 1;
   *out = (int)(s->nmaterials - 1);
   char note[1024];
+  if (mm->texture[0]) return textured(s, ob, mm, m, err);
   if (!mm->has_colour) {
     m->reflectance = 0.5;
     snprintf(note, sizeof note,
@@ -89,14 +159,11 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   if (!(m->reflectance_spectrum = vr_scene_colour_spectrum(rgb, &e)))
     return vr_error_at(err, e.status, s->path, ob->loc.line, ob->loc.col,
                        "mesh '%s': material '%s': %s", base(ob->mesh_path), mm->name, e.message);
-  int n = snprintf(note, sizeof note,
-                   "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its colour "
-                   "(linear %.3g, %.3g, %.3g%s) as a spectrum, material '%s'",
-                   base(ob->mesh_path), mm->name, mm->triangles, rgb[0], rgb[1], rgb[2],
-                   clipped ? ", clipped to [0, 1]" : "", name);
-  if (mm->texture[0] && n > 0 && (size_t)n < sizeof note)
-    snprintf(note + n, sizeof note - (size_t)n, "; its texture '%s' is not rendered (textures are not read yet)",
-             mm->texture);
+  snprintf(note, sizeof note,
+           "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its colour "
+           "(linear %.3g, %.3g, %.3g%s) as a spectrum, material '%s'",
+           base(ob->mesh_path), mm->name, mm->triangles, rgb[0], rgb[1], rgb[2],
+           clipped ? ", clipped to [0, 1]" : "", name);
   return add_note(s, note, err);
 }
 
@@ -111,7 +178,7 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
   size_t used = 0;
   for (size_t k = 0; k < nm; k++) used += mm[k].triangles > 0 && !mm[k].invented;
   if (!used && ob->material < 0) {
-    free(mm);
+    vr_mesh_materials_free(mm, nm);
     return vr_error_at(err, VR_E_PARSE, s->path, ob->loc.line, ob->loc.col,
                        "mesh '%s' has no materials of its own: give material=NAME",
                        base(ob->mesh_path));
@@ -131,7 +198,7 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
         if (w < 0 || (size_t)w >= sizeof list - len) break;
         len += (size_t)w;
       }
-    free(mm);
+    vr_mesh_materials_free(mm, nm);
     return vr_error_at(err, VR_E_PARSE, s->path, map->loc.line, map->loc.col,
                        "material.%s= matches no material of '%s' (its materials: %s)", map->pattern,
                        base(ob->mesh_path), len ? list : "none");
@@ -158,7 +225,7 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
     if (ob->emission_spectrum) c->emission_spectrum = strdup(ob->emission_spectrum);
     if (!c->mesh_path || !c->name || (ob->emission_spectrum && !c->emission_spectrum)) st = nomem(err);
   }
-  free(mm);
+  vr_mesh_materials_free(mm, nm);
   return st;
 }
 

@@ -39,6 +39,8 @@ typedef struct vr_bdpt_vertex {
   uint32_t object;
   const vr_bsdf *bsdf;
   double state;      /* chromogenic state at the hit */
+  bool tinted;       /* a texture multiplies the BSDF by tint */
+  double tint[VR_MAX_WL];
   unsigned lobes;
   double p[3], ng[3], ns[3];
   double wo[3];      /* unit, towards the previous vertex of its subpath */

@@ -78,7 +78,19 @@ void bdpt_f(const vr_bdpt_vertex *v, const double wi[3], int nwl, const double *
     double in = fabs(vr_dot3(wi, v->ns)), ig = fabs(vr_dot3(wi, v->ng));
     corr = og > 0 && in > 0 ? on * ig / (og * in) : 0;
   }
-  for (int k = 0; k < nwl; k++) f[k] = fb[k] * corr;
+  for (int k = 0; k < nwl; k++) f[k] = fb[k] * corr * (v->tinted ? v->tint[k] : 1.0);
+}
+
+/* A cut-out (alpha) point of a textured surface, which rays go through.
+ * BDPT's walks trace outside the ray flow and its sample keys: a see-
+ * through (blend) point lets a ray through with probability 1 - alpha
+ * drawn from a hash of the hit and the direction. */
+static bool cut_out(const vr_rscene *rs, const vr_hit *h, const double dir[3]) {
+  if (!rs->mat[rs->obj[h->object].material].tex) return false;
+  uint64_t a, b, c;
+  memcpy(&a, &h->t, 8), memcpy(&b, &dir[0], 8), memcpy(&c, &dir[1], 8);
+  uint64_t z = vr_mix64(a ^ vr_mix64(b ^ vr_mix64(c ^ h->prim)));
+  return vr_hit_cut_out(rs, h, (double)(z >> 11) * 0x1.0p-53);
 }
 
 double bdpt_to_area(const vr_bdpt_vertex *v, const vr_bdpt_vertex *to, double pdf) {
@@ -120,6 +132,11 @@ bool bdpt_visible(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_vertex *a, co
     vr_hit hit;
     tl->rays_shadow++;
     if (!vr_domains_intersect(rs->d, 0, o, dir, tnear, tmax, &hit)) break;
+    if (cut_out(rs, &hit, dir)) {
+      tnear = hit.t + fmax(1e-6 * fabs(hit.t), 1e-7);
+      if (tnear >= tmax) break;
+      continue;
+    }
     const vr_bsdf *pb = rs->mat[rs->obj[hit.object].material].bsdf;
     if (!vr_bsdf_is_thin(pb)) return false;
     double Tp[VR_MAX_WL], pf, pr;
@@ -146,6 +163,10 @@ static bool visible_far(const vr_bdpt *b, vr_bdpt_tls *tl, const double o[3], co
     vr_hit hit;
     tl->rays_shadow++;
     if (!vr_domains_intersect(rs->d, 0, o, dir, tnear, INFINITY, &hit)) return true;
+    if (cut_out(rs, &hit, dir)) {
+      tnear = hit.t + fmax(1e-6 * fabs(hit.t), 1e-7);
+      continue;
+    }
     const vr_bsdf *pb = rs->mat[rs->obj[hit.object].material].bsdf;
     double Tp[VR_BSDF_MAX_WAVELENGTHS];
     if (!vr_bsdf_straight_transmittance(pb, vr_hit_state(rs, &hit), vr_dot3(dir, hit.ng), nwl,
@@ -219,6 +240,10 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
       else tl->rays_camera++;
       got = vr_domains_intersect(rs->d, 0, o, dir, tnear, INFINITY, &hit);
       if (!got) break;
+      if (cut_out(rs, &hit, dir)) {
+        tnear = hit.t + fmax(1e-6 * fabs(hit.t), 1e-7);
+        continue;
+      }
       const vr_robject *ob = &rs->obj[hit.object];
       const vr_bsdf *hb = rs->mat[ob->material].bsdf;
       if (!vr_bsdf_is_thin(hb) || ob->emitter >= 0) break;
@@ -269,6 +294,7 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
     const vr_robject *ob = &rs->obj[hit.object];
     v->bsdf = rs->mat[ob->material].bsdf;
     v->state = vr_hit_state(rs, &hit);
+    v->tinted = vr_hit_texture(rs, &hit, 0, nwl, sm->wl, v->tint);
     v->lobes = vr_bsdf_lobes(v->bsdf);
     v->connectible = v->lobes & (VR_LOBE_DIFFUSE | VR_LOBE_GLOSSY_R | VR_LOBE_GLOSSY_T);
     v->source = b->L.of_object[hit.object];
@@ -309,7 +335,7 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
     }
     double mx = 0;
     for (int k = 0; k < nwl; k++) {
-      beta[k] *= bs.weight[k] * corr;
+      beta[k] *= bs.weight[k] * corr * (v->tinted ? v->tint[k] : 1.0);
       if (beta[k] > mx) mx = beta[k];
     }
     prev->pdf_rev = bdpt_to_area(v, prev, pdf_rev * seg_rev);

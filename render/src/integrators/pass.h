@@ -36,7 +36,19 @@ typedef struct vr_surface {
   int nwl;
   const double *wl;
   vr_vec3 ns;
+  bool tinted;              /* a texture multiplies the BSDF by tint (per wavelength) */
+  double tint[VR_MAX_WL];
 } vr_surface;
+
+/* The spread a ray cone takes on after a diffuse or glossy vertex
+ * (radians): such a vertex scatters over the hemisphere, and the texture
+ * it meets next is averaged over many paths anyway, so a wide footprint
+ * (a coarse mip level) only removes aliasing noise. */
+#define VR_CONE_SPREAD_SCATTER 0.1
+/* The ray cone after a vertex at distance t along the ray: its width there
+ * becomes the new origin width; a deflecting non-delta lobe widens the
+ * spread. */
+void vr_cone_advance(vr_payload *p, double t, unsigned lobe);
 
 typedef struct vr_pass vr_pass;
 
@@ -67,6 +79,10 @@ struct vr_pass {
 void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit);
 bool vr_path_shadow_hit(void *ctx, vr_flow_worker *w, vr_ray *r, const vr_hit *hit);
 void vr_path_shadow_done(void *ctx, vr_flow_worker *w, const vr_ray *r, bool reached);
+/* A closest hit on a cut-out (alpha) point of a textured surface: the ray
+ * goes on through it (pushed again beyond the hit, its footprint and
+ * medium's absorption carried on) and true is returned; else false. */
+bool vr_path_pass_through(vr_pass *c, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit);
 /* Camera unit: one tile of the image, one wave of its samples. */
 void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit);
 /* The camera pass's flow: camera paths, shadow rays. */

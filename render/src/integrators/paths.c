@@ -153,7 +153,7 @@ void vr_surface_f(const void *u, const double wi[3], double *fc) {
   vr_vec3 w = vr_vec3_of(wi);
   vr_bsdf_eval(s->b, s->state, s->n, s->wo, w, s->nwl, s->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
   double c = fabs(vr_vec3_dot(s->ns, w));
-  for (int k = 0; k < s->nwl; k++) fc[k] = f[k] * c;
+  for (int k = 0; k < s->nwl; k++) fc[k] = f[k] * c * (s->tinted ? s->tint[k] : 1.0);
 }
 
 /* A sensor is a cosine receiver: "BSDF times cos" is cos on its front side. */
@@ -179,7 +179,7 @@ static bool continue_path(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr
   if (bs.terminate_secondary && (p->flags & VR_PF_TERMINATED)) bs.weight[0] /= p->nwl;
   double mx = 0;
   for (int k = 0; k < p->nwl; k++) {
-    p->beta[k] *= bs.weight[k];
+    p->beta[k] *= bs.weight[k] * (se->tinted ? se->tint[k] : 1.0);
     if (p->beta[k] > mx) mx = p->beta[k];
   }
   if (!(mx > 0)) return false;
@@ -204,6 +204,7 @@ static bool continue_path(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr
   }
   if (bs.lobe & (VR_LOBE_SPECULAR_T | VR_LOBE_GLOSSY_T))
     p->medium = vr_dot3(wi, hit->ng) < 0 ? (int32_t)hit->object : -1;
+  if (c->rs->ntex) vr_cone_advance(p, hit->t, bs.lobe);
   p->depth++;
   vr_ray r = {0};
   vr_spawn_origin(hit->p, hit->ng, wi, r.org);
@@ -225,8 +226,36 @@ void vr_path_absorb(const vr_rscene *rs, vr_payload *p, const vr_hit *hit) {
 vr_surface vr_path_surface(const vr_rscene *rs, const vr_payload *p, const vr_hit *hit,
                            const double wo[3]) {
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
-  return (vr_surface){m->bsdf, vr_hit_state(rs, hit), vr_vec3_of(hit->ns), vr_vec3_of(wo),
-                      p->nwl, p->wl, vr_vec3_of(hit->ns)};
+  vr_surface se = {m->bsdf, vr_hit_state(rs, hit), vr_vec3_of(hit->ns), vr_vec3_of(wo),
+                   p->nwl, p->wl, vr_vec3_of(hit->ns), false, {0}};
+  if (m->tex)
+    se.tinted = vr_hit_texture(rs, hit, (double)p->cone_w + hit->t * (double)p->cone_a, p->nwl,
+                               p->wl, se.tint);
+  return se;
+}
+
+void vr_cone_advance(vr_payload *p, double t, unsigned lobe) {
+  p->cone_w = (float)((double)p->cone_w + t * (double)p->cone_a);
+  if (!(lobe & VR_LOBE_DELTA)) p->cone_a = (float)((double)p->cone_a + VR_CONE_SPREAD_SCATTER);
+}
+
+bool vr_path_pass_through(vr_pass *c, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit) {
+  const vr_rscene *rs = c->rs;
+  if (!rs->mat[rs->obj[hit->object].material].tex) return false;
+  vr_payload p;
+  memcpy(&p, r->payload, sizeof p);
+  vr_rng_key key = {rs->seed, p.stream, p.sample, p.depth | (uint32_t)hit->object << 8};
+  if (!vr_hit_cut_out(rs, hit, vr_rng(&key, VR_DIM_ALPHA))) return false;
+  /* On through the hole, as if nothing were there. */
+  vr_path_absorb(rs, &p, hit);
+  vr_cone_advance(&p, hit->t, VR_LOBE_STRAIGHT);
+  if (p.flags & VR_PF_PORTAL_PATH) p.portal_t -= hit->t;
+  vr_ray n = *r;
+  vr_spawn_origin(hit->p, hit->ng, r->dir, n.org);
+  n.tmax = isinf(r->tmax) ? r->tmax : r->tmax - hit->t;
+  memcpy(n.payload, &p, sizeof p);
+  vr_flow_push(w, &n);
+  return true;
 }
 
 void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit) {
@@ -244,6 +273,7 @@ void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit
     vr_path_deliver(c, &p, L);
     return;
   }
+  if (vr_path_pass_through(c, w, r, hit)) return;
   const vr_robject *o = &rs->obj[hit->object];
   vr_path_absorb(rs, &p, hit);
   double wo[3] = {-r->dir[0], -r->dir[1], -r->dir[2]};
@@ -284,6 +314,12 @@ bool vr_path_shadow_hit(void *ctx, vr_flow_worker *w, vr_ray *r, const vr_hit *h
   const vr_rscene *rs = c->rs;
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   vr_payload *p = (vr_payload *)r->payload;
+  if (m->tex && m->alpha != VR_ALPHA_OFF) {
+    vr_rng_key key = {rs->seed, p->stream, p->sample, p->depth | (uint32_t)hit->object << 8};
+    /* A shadow ray's own numbers: its kind in the top bits. */
+    key.depth ^= 0x80000000u;
+    if (vr_hit_cut_out(rs, hit, vr_rng(&key, VR_DIM_ALPHA))) return true;
+  }
   double T[VR_BSDF_MAX_WAVELENGTHS];
   double cs = vr_dot3(r->dir, hit->ng);
   if (!vr_bsdf_straight_transmittance(m->bsdf, vr_hit_state(rs, hit), cs, p->nwl, p->wl, T))
@@ -340,6 +376,12 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
       p.weight *= vr_filter_sample(&cam->sc->filter, &key, (uint32_t)s, (uint32_t)c->spp, &fdx, &fdy);
       vr_ray r = {0};
       if (!cam->ops->generate(cam, x + 0.5 + fdx, y + 0.5 + fdy, &key, r.org, r.dir)) continue;
+      if (rs->ntex) {
+        /* The ray cone of a pixel: the angle to the next pixel's ray. */
+        double o2[3], d2[3];
+        if (cam->ops->generate(cam, x + 1.5 + fdx, y + 0.5 + fdy, &key, o2, d2))
+          p.cone_a = (float)acos(fmax(-1.0, fmin(1.0, vr_dot3(r.dir, d2))));
+      }
       r.tmax = INFINITY;
       r.kind = VR_RAY_CLOSEST;
       r.purpose = VR_PURPOSE_CAMERA;

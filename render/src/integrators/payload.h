@@ -50,6 +50,11 @@ typedef struct vr_payload {
   double wl[VR_MAX_WL];
   double beta[VR_MAX_WL];  /* throughput, photon power, or a shadow ray's contribution */
   double portal_t;         /* portal photons: distance left to the portal */
+  /* The ray's footprint for texture filtering (a ray cone): its width at
+   * the origin and its spread angle (radians), both 0 in a scene without
+   * textures (so they cost nothing on the wire: vr_ray_pack leaves zero
+   * words out). */
+  float cone_w, cone_a;
 } vr_payload;
 _Static_assert(sizeof(vr_payload) <= VR_RAY_PAYLOAD, "a payload must fit in a ray");
 

@@ -81,6 +81,7 @@ static void closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit 
     return;
   }
   vr_pass *c = ctx;
+  if (vr_path_pass_through(c, w, r, hit)) return;
   const vr_photon_state *ps = c->state;
   vr_payload p;
   memcpy(&p, r->payload, sizeof p);

@@ -76,7 +76,7 @@ static void photon_generate(void *ctx, vr_flow_worker *w, long unit) {
 static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit) {
   vr_pass *c = ctx;
   const vr_rscene *rs = c->rs;
-  if (!hit) return;
+  if (!hit || vr_path_pass_through(c, w, r, hit)) return;
   vr_payload p;
   memcpy(&p, r->payload, sizeof p);
   vr_path_absorb(rs, &p, hit);
@@ -111,10 +111,14 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
     if (p.flags & VR_PF_TERMINATED) bs.weight[0] /= p.nwl;
     p.flags |= VR_PF_TERMINATED;
   }
+  /* A texture multiplies what the surface reflects (finest level: a
+   * photon has no footprint). */
+  double tint[VR_MAX_WL];
+  bool tinted = vr_hit_texture(rs, hit, 0, p.nwl, p.wl, tint);
   double old = 0, mx = 0;
   for (int k = 0; k < p.nwl; k++) {
     if (p.beta[k] > old) old = p.beta[k];
-    p.beta[k] *= bs.weight[k];
+    p.beta[k] *= bs.weight[k] * (tinted ? tint[k] : 1.0);
     if (p.beta[k] > mx) mx = p.beta[k];
   }
   if (!(mx > 0) || !(old > 0)) return;

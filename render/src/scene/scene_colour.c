@@ -1,9 +1,16 @@
 /* Colours in the scene: an RGB colour becomes the inline reflectance
  * spectrum of Jakob & Hanika's sigmoid (vr/rgb_spectrum.h), written at
  * 5 nm from 360 to 830 nm, so that everything after the parser sees a
- * lambert reflector with a spectrum, as if the user had typed it. */
+ * lambert reflector with a spectrum, as if the user had typed it.  And a
+ * lambert line's texture (scn_texture): the file checked here, read when
+ * the scene is resolved. */
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "scene/scene_parse.h"
 #include "vr/colour.h"
@@ -54,6 +61,57 @@ vr_status scn_colour(vr_scn_stmt *t, char **spectrum) {
   if (!(*spectrum = vr_scene_colour_spectrum(c, &e))) {
     if (e.status == VR_E_NOMEM) return scn_nomem(p);
     return scn_fail(p, (hex ? hex : rgb)->word, "\"%s\": %s", (hex ? hex : rgb)->word, e.message);
+  }
+  return VR_OK;
+}
+
+/* A file the scene names: there, a regular file, readable. */
+static vr_status texture_file(const vr_scn_parser *p, const char *word, const char *path) {
+  struct stat sb;
+  if (stat(path, &sb))
+    return scn_fail(p, word, "\"%s\": cannot open texture '%s': %s", word, path, strerror(errno));
+  if (!S_ISREG(sb.st_mode))
+    return scn_fail(p, word, "\"%s\": texture '%s' is not a regular file", word, path);
+  if (access(path, R_OK))
+    return scn_fail(p, word, "\"%s\": cannot read texture '%s': %s", word, path, strerror(errno));
+  return VR_OK;
+}
+
+vr_status scn_texture(vr_scn_stmt *t, vr_scene_material *m) {
+  vr_scn_parser *p = t->p;
+  const vr_scn_opt *tex = scn_get(t, "texture"), *o;
+  if (!tex) {
+    static const char *const NEEDS[] = {"colorspace", "alpha", "alpha_cutoff", "tile", NULL};
+    for (int k = 0; NEEDS[k]; k++)
+      if ((o = scn_get(t, NEEDS[k])))
+        return scn_fail(p, o->word, "\"%s\": %s= goes with texture=FILE", o->word, NEEDS[k]);
+    return VR_OK;
+  }
+  if (!tex->val[0]) return scn_fail(p, tex->word, "\"%s\": texture= needs an image file", tex->word);
+  if (!(m->texture = scn_resolve(p->s, tex->val))) return scn_nomem(p);
+  vr_status st = texture_file(p, tex->word, m->texture);
+  if (st) return st;
+  static const char *const SPACES[] = {"srgb", "linear", NULL};
+  static const char *const ALPHAS[] = {"off", "mask", "blend", NULL};
+  int space = -1, alpha = -1;
+  if ((st = scn_choice(t, "colorspace", SPACES, &space)) || (st = scn_choice(t, "alpha", ALPHAS, &alpha)))
+    return st;
+  m->texture_linear = space == 1;
+  m->alpha = alpha == 1 ? VR_ALPHA_MASK : alpha == 2 ? VR_ALPHA_BLEND : VR_ALPHA_OFF;
+  if ((o = scn_get(t, "alpha_cutoff"))) {
+    if (m->alpha != VR_ALPHA_MASK)
+      return scn_fail(p, o->word, "\"%s\": alpha_cutoff= goes with alpha=mask", o->word);
+    if ((st = scn_range(t, "alpha_cutoff", 0, 1, false, false, &m->alpha_cutoff))) return st;
+  }
+  if ((o = scn_get(t, "tile"))) {
+    /* tile=N (both) or tile=NU,NV. */
+    double v[2];
+    if (strchr(o->val, ',')) st = scn_numbers(p, o->word, o->val, false, 2, v);
+    else st = scn_number(p, o->word, o->val, &v[0]), v[1] = v[0];
+    if (st) return st;
+    if (!(v[0] > 0 && v[1] > 0 && isfinite(v[0]) && isfinite(v[1])))
+      return scn_fail(p, o->word, "\"%s\": repeats must be positive and finite", o->word);
+    m->tile[0] = v[0], m->tile[1] = v[1];
   }
   return VR_OK;
 }

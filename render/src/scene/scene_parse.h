@@ -177,6 +177,10 @@ int scn_material_index(const vr_scene *s, const char *name);
 /* scene_colour.c: a lambert line's color=#RRGGBB or rgb=R,G,B [space=srgb|linear]
  * as an inline reflectance spectrum (new string in *spectrum). */
 vr_status scn_colour(vr_scn_stmt *t, char **spectrum);
+/* A lambert line's texture=FILE [colorspace=srgb|linear] [alpha=off|mask|blend]
+ * [alpha_cutoff=A] [tile=N|NU,NV] into m; the file must be a readable
+ * regular file.  Without texture= the others are refused. */
+vr_status scn_texture(vr_scn_stmt *t, vr_scene_material *m);
 /* Applies translate=, rotate= or scale= (key) after *x. */
 vr_status scn_transform(const vr_scn_parser *p, const char *word, const char *key, const char *v,
                         vr_xform *x);

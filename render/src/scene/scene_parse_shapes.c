@@ -113,18 +113,22 @@ vr_status scn_material(vr_scn_stmt *t) {
   if (!m || !(m->name = strdup(t->w[1]))) return scn_nomem(p);
   m->loc = scn_loc(p, t->w[0]);
   m->roughness = m->thickness_m = m->state = m->charge_mC_cm2 = m->temperature_K = NAN;
+  m->alpha_cutoff = 0.5, m->tile[0] = m->tile[1] = 1;
   const char *src = t->w[2];
   t->what = "a material";
   if (!strcmp(src, "lambert")) {
-    static const char *const LAMBERT[] = {"reflectance", "color", "rgb", "space", NULL};
+    static const char *const LAMBERT[] = {"reflectance", "color", "rgb", "space", "texture",
+                                          "colorspace", "alpha", "alpha_cutoff", "tile", NULL};
     m->source = VR_MATSRC_LAMBERT_CONST;
     const vr_scn_opt *o;
-    if ((st = scn_options(t, 3, LAMBERT))) return st;
+    if ((st = scn_options(t, 3, LAMBERT)) || (st = scn_texture(t, m))) return st;
     const vr_scn_opt *colour = scn_get(t, "color") ? scn_get(t, "color") : scn_get(t, "rgb");
     if (colour && (o = scn_get(t, "reflectance")))
       return scn_fail(p, scn_later(o, colour), "give reflectance= or a colour, not both");
     if (colour) return scn_colour(t, &m->reflectance_spectrum);
     if ((o = scn_get(t, "space"))) return scn_fail(p, o->word, "\"%s\": space= goes with rgb=", o->word);
+    /* A texture alone: its colours are the reflectance (a factor of 1). */
+    if (m->texture && !scn_get(t, "reflectance")) return m->reflectance = 1, VR_OK;
     if ((st = scn_need(t, "reflectance", &o))) return st;
     if (o->val[0] != '[') return scn_range(t, "reflectance", 0, 1, false, false, &m->reflectance);
     /* An inline reflectance spectrum, each value in [0, 1]. */
@@ -140,7 +144,7 @@ vr_status scn_material(vr_scn_stmt *t) {
     return scn_fail(p, src, "unknown material source \"%s\" (db:NAME, lambert, black)", src);
   if (!src[3]) return scn_fail(p, src, "db: needs a material name");
   static const char *const DB[] = {"roughness", "thickness",   "model",   "state",
-                                   "charge",    "temperature", "coating", NULL};
+                                   "charge",    "temperature", "coating", "texture", NULL};
   m->source = VR_MATSRC_DB;
   if (!(m->db_name = strdup(src + 3))) return scn_nomem(p);
   if ((st = scn_options(t, 3, DB)) || (st = scn_range(t, "roughness", 0, 1, false, false, &m->roughness)) ||
@@ -182,6 +186,14 @@ vr_status scn_material(vr_scn_stmt *t) {
     if (st) return st;
     if (!(m->temperature_K > 0))
       return scn_fail(p, o->word, "\"%s\": a temperature in kelvin must be positive", o->word);
+  }
+  if ((o = scn_get(t, "texture"))) {
+    if (strcmp(o->val, "none"))
+      return scn_fail(p, o->word,
+                      "\"%s\": on a database material, texture= can only be none (render the "
+                      "material's mean spectrum instead of the spectral texture it records)",
+                      o->word);
+    m->texture_off = true;
   }
   if ((o = scn_get(t, "coating"))) {
     if (strncmp(o->val, "db:", 3) || !o->val[3])

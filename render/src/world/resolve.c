@@ -9,6 +9,7 @@
 
 #include "vr/chromogenic.h"
 #include "vr/matdb.h"
+#include "textures/texture.h"
 #include "world/resolve.h"
 
 static vr_status resolve_materials(vr_rscene *rs, vr_matdb *db, vr_error *err) {
@@ -42,7 +43,21 @@ static vr_status resolve_materials(vr_rscene *rs, vr_matdb *db, vr_error *err) {
         return st;
       }
     }
-    st = vr_bsdf_create(sm, rm->db, coating, rs->lmin, rs->lmax, &rm->bsdf, err);
+    /* A database material that records a spectral texture (vr-rgb2spec
+     * --texture) reflects its texture's spectra: the BSDF is a white
+     * Lambertian that the texture multiplies (world/textures.c). */
+    const vr_property *tp = sm->source == VR_MATSRC_DB && !sm->texture_off && rm->db
+                                ? vr_material_property(rm->db, "texture")
+                                : NULL;
+    vr_scene_material white;
+    if (tp) {
+      white = *sm;
+      white.source = VR_MATSRC_LAMBERT_CONST;
+      white.reflectance = 1;
+      white.reflectance_spectrum = NULL;
+    }
+    st = vr_bsdf_create(tp ? &white : sm, tp ? NULL : rm->db, coating, rs->lmin, rs->lmax,
+                        &rm->bsdf, err);
     vr_material_destroy(coating);
     if (st) {
       vr_error_prefix(err, "%s:", s->path);
@@ -145,6 +160,7 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
                        rs->scene_radius};
   if (!st) st = resolve_materials(rs, db, err);
   if (!st) st = vr_lights_create(&rs->L, s, &lu, rs->t, err);
+  if (!st) st = vr_rscene_textures(rs, err);
   if (!st) st = resolve_objects(rs, err);
   if (!st) st = vr_rscene_cell_maps(rs, err);
   if (!st) {
@@ -171,6 +187,8 @@ void vr_rscene_destroy(vr_rscene *rs) {
     vr_bsdf_destroy(rs->mat[i].bsdf);
     vr_material_destroy(rs->mat[i].db);
   }
+  for (size_t i = 0; i < rs->ntex; i++) vr_texture_destroy(rs->tex[i]);
+  free(rs->tex);
   for (int c = 0; rs->cells && c < vr_domains_count(rs->d); c++) {
     for (size_t k = 0; k < rs->cells[c].nmaps; k++) free(rs->cells[c].map[k]);
     free(rs->cells[c].map);

@@ -39,6 +39,12 @@ typedef struct vr_rcell {
 
 typedef struct vr_rmaterial {
   vr_bsdf *bsdf;
+  /* A texture multiplying the reflectance per point (owned by the scene's
+   * texture list, shared between materials of the same file), or NULL;
+   * its alpha mode and (u, v) repeats. */
+  const struct vr_texture *tex;
+  vr_alpha_mode alpha;
+  double alpha_cutoff, tile[2];
   double state;            /* chromogenic state from the scene (or 0) */
   bool photochromic;
   struct vr_material *db;  /* the database material, if any */
@@ -65,12 +71,29 @@ typedef struct vr_rscene {
   double film_lo, film_step;
   size_t nbins;
   vr_rng_seed seed; /* the scene's seed and sampler: keys every vr_rng (vr/rng.h) */
+  size_t ntex;
+  struct vr_texture **tex;  /* every texture the materials use, loaded once each */
+  size_t tex_bytes;         /* their memory */
+  double tex_seconds;       /* and their loading time */
 } vr_rscene;
 
 /* Resolution of the scene (resolve.c): materials, lights, the sky, and the
  * sub-domains opened through the geometry cache (none loaded yet). */
 vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_options *opt,
                            int subdomains, vr_rscene **out, vr_error *err);
+/* The textures of the materials (world/textures.c): files and embedded
+ * images, and the spectral textures of database materials (checked by
+ * their recorded SHA-256); errors name the material's scene line. */
+vr_status vr_rscene_textures(vr_rscene *rs, vr_error *err);
+/* The texture factor at a hit for the path's wavelengths (1 where the
+ * material has none): false, with f untouched, when it has none.  width:
+ * the ray footprint there (world units, 0 for the finest level). */
+bool vr_hit_texture(const vr_rscene *rs, const vr_hit *hit, double width, int nwl,
+                    const double *nm, double *f);
+/* Whether the surface is cut out at the hit (alpha); u: a uniform number
+ * for VR_ALPHA_BLEND. */
+bool vr_hit_cut_out(const vr_rscene *rs, const vr_hit *hit, double u);
+
 /* Bytes of the photochromic state maps held by the cells. */
 size_t vr_rscene_map_bytes(const vr_rscene *rs);
 void vr_rscene_destroy(vr_rscene *rs);

@@ -1,0 +1,221 @@
+/* Textures through the renderer (render/src/textures, world/textures.c).
+ *
+ * Outside references:
+ *   - the ColorChecker's 8-bit sRGB (BabelColor 2012 averages,
+ *     tests/data/colorchecker_babelcolor2012_srgb.csv) as a texture, lit
+ *     by CIE D65 (the point light's default spectrum) and seen head on,
+ *     comes back as its own colour: IEC 61966-2-1 decoding, D65 white,
+ *     within Delta E00 1 (the just-noticeable difference: Sharma et al.
+ *     2005, CIE 142-2001) of each patch, the white cell of the texture
+ *     being the image's white;
+ *   - a mip level is the box average of the texels it covers: a 1-texel
+ *     black/white checker (linear 0 and 1) seen at 8 texels a pixel reads
+ *     level 3, whose every texel is exactly 1/2, so each pixel is the
+ *     pixel of a plain reflectance 0.5 rendered with the same numbers;
+ *   - a real RGBA-type file (CMake's SmallLogo.png, grey + alpha, Debian's
+ *     cmake-data, tests/data/images/README.md) over an emitter of
+ *     100 cd/m2: alpha=blend lets through 1 - mean(alpha) of it, and the
+ *     mean over the image of a bilinear interpolation over a whole period
+ *     is the texels' mean, 153.882/900 = 0.170980 (the alpha values
+ *     summed by an independent PNG decoder: Python's zlib and the PNG 1.2
+ *     row filters); alpha=mask cuts where the bilinear alpha is below 0.5:
+ *     0.824225 of the area, integrated by the same independent script on
+ *     a 40 x 40 grid per texel (684 of the 900 texels are below 0.5; the
+ *     bilinear contour rounds their corners and widens the holes between
+ *     the logo's thin, anti-aliased strokes). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "render_test_util.h"
+#include "vr/colour.h"
+#include "vr/image.h"
+
+static char dir[] = "/tmp/vr-texture-test-XXXXXX";
+
+static int setup(void **state) {
+  (void)state;
+  return mkdtemp(dir) ? 0 : -1;
+}
+
+static int teardown(void **state) {
+  (void)state;
+  char cmd[256];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+  return system(cmd) == 0 ? 0 : -1;
+}
+
+/* A head-on view of a size x size rect at the origin (normal -y), filling
+ * an N x N image exactly; the scene's other lines in extra. */
+static vr_render_result *view(const char *material, double size, int N, int spp, const char *extra) {
+  char scn[2048];
+  double d = 5, fov = 2 * atan(size / 2 / d) * 180 / M_PI;
+  snprintf(scn, sizeof scn,
+           "%s\n"
+           "rect center=0,0,0 normal=0,-1,0 size=%g,%g up=0,0,1 material=m\n"
+           "camera pinhole from=0,-%g,0 to=0,0,0 up=0,0,1 fov=%.12g resolution=%dx%d\n"
+           "%s"
+           "render integrator=path spp=%d depth=2\n",
+           material, size, size, d, fov, N, N, extra, spp);
+  return render_text_with(scn, 1, 2, false);
+}
+
+static void lab_of(const double xyz[3], const double white[3], double lab[3]) {
+  vr_xyz_to_lab(xyz, white, lab);
+}
+
+static void test_colorchecker_round_trip(void **state) {
+  (void)state;
+  /* The 24 patches and a white cell (255) in a 5 x 5 grid of 8 x 8 texels. */
+  FILE *f = fopen(VR_TEST_DATA "/colorchecker_babelcolor2012_srgb.csv", "r");
+  assert_non_null(f);
+  char line[256];
+  int codes[25][3], n = 0;
+  while (fgets(line, sizeof line, f) && n < 24) {
+    char name[64];
+    if (line[0] == '#' || !strncmp(line, "patch", 5)) continue;
+    if (sscanf(line, "%63[^,],%d,%d,%d", name, &codes[n][0], &codes[n][1], &codes[n][2]) == 4) n++;
+  }
+  fclose(f);
+  assert_int_equal(n, 24);
+  codes[24][0] = codes[24][1] = codes[24][2] = 255;
+  vr_image img;
+  vr_error e = {0};
+  assert_int_equal(vr_image_alloc(&img, 40, 40, &e), VR_OK);
+  for (int y = 0; y < 40; y++)
+    for (int x = 0; x < 40; x++) {
+      int cell = (y / 8) * 5 + x / 8; /* row 0 at the top of the image */
+      for (int c = 0; c < 3; c++) img.data[(y * 40 + x) * 3 + c] = (float)(codes[cell][c] / 255.0);
+    }
+  char path[512], mat[700];
+  snprintf(path, sizeof path, "%s/checker.png", dir);
+  assert_int_equal(vr_image_write_png(path, &img, 8, &e), VR_OK);
+  vr_image_free(&img);
+  snprintf(mat, sizeof mat, "material m lambert texture=%s", path);
+  /* The light 100 m away on the view axis: irradiance uniform within 1e-4. */
+  int N = 100;
+  vr_render_result *r = view(mat, 1.0, N, 64, "light point position=0,-100,0 intensity=1e6cd\n");
+  double mean[25][3] = {{0}};
+  for (int cell = 0; cell < 25; cell++) {
+    int cx = cell % 5, cy = cell / 5, cnt = 0;
+    /* The inner 12 x 12 pixels of the cell's 20 x 20 (image row 0 at the top). */
+    for (int y = cy * 20 + 4; y < cy * 20 + 16; y++)
+      for (int x = cx * 20 + 4; x < cx * 20 + 16; x++, cnt++)
+        for (int c = 0; c < 3; c++) mean[cell][c] += r->xyz[((size_t)y * N + x) * 3 + c];
+    for (int c = 0; c < 3; c++) mean[cell][c] /= cnt;
+  }
+  double worst = 0;
+  for (int k = 0; k < 24; k++) {
+    double lin[3], xyz[3], want[3], got[3], d65[3];
+    for (int c = 0; c < 3; c++) lin[c] = vr_srgb_decode(codes[k][c] / 255.0);
+    vr_srgb_linear_to_xyz(lin, xyz);
+    double one[3] = {1, 1, 1};
+    vr_srgb_linear_to_xyz(one, d65);
+    lab_of(xyz, d65, want);
+    lab_of(mean[k], mean[24], got);
+    double de = vr_delta_e2000(want, got);
+    if (!(de < 1.0)) fail_msg("patch %d: Delta E00 %.3f (Lab %.2f %.2f %.2f, want %.2f %.2f %.2f)", k, de,
+                              got[0], got[1], got[2], want[0], want[1], want[2]);
+    worst = fmax(worst, de);
+  }
+  printf("# ColorChecker texture under D65: worst Delta E00 %.3f\n", worst);
+  vr_render_result_destroy(r);
+}
+
+/* The scale the texture tests rest on: a white Lambertian rect head on
+ * under an I cd source at d m has L = I / (pi d^2) cd/m2 with D65's
+ * chromaticity x = 0.31271, y = 0.32902 (CIE 15:2004, table T.3). */
+static void test_white_reference(void **state) {
+  (void)state;
+  vr_render_result *r = view("material m lambert reflectance=1", 1.0, 32, 64,
+                             "light point position=0,-100,0 intensity=1e6cd\n");
+  double s[3] = {0, 0, 0};
+  for (int i = 0; i < 32 * 32; i++)
+    for (int c = 0; c < 3; c++) s[c] += r->xyz[3 * i + c] / (32 * 32);
+  double want = 1e6 / (M_PI * 100 * 100), x = s[0] / (s[0] + s[1] + s[2]), y = s[1] / (s[0] + s[1] + s[2]);
+  printf("# white: Y %.4f cd/m2 (%.4f), x %.5f y %.5f (0.31271 0.32902)\n", s[1], want, x, y);
+  assert_true(fabs(s[1] / want - 1) < 0.005);
+  assert_true(fabs(x - 0.31271) < 1e-3 && fabs(y - 0.32902) < 1e-3);
+  vr_render_result_destroy(r);
+}
+
+static void test_mip_footprint(void **state) {
+  (void)state;
+  vr_image img;
+  vr_error e = {0};
+  assert_int_equal(vr_image_alloc(&img, 256, 256, &e), VR_OK);
+  for (int y = 0; y < 256; y++)
+    for (int x = 0; x < 256; x++)
+      for (int c = 0; c < 3; c++) img.data[(y * 256 + x) * 3 + c] = (float)((x + y) & 1);
+  char path[512], mat[700];
+  snprintf(path, sizeof path, "%s/fine.png", dir);
+  assert_int_equal(vr_image_write_png(path, &img, 8, &e), VR_OK);
+  vr_image_free(&img);
+  snprintf(mat, sizeof mat, "material m lambert texture=%s", path);
+  const char *light = "light point position=0,-100,0 intensity=1e6cd\n";
+  vr_render_result *t = view(mat, 1.0, 32, 4, light);
+  vr_render_result *g = view("material m lambert reflectance=0.5", 1.0, 32, 4, light);
+  double worst = 0;
+  for (size_t i = 0; i < 32 * 32; i++) {
+    double a = t->xyz[3 * i + 1], b = g->xyz[3 * i + 1];
+    assert_true(b > 0);
+    worst = fmax(worst, fabs(a / b - 1));
+  }
+  printf("# 8 texels a pixel: largest pixel deviation from reflectance 0.5: %.2e\n", worst);
+  /* 16-bit codes: 32768/65535 is 1.5e-5 above 1/2. */
+  assert_true(worst < 1e-3);
+  vr_render_result_destroy(t);
+  vr_render_result_destroy(g);
+}
+
+static double mean_y(const vr_render_result *r) {
+  double s = 0;
+  for (int i = 0; i < r->width * r->height; i++) s += r->xyz[3 * (size_t)i + 1];
+  return s / (r->width * r->height);
+}
+
+static void test_alpha(void **state) {
+  (void)state;
+  const char *bg = "material black black\n"
+                   "rect center=0,1,0 normal=0,-1,0 size=8,8 material=black emission=100cd/m2\n";
+  char mat[700];
+  snprintf(mat, sizeof mat,
+           "material m lambert texture=%s/images/cmake_smalllogo_grey_alpha.png alpha=blend",
+           VR_TEST_DATA);
+  vr_render_result *r = view(mat, 1.0, 60, 64, bg);
+  double through = mean_y(r) / 100;
+  printf("# alpha=blend: %.4f of the emitter through (1 - 0.170980 = 0.829020)\n", through);
+  assert_true(fabs(through - (1 - 153.88235294 / 900)) < 0.005);
+  vr_render_result_destroy(r);
+  snprintf(mat, sizeof mat,
+           "material m lambert texture=%s/images/cmake_smalllogo_grey_alpha.png alpha=mask",
+           VR_TEST_DATA);
+  r = view(mat, 1.0, 60, 16, bg);
+  through = mean_y(r) / 100;
+  printf("# alpha=mask: %.4f of the emitter through (0.824225)\n", through);
+  assert_true(fabs(through - 0.824225) < 0.005);
+  vr_render_result_destroy(r);
+  /* Without alpha= the same file is opaque: nothing through. */
+  snprintf(mat, sizeof mat, "material m lambert texture=%s/images/cmake_smalllogo_grey_alpha.png",
+           VR_TEST_DATA);
+  r = view(mat, 1.0, 60, 4, bg);
+  assert_true(mean_y(r) < 1e-9);
+  vr_render_result_destroy(r);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_white_reference),
+      cmocka_unit_test(test_colorchecker_round_trip),
+      cmocka_unit_test(test_mip_footprint),
+      cmocka_unit_test(test_alpha),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
