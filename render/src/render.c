@@ -241,7 +241,10 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
      * back to the system soon. */
     prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0);
     mallopt(M_TRIM_THRESHOLD, 8 << 20);
+    /* The textures, read with the scene, are the render's: counted in
+     * the budget (run.c's held), so not in the base. */
     r.rss_base = vr_flow_rss_bytes(true);
+    if (!st && r.rss_base > (long long)r.rs->tex_bytes) r.rss_base -= (long long)r.rs->tex_bytes;
     res->rss_base_bytes = r.mine.rss_base_bytes = r.rss_base;
     res->rss_start_bytes = r.mine.rss_start_bytes = vr_flow_rss_bytes(false);
   }

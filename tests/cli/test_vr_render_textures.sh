@@ -14,6 +14,9 @@
 #   - the pipeline: vr-rgb2spec --per-pixel --texture (the sample photos)
 #     into a fresh database, then db:NAME renders per texel; the texture
 #     file changed afterwards (a byte appended) is refused by its SHA-256;
+#   - the decomposition: a room of textured boxes, a tiled floor and a
+#     cut-out (alpha) screen renders the same image on 1 sub-domain, on 8
+#     under a memory budget (textures counted in it) and on 2 MPI ranks;
 #   - refusals (docs/bad-input.md): a missing texture, a folder, a file
 #     that is not an image, a truncated PNG, options without texture=, a
 #     bad cutoff or tile, texture= on a database material other than none.
@@ -59,6 +62,36 @@ sed 's/issue-92.obj/texture-filename-with-whitespace.obj/' obj.scn > ws.scn
 check "a blank inside the texture's name is kept" test $? -eq 0 -a -n "$(grep "its texture 'texture 01.png' as spectra" ws.err)"
 
 cp "$data"/images/nikon_d2h_goexif.jpg photo.jpg
+cp "$data"/images/cmake_smalllogo_grey_alpha.png logo.png
+cat > room.scn <<SCN
+material floor lambert texture=photo.jpg tile=4
+material screen lambert texture=logo.png alpha=mask
+material wall lambert reflectance=0.6
+rect center=0,0,0 normal=0,0,1 size=6,6 material=floor
+rect center=0,3,1.5 normal=0,-1,0 size=6,3 material=wall
+rect center=0,0.5,1 normal=0,-1,0 size=1.2,1.2 up=0,0,1 material=screen
+mesh BoxTextured.gltf translate=-1.5,1,0.5
+mesh BoxTextured.gltf translate=1.5,1.5,0.5
+mesh BoxTextured.gltf translate=0,2.2,0.5 scale=0.6
+camera pinhole from=0,-4,2 to=0,1,0.8 up=0,0,1 fov=60 resolution=48x36
+light point position=0,-1,2.8 intensity=300cd
+render integrator=path spp=4 depth=3
+SCN
+"$bin" room.scn -o room1 --outputs exr --subdomains 1 2> room1.err
+check "a textured room renders on one sub-domain" test $? -eq 0
+"$bin" room.scn -o room8 --outputs exr --subdomains 8 --memory-budget 24M --threads 2 > room8.out 2> room8.err
+check "on 8 sub-domains under a 24 MiB budget" test $? -eq 0
+check "the same image" "$cmp" room1.exr room8.exr 1e-6
+if [ "${VR_HAVE_MPI:-OFF}" = "ON" ]; then
+  mpi=(mpirun --oversubscribe -np 2)
+  [ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)
+  "${mpi[@]}" "$bin" room.scn -o roomr --outputs exr --subdomains 8 --threads 1 > /dev/null 2> roomr.err
+  check "on 2 MPI ranks" test $? -eq 0
+  check "the same image on ranks" "$cmp" room1.exr roomr.exr 1e-6
+fi
+"$bin" room.scn -o roomt --outputs exr --subdomains 8 --memory-budget 2M 2> roomt.err
+check "a budget the textures and film fill is refused with the figure" \
+  test $? -ne 0 -a -n "$(grep "textures, photon and state maps" roomt.err)"
 plane() { # material options, output scene
   cat > "$2" <<SCN
 material m lambert $1

@@ -146,7 +146,7 @@ vr_status vr_flow_budget_plan(vr_flow *f, vr_error *err) {
                       "memory budget %s is too small: sub-domain %d needs %s to load (%s "
                       "kept, %s more while Embree builds it), and it is the smallest of the "
                       "%d sub-domain%s that do not fit in the %s left after ray queues (%s) "
-                      "and the image and photon and state maps (%s); this scene needs at least %s with %d "
+                      "and the image, textures, photon and state maps (%s); this scene needs at least %s with %d "
                       "sub-domains (more sub-domains make smaller ones)",
                       b, worst, w, g, e, nfit, nfit == 1 ? "" : "s", cap, q, fx, need,
                       f->ncells);

@@ -250,9 +250,14 @@ bool vr_path_pass_through(vr_pass *c, vr_flow_worker *w, const vr_ray *r, const 
   vr_path_absorb(rs, &p, hit);
   vr_cone_advance(&p, hit->t, VR_LOBE_STRAIGHT);
   if (p.flags & VR_PF_PORTAL_PATH) p.portal_t -= hit->t;
-  vr_ray n = *r;
+  /* A new ray from the hole: the flow's own fields (the cell, tnear moved
+   * to a hand-over, the crossings) belong to the old one. */
+  vr_ray n = {0};
   vr_spawn_origin(hit->p, hit->ng, r->dir, n.org);
+  memcpy(n.dir, r->dir, sizeof n.dir);
   n.tmax = isinf(r->tmax) ? r->tmax : r->tmax - hit->t;
+  n.kind = r->kind;
+  n.purpose = r->purpose;
   memcpy(n.payload, &p, sizeof p);
   vr_flow_push(w, &n);
   return true;

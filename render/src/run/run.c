@@ -45,11 +45,13 @@ static void progress_cb(void *u, long done, long total) {
 }
 
 /* What the render holds besides cells and queues: the state maps, the
- * film, and what the integrator in charge holds (photon maps, growing
- * while a photon pass fills them). */
+ * film, the textures (loaded whole on every rank), and what the
+ * integrator in charge holds (photon maps, growing while a photon pass
+ * fills them). */
 static size_t held(void *u) {
   const vr_run *r = u;
-  return vr_rscene_map_bytes(r->rs) + r->film_bytes + (r->held ? r->held(r->held_ctx) : 0);
+  return vr_rscene_map_bytes(r->rs) + r->film_bytes + r->rs->tex_bytes +
+         (r->held ? r->held(r->held_ctx) : 0);
 }
 
 void vr_run_note_held(vr_run *r) {
