@@ -41,7 +41,8 @@ build/fit/vr-spectro metrics electrochromic-glass --state 1 | tee out/electrochr
 build/fit/vr-spectro state photochromic-glass --uv 40 --temperature 25C > out/photochromic_40Wm2.csv
 
 echo "== reflectance spectra from photos under four lights (vr-rgb2spec)"
-build/acquire/vr-rgb2spec samples/photos/*.png --save-prefix photo- --report out/photos.html | tee out/photos.txt
+build/acquire/vr-rgb2spec samples/photos/*.png --save-prefix photo- --report out/photos.html \
+  --per-pixel out/photo_texture.exr --texture photo-texture | tee out/photos.txt
 
 echo "== colour of the ColorChecker under D65 and under A (vr-colour)"
 build/core/vr-colour samples/spectra/colorchecker_babelcolor.csv | tee out/colorchecker_D65.txt
@@ -66,4 +67,4 @@ echo "== the same room's sensors on 2 MPI ranks that share its 8 sub-domains (mp
 mpi=(mpirun --oversubscribe -np 2)
 [ "$(id -u)" -eq 0 ] && mpi=(mpirun --oversubscribe --allow-run-as-root -np 2)
 "${mpi[@]}" build/render/vr-render samples/room.scn -o out/room_ranks --threads 1 --subdomains 8 --sensors-only --stats out/room_ranks_stats.json
-echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room), out/room_budget.sensors.csv and out/room_budget_stats.json (its sensors under a memory budget), out/room_ranks.sensors.csv and out/room_ranks_stats.json (on 2 MPI ranks), out/office_ec.annual*.csv and out/office_pc.annual*.csv (a year of daylight through switchable glazing)"
+echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/photo_texture.exr (the photos' spectral texture, the room's rug), out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room), out/room_budget.sensors.csv and out/room_budget_stats.json (its sensors under a memory budget), out/room_ranks.sensors.csv and out/room_ranks_stats.json (on 2 MPI ranks), out/office_ec.annual*.csv and out/office_pc.annual*.csv (a year of daylight through switchable glazing)"

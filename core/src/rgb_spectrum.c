@@ -66,6 +66,37 @@ void vr_rgbfit_lab(const vr_rgbfit_w *W, const double c[3], double lab[3]) {
   vr_xyz_to_lab(xyz, W->white, lab);
 }
 
+/* The derivative of CIELAB's f (CIE 15:2004, 8.2.1: cbrt above
+ * (6/29)^3, the line of slope 1 / (3 (6/29)^2) below). */
+static double lab_df(double t) {
+  const double d = 6.0 / 29.0;
+  return t > d * d * d ? 1.0 / (3 * cbrt(t) * cbrt(t)) : 1.0 / (3 * d * d);
+}
+
+/* The Jacobian of Lab in the coefficients, analytic: XYZ and its
+ * derivatives in one pass over the samples (S'(x) = 1 / (2 (1 + x^2)^1.5),
+ * dx/dc = t^2, t, 1), then the chain rule through f. */
+static void jacobian(const vr_rgbfit_w *W, const double c[3], double J[3][3]) {
+  double xyz[3] = {0, 0, 0}, d[3][3] = {{0}};
+  for (int i = 0; i < VR_RGBFIT_NS; i++) {
+    double t = (double)i / (VR_RGBFIT_NS - 1), x = (c[0] * t + c[1]) * t + c[2];
+    double q = 1 + x * x, r = 0.5 + x / (2 * sqrt(q)), s = 1 / (2 * q * sqrt(q));
+    double dx[3] = {t * t, t, 1};
+    for (int k = 0; k < 3; k++) {
+      xyz[k] += W->w[i][k] * r;
+      for (int j = 0; j < 3; j++) d[k][j] += W->w[i][k] * s * dx[j];
+    }
+  }
+  double g[3];
+  for (int k = 0; k < 3; k++) g[k] = lab_df(xyz[k] / W->white[k]) / W->white[k];
+  for (int j = 0; j < 3; j++) {
+    double fx = g[0] * d[0][j], fy = g[1] * d[1][j], fz = g[2] * d[2][j];
+    J[0][j] = 116 * fy;
+    J[1][j] = 500 * (fx - fy);
+    J[2][j] = 200 * (fy - fz);
+  }
+}
+
 static double dist(const double a[3], const double b[3]) {
   return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
               (a[2] - b[2]) * (a[2] - b[2]));
@@ -95,15 +126,8 @@ double vr_rgbfit_step(const vr_rgbfit_w *W, const double goal[3], double c[3], i
   vr_rgbfit_lab(W, c, lab);
   double de = dist(lab, goal);
   for (int it = 0; it < iters && de > 1e-9; it++) {
-    /* Central differences: the Jacobian of Lab in the coefficients. */
     double J[3][3];
-    for (int j = 0; j < 3; j++) {
-      double h = 1e-6 * fmax(1, fabs(c[j])), cp[3], cm[3], lp[3], lm[3];
-      memcpy(cp, c, sizeof cp), memcpy(cm, c, sizeof cm);
-      cp[j] += h, cm[j] -= h;
-      vr_rgbfit_lab(W, cp, lp), vr_rgbfit_lab(W, cm, lm);
-      for (int i = 0; i < 3; i++) J[i][j] = (lp[i] - lm[i]) / (2 * h);
-    }
+    jacobian(W, c, J);
     double A[3][3], g[3];
     for (int a = 0; a < 3; a++) {
       g[a] = 0;

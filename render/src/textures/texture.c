@@ -75,7 +75,7 @@ static vr_status next_level(vr_texture *t, int k, vr_error *err) {
         if (t->spectral)
           t->spec[k + 1][to + c] = (float)(acc[c] * inv);
         else
-          t->rgba[k + 1][to + c] = (uint16_t)lround(acc[c] * inv);
+          t->rgba[k + 1][to + c] = (uint16_t)(acc[c] * inv + 0.5); /* in [0, 65535] */
       }
     }
   }
@@ -119,13 +119,13 @@ static vr_status from_image(vr_image *img, const char *name, bool srgb, vr_textu
       double v = img->data[3 * i + (size_t)c];
       if (!(v > 0)) v = 0; /* NaN too */
       if (v > 1) v = 1;
-      if (decode) v = img->bit_depth == 8 ? lut[lround(v * 255)] : vr_srgb_decode(v);
-      t->rgba[0][4 * i + (size_t)c] = (uint16_t)lround(v * 65535);
+      if (decode) v = img->bit_depth == 8 ? lut[(int)(v * 255 + 0.5)] : vr_srgb_decode(v);
+      t->rgba[0][4 * i + (size_t)c] = (uint16_t)(v * 65535 + 0.5); /* v in [0, 1] */
       t->mean[c] += v / (double)n;
     }
     double a = img->alpha_data ? img->alpha_data[i] : 1;
     a = a > 0 ? (a < 1 ? a : 1) : 0;
-    t->rgba[0][4 * i + 3] = (uint16_t)lround(a * 65535);
+    t->rgba[0][4 * i + 3] = (uint16_t)(a * 65535 + 0.5);
   }
   vr_status st = build_mips(t, err);
   if (st) {

@@ -83,8 +83,9 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
                            int subdomains, vr_rscene **out, vr_error *err);
 /* The textures of the materials (world/textures.c): files and embedded
  * images, and the spectral textures of database materials (checked by
- * their recorded SHA-256); errors name the material's scene line. */
-vr_status vr_rscene_textures(vr_rscene *rs, vr_error *err);
+ * their recorded SHA-256), on up to `threads` threads; errors name the
+ * material's scene line. */
+vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err);
 /* The texture factor at a hit for the path's wavelengths (1 where the
  * material has none): false, with f untouched, when it has none.  width:
  * the ray footprint there (world units, 0 for the finest level). */

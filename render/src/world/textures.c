@@ -1,7 +1,9 @@
 /* The materials' textures (world/rscene.h): loaded once per file (models
  * share a file material's texture between the objects of every mesh line
- * that names the file), with their memory and loading time kept for the
- * report, and read at hits. */
+ * that names the file), in parallel, with their memory and loading time
+ * kept for the report, and read at hits. */
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -32,56 +34,106 @@ static const char *source_of(const vr_rscene *rs, size_t i, const char **sha, bo
   return tp->text ? tp->text : "";
 }
 
-vr_status vr_rscene_textures(vr_rscene *rs, vr_error *err) {
+/* One texture to load: the first material that names its source. */
+typedef struct load_job {
+  const vr_scene_material *sm;
+  const char *path, *sha;
+  bool spectral;
+  vr_texture *t;
+  vr_status st;
+  vr_error err;
+} load_job;
+
+static void load_one(load_job *j) {
+  const vr_scene_material *sm = j->sm;
+  if (j->spectral && !j->path[0])
+    j->st = vr_error_set(&j->err, VR_E_PARSE,
+                         "database material '%s' has a texture property without a file",
+                         sm->db_name);
+  else if (j->spectral && !j->sha[0])
+    j->st = vr_error_set(&j->err, VR_E_PARSE,
+                         "database material '%s' records its texture '%s' without its SHA-256 "
+                         "(texture_sha256): the file cannot be checked (save it again with "
+                         "vr-rgb2spec --texture, or give texture=none)",
+                         sm->db_name, j->path);
+  else if (j->spectral)
+    j->st = vr_texture_load_spectral(j->path, j->sha, &j->t, &j->err);
+  else if (sm->texture_bytes)
+    j->st = vr_texture_load_rgb_memory(sm->texture_bytes, sm->texture_len, j->path,
+                                       !sm->texture_linear, &j->t, &j->err);
+  else
+    j->st = vr_texture_load_rgb(j->path, !sm->texture_linear, &j->t, &j->err);
+}
+
+typedef struct loader {
+  load_job *jobs;
+  size_t n;
+  atomic_size_t next;
+} loader;
+
+static void *load_worker(void *arg) {
+  loader *l = arg;
+  for (size_t k; (k = atomic_fetch_add(&l->next, 1)) < l->n;) load_one(&l->jobs[k]);
+  return NULL;
+}
+
+vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
   double t0 = now();
-  const char **keys = calloc(rs->nmat + 1, sizeof *keys);
+  load_job *jobs = calloc(rs->nmat + 1, sizeof *jobs);
+  size_t *job_of = calloc(rs->nmat + 1, sizeof *job_of);
   rs->tex = calloc(rs->nmat + 1, sizeof *rs->tex);
-  if (!keys || !rs->tex) {
-    free(keys);
+  if (!jobs || !job_of || !rs->tex) {
+    free(jobs), free(job_of);
     return vr_error_set(err, VR_E_NOMEM, "out of memory");
   }
-  vr_status st = VR_OK;
-  for (size_t i = 0; i < rs->nmat && !st; i++) {
+  /* The distinct sources, each loaded once. */
+  size_t n = 0;
+  for (size_t i = 0; i < rs->nmat; i++) {
     const vr_scene_material *sm;
     const char *sha;
     bool spectral;
     const char *path = source_of(rs, i, &sha, &spectral, &sm);
+    job_of[i] = (size_t)-1;
     if (!path) continue;
     vr_rmaterial *rm = &rs->mat[i];
     rm->alpha = sm->alpha;
     rm->alpha_cutoff = sm->alpha_cutoff;
     rm->tile[0] = sm->tile[0], rm->tile[1] = sm->tile[1];
-    for (size_t k = 0; k < rs->ntex && !rm->tex; k++)
-      if (!strcmp(keys[k], path)) rm->tex = rs->tex[k];
-    if (rm->tex) continue;
-    vr_texture *t = NULL;
-    if (spectral && !path[0])
-      st = vr_error_set(err, VR_E_PARSE, "database material '%s' has a texture property without a file",
-                        sm->db_name);
-    else if (spectral && !sha[0])
-      st = vr_error_set(err, VR_E_PARSE,
-                        "database material '%s' records its texture '%s' without its SHA-256 "
-                        "(texture_sha256): the file cannot be checked (save it again with "
-                        "vr-rgb2spec --texture, or give texture=none)",
-                        sm->db_name, path);
-    else if (spectral)
-      st = vr_texture_load_spectral(path, sha, &t, err);
-    else if (sm->texture_bytes)
-      st = vr_texture_load_rgb_memory(sm->texture_bytes, sm->texture_len, path,
-                                      !sm->texture_linear, &t, err);
-    else
-      st = vr_texture_load_rgb(path, !sm->texture_linear, &t, err);
-    if (st) {
+    size_t k = 0;
+    while (k < n && strcmp(jobs[k].path, path)) k++;
+    if (k == n) jobs[n++] = (load_job){.sm = sm, .path = path, .sha = sha, .spectral = spectral};
+    job_of[i] = k;
+  }
+  /* Decoded in parallel (the RGB-to-spectrum table is built once, by
+   * whichever gets there first). */
+  loader l = {jobs, n, 0};
+  int nt = threads > 1 ? threads : 1;
+  if ((size_t)nt > n) nt = (int)n;
+  pthread_t th[64];
+  int started = 0;
+  for (; started < nt - 1 && started < 64; started++)
+    if (pthread_create(&th[started], NULL, load_worker, &l)) break;
+  load_worker(&l);
+  for (int k = 0; k < started; k++) pthread_join(th[k], NULL);
+  vr_status st = VR_OK;
+  for (size_t k = 0; k < n; k++) {
+    if (jobs[k].st && !st) {
+      st = jobs[k].st;
+      if (err) *err = jobs[k].err;
+      const vr_scene_material *sm = jobs[k].sm;
       vr_error_prefix(err, "%s:%ld:%ld: material '%s': ", rs->s->path, sm->loc.line, sm->loc.col,
                       sm->name);
-      break;
     }
-    keys[rs->ntex] = path;
-    rs->tex[rs->ntex++] = t;
-    rs->tex_bytes += vr_texture_bytes(t);
-    rm->tex = t;
+    if (jobs[k].t) {
+      rs->tex[rs->ntex++] = jobs[k].t;
+      rs->tex_bytes += vr_texture_bytes(jobs[k].t);
+    }
   }
-  free(keys);
+  if (!st)
+    for (size_t i = 0; i < rs->nmat; i++)
+      if (job_of[i] != (size_t)-1) rs->mat[i].tex = jobs[job_of[i]].t;
+  free(jobs);
+  free(job_of);
   rs->tex_seconds = now() - t0;
   return st;
 }
