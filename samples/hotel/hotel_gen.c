@@ -11,7 +11,9 @@
  *
  *   vr-hotel [--rooms N] [--detail D] OUTDIR
  *
- * writes the meshes in OUTDIR/meshes and two views of the same floor:
+ * writes the meshes in OUTDIR/meshes (with texture coordinates), the wood
+ * and fabric images of the furniture in OUTDIR/textures, and two views of
+ * the same floor:
  * OUTDIR/hotel.scn from inside the middle room towards its window (the
  * paper's view of a hotel room), and OUTDIR/hotel_corridor.scn down the
  * corridor, where every camera path crosses many sub-domains; it prints the
@@ -26,6 +28,7 @@
 #include <sys/stat.h>
 
 #include "hotel_mesh.h"
+#include "hotel_textures.h"
 
 typedef struct piece {
   const char *name, *material;
@@ -199,8 +202,8 @@ static void room(FILE *f, int i, int nrooms) {
   rect(f, X + d0 / 2, 0, 1.35, "0,-1,0", d0, 2.7, "paint", NULL);
   rect(f, X + (d1 + 4) / 2, 0, 1.35, "0,-1,0", 4 - d1, 2.7, "paint", NULL);
   rect(f, X + (d0 + d1) / 2, 0, 2.4, "0,-1,0", 0.9, 0.6, "paint", NULL);
-  static const char *mats[14] = {"cotton", "cotton", "cotton", "cotton", "pine", "cotton", "cotton",
-                                 "pine",   "pine",   "alu",    "alu",    "concrete", "leaf", "pine"};
+  static const char *mats[14] = {"fabric", "cotton", "fabric", "cotton", "wood", "fabric", "fabric",
+                                 "wood",   "wood",   "alu",    "alu",    "concrete", "leaf", "wood"};
   static const char *names[14] = {"curtains", "mattress", "duvet", "pillows", "bedframe",
                                   "headboard", "armchair", "desk", "chair", "floorlamp",
                                   "desklamp", "pot", "leaves", "wardrobe"};
@@ -244,7 +247,11 @@ static bool write_scene(const char *path, int view, int nrooms, int D, size_t pe
         "material ec1      db:electrochromic-glass state=0.3\n"
         "material ec2      db:electrochromic-glass state=0.6\n"
         "material ec3      db:electrochromic-glass state=0.9\n"
-        "material panel    lambert reflectance=0.8\n\n"
+        "material panel    lambert reflectance=0.8\n"
+        "# Textured furniture (vr-hotel's images): boxes carry metres as (u, v),\n"
+        "# so tile=1 is one image a metre; curved pieces span the image once.\n"
+        "material wood     lambert texture=textures/wood.png tile=1\n"
+        "material fabric   lambert texture=textures/fabric.png tile=6\n\n"
         "# The corridor, its ceiling panels lit.\n",
         f);
   rect(f, L / 2, 1, 0, "0,0,1", L, 2, "carpet", NULL);
@@ -265,7 +272,7 @@ static bool write_scene(const char *path, int view, int nrooms, int D, size_t pe
 
 static int usage(void) {
   fputs("usage: vr-hotel [--rooms N] [--detail D] OUTDIR\n"
-        "  writes OUTDIR/hotel.scn and OUTDIR/meshes/*.ply: a hotel floor of N rooms\n"
+        "  writes OUTDIR/hotel.scn, OUTDIR/meshes/*.ply and OUTDIR/textures/*.png: a hotel floor of N rooms\n"
         "  (default 24) whose furniture is tessellated at detail D (default 100;\n"
         "  triangles grow as D^2): 24 rooms at 100 are 20.5 million triangles.\n",
         stderr);
@@ -286,12 +293,15 @@ int main(int argc, char **argv) {
       out = argv[i];
   }
   if (!out || nrooms < 1 || nrooms > 10000 || D < 8 || D > 2000) return usage();
-  char path[4200];
+  char path[4200], tex[4200];
   snprintf(path, sizeof path, "%s/meshes", out);
-  if ((mkdir(out, 0755) && errno != EEXIST) || (mkdir(path, 0755) && errno != EEXIST)) {
+  snprintf(tex, sizeof tex, "%s/textures", out);
+  if ((mkdir(out, 0755) && errno != EEXIST) || (mkdir(path, 0755) && errno != EEXIST) ||
+      (mkdir(tex, 0755) && errno != EEXIST)) {
     fprintf(stderr, "vr-hotel: cannot create %s: %s\n", path, strerror(errno));
     return 1;
   }
+  if (!hotel_write_textures(tex)) return 1;
   static piece P[14] = {{"curtains", "cotton", {0}}, {"mattress", "cotton", {0}},
                         {"duvet", "cotton", {0}},    {"pillows", "cotton", {0}},
                         {"bedframe", "pine", {0}},   {"headboard", "cotton", {0}},
@@ -320,7 +330,7 @@ int main(int argc, char **argv) {
     }
   }
   size_t on_disk = 0;
-  for (int i = 0; i < 14; i++) on_disk += P[i].m.nv * 24 + P[i].m.nt * 13;
+  for (int i = 0; i < 14; i++) on_disk += P[i].m.nv * 32 + P[i].m.nt * 13;
   printf("vr-hotel: %d rooms, %zu triangles per room, %zu in all; meshes %.1f MiB on disk; "
          "%s/hotel.scn and %s/hotel_corridor.scn\n",
          nrooms, per_room, per_room * (size_t)nrooms, on_disk / 1048576.0, out, out);

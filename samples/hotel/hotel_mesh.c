@@ -13,6 +13,9 @@ static bool reserve(mesh *m, size_t nv, size_t nt) {
     float *p = realloc(m->p, cap * 3 * sizeof *p);
     if (!p) return false;
     m->p = p;
+    float *uv = realloc(m->uv, cap * 2 * sizeof *uv);
+    if (!uv) return false;
+    m->uv = uv;
     m->capv = cap;
   }
   if (m->nt + nt > m->capt) {
@@ -39,6 +42,7 @@ bool mesh_grid(mesh *m, surface_fn f, const void *ctx, int nu, int nv, bool wrap
     for (int i = 0; i < cols; i++) {
       double p[3];
       f(ctx, (double)i / nu, (double)j / nv, p);
+      m->uv[2 * m->nv] = (float)i / (float)nu, m->uv[2 * m->nv + 1] = (float)j / (float)nv;
       float *q = m->p + 3 * m->nv++;
       q[0] = (float)p[0], q[1] = (float)p[1], q[2] = (float)p[2];
     }
@@ -62,9 +66,14 @@ bool mesh_box(mesh *m, const double lo[3], const double hi[3]) {
       {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}, {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}};
   for (int f = 0; f < 6; f++) {
     uint32_t base = (uint32_t)m->nv;
+    /* (u, v): metres along the face's first and second varying axes. */
+    int fixed = face[f][0][0] == face[f][2][0] ? 0 : face[f][0][1] == face[f][2][1] ? 1 : 2;
+    int au = (fixed + 1) % 3, av = (fixed + 2) % 3;
     for (int k = 0; k < 4; k++) {
-      float *q = m->p + 3 * m->nv++;
+      float *q = m->p + 3 * m->nv;
       for (int a = 0; a < 3; a++) q[a] = (float)(face[f][k][a] ? hi[a] : lo[a]);
+      m->uv[2 * m->nv] = q[au], m->uv[2 * m->nv + 1] = q[av];
+      m->nv++;
     }
     tri(m, base, base + 1, base + 2);
     tri(m, base, base + 2, base + 3);
@@ -164,11 +173,13 @@ bool mesh_write_ply(const mesh *m, const char *path) {
           "ply\nformat binary_little_endian 1.0\ncomment written by vr-hotel (Virtuelium-C)\n"
           "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n"
           "property float nx\nproperty float ny\nproperty float nz\n"
+          "property float s\nproperty float t\n"
           "element face %zu\nproperty list uchar int vertex_indices\nend_header\n",
           m->nv, m->nt);
   bool ok = true;
   for (size_t v = 0; ok && v < m->nv; v++) {
-    float rec[6] = {m->p[3 * v], m->p[3 * v + 1], m->p[3 * v + 2], 0, 0, 1};
+    float rec[8] = {m->p[3 * v], m->p[3 * v + 1], m->p[3 * v + 2], 0, 0, 1, m->uv[2 * v],
+                    m->uv[2 * v + 1]};
     if (m->n) memcpy(rec + 3, m->n + 3 * v, 3 * sizeof *rec);
     ok = fwrite(rec, sizeof rec, 1, f) == 1;
   }
@@ -184,5 +195,6 @@ void mesh_free(mesh *m) {
   free(m->p);
   free(m->n);
   free(m->t);
+  free(m->uv);
   memset(m, 0, sizeof *m);
 }

@@ -12,6 +12,7 @@ typedef struct mesh {
   size_t nv, nt, capv, capt;
   float *p;    /* 3 per vertex */
   float *n;    /* 3 per vertex, filled by mesh_normals */
+  float *uv;   /* 2 per vertex: the surface's (u, v) on grids, metres along a box's faces */
   uint32_t *t; /* 3 per triangle */
 } mesh;
 
@@ -35,7 +36,8 @@ bool mesh_lathe(mesh *m, double cx, double cy, const double *r, const double *z,
 void mesh_drop_degenerate(mesh *m);
 /* Vertex normals: the area-weighted mean of the triangles around each. */
 void mesh_normals(mesh *m);
-/* Binary little-endian PLY with positions and normals; false on an I/O error. */
+/* Binary little-endian PLY with positions, normals and texture coordinates
+ * (s, t); false on an I/O error. */
 bool mesh_write_ply(const mesh *m, const char *path);
 void mesh_free(mesh *m);
 

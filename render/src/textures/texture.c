@@ -19,9 +19,10 @@
 struct vr_texture {
   bool spectral, alpha;
   int levels, w[MAX_LEVELS], h[MAX_LEVELS];
-  uint16_t *rgba[MAX_LEVELS]; /* RGB: linear codes over 65535, 4 a texel */
-  float *spec[MAX_LEVELS];    /* spectral: nb a texel */
-  size_t nb;
+  /* Per level, nc codes a texel over 65535: RGB and alpha (nc = 4), or
+   * the nb bands of a spectral texture (nc = nb), values in [0, 1]. */
+  uint16_t *px[MAX_LEVELS];
+  size_t nc, nb;
   double *wl;
   const vr_rgb_table *tab;
   size_t bytes;
@@ -30,7 +31,7 @@ struct vr_texture {
 
 void vr_texture_destroy(vr_texture *t) {
   if (!t) return;
-  for (int k = 0; k < t->levels; k++) free(t->rgba[k]), free(t->spec[k]);
+  for (int k = 0; k < t->levels; k++) free(t->px[k]);
   free(t->wl);
   free(t);
 }
@@ -43,16 +44,13 @@ static void box(int x, int n, int m, int *a, int *b) {
   if (*b <= *a) *b = *a + 1;
 }
 
-/* Halves level k into k + 1 (channels floats or codes per texel). */
+/* Halves level k into k + 1. */
 static vr_status next_level(vr_texture *t, int k, vr_error *err) {
   int w = t->w[k], h = t->h[k], W = w > 1 ? w / 2 : 1, H = h > 1 ? h / 2 : 1;
-  size_t nc = t->spectral ? t->nb : 4, n = (size_t)W * (size_t)H * nc;
+  size_t nc = t->nc, n = (size_t)W * (size_t)H * nc;
   double *acc = calloc(nc, sizeof *acc);
-  if (t->spectral)
-    t->spec[k + 1] = malloc(n * sizeof(float));
-  else
-    t->rgba[k + 1] = malloc(n * sizeof(uint16_t));
-  if (!acc || (t->spectral ? !t->spec[k + 1] : !t->rgba[k + 1])) {
+  t->px[k + 1] = malloc(n * sizeof(uint16_t));
+  if (!acc || !t->px[k + 1]) {
     free(acc);
     return vr_error_set(err, VR_E_NOMEM, "out of memory for a texture's mip-maps");
   }
@@ -67,21 +65,16 @@ static vr_status next_level(vr_texture *t, int k, vr_error *err) {
         for (int i = x0; i < x1; i++) {
           size_t at = ((size_t)j * (size_t)w + (size_t)i) * nc;
           for (size_t c = 0; c < nc; c++)
-            acc[c] += t->spectral ? (double)t->spec[k][at + c] : (double)t->rgba[k][at + c];
+            acc[c] += t->px[k][at + c];
         }
       double inv = 1.0 / ((double)(y1 - y0) * (x1 - x0));
       size_t to = ((size_t)y * (size_t)W + (size_t)x) * nc;
-      for (size_t c = 0; c < nc; c++) {
-        if (t->spectral)
-          t->spec[k + 1][to + c] = (float)(acc[c] * inv);
-        else
-          t->rgba[k + 1][to + c] = (uint16_t)(acc[c] * inv + 0.5); /* in [0, 65535] */
-      }
+      for (size_t c = 0; c < nc; c++) t->px[k + 1][to + c] = (uint16_t)(acc[c] * inv + 0.5);
     }
   }
   free(acc);
   t->w[k + 1] = W, t->h[k + 1] = H;
-  t->bytes += n * (t->spectral ? sizeof(float) : sizeof(uint16_t));
+  t->bytes += n * sizeof(uint16_t);
   return VR_OK;
 }
 
@@ -102,12 +95,13 @@ static vr_status from_image(vr_image *img, const char *name, bool srgb, vr_textu
   if (!tab) return vr_error_set(err, e.status, "texture '%s': %s", name, e.message);
   vr_texture *t = calloc(1, sizeof *t);
   size_t n = (size_t)img->width * (size_t)img->height;
-  if (!t || !(t->rgba[0] = malloc(n * 4 * sizeof(uint16_t)))) {
+  if (!t || !(t->px[0] = malloc(n * 4 * sizeof(uint16_t)))) {
     free(t);
     return vr_error_set(err, VR_E_NOMEM, "texture '%s': out of memory (%d x %d)", name, img->width,
                         img->height);
   }
   t->tab = tab;
+  t->nc = 4;
   t->levels = 1, t->w[0] = img->width, t->h[0] = img->height;
   t->bytes = n * 4 * sizeof(uint16_t);
   t->alpha = img->alpha_data && img->transparent > 0;
@@ -120,12 +114,12 @@ static vr_status from_image(vr_image *img, const char *name, bool srgb, vr_textu
       if (!(v > 0)) v = 0; /* NaN too */
       if (v > 1) v = 1;
       if (decode) v = img->bit_depth == 8 ? lut[(int)(v * 255 + 0.5)] : vr_srgb_decode(v);
-      t->rgba[0][4 * i + (size_t)c] = (uint16_t)(v * 65535 + 0.5); /* v in [0, 1] */
+      t->px[0][4 * i + (size_t)c] = (uint16_t)(v * 65535 + 0.5); /* v in [0, 1] */
       t->mean[c] += v / (double)n;
     }
     double a = img->alpha_data ? img->alpha_data[i] : 1;
     a = a > 0 ? (a < 1 ? a : 1) : 0;
-    t->rgba[0][4 * i + 3] = (uint16_t)(a * 65535 + 0.5);
+    t->px[0][4 * i + 3] = (uint16_t)(a * 65535 + 0.5);
   }
   vr_status st = build_mips(t, err);
   if (st) {
@@ -206,14 +200,21 @@ vr_status vr_texture_load_spectral(const char *path, const char *sha256_hex, vr_
     return vr_error_set(err, VR_E_NOMEM, "%s: out of memory", path);
   }
   t->spectral = true;
-  t->nb = img.nbands;
+  t->nb = t->nc = img.nbands;
   memcpy(t->wl, img.wavelengths_nm, img.nbands * sizeof *t->wl);
   t->levels = 1, t->w[0] = img.width, t->h[0] = img.height;
-  t->spec[0] = img.data; /* ours now */
-  img.data = NULL;
-  for (size_t i = 0; i < n; i++)
-    if (t->spec[0][i] > 1) t->spec[0][i] = 1;
-  t->bytes = n * sizeof(float);
+  /* 16-bit codes: a step of 1.5e-5 in reflectance, half the floats'
+   * memory; values over 1 (up to the 1.5 accepted) are held at 1. */
+  if (!(t->px[0] = malloc(n * sizeof(uint16_t)))) {
+    vr_texture_destroy(t);
+    vr_spectral_image_free(&img);
+    return vr_error_set(err, VR_E_NOMEM, "%s: out of memory", path);
+  }
+  for (size_t i = 0; i < n; i++) {
+    float v = img.data[i] < 1 ? img.data[i] : 1;
+    t->px[0][i] = (uint16_t)(v * 65535 + 0.5f);
+  }
+  t->bytes = n * sizeof(uint16_t);
   vr_spectral_image_free(&img);
   if ((st = build_mips(t, err))) {
     vr_error_prefix(err, "%s: ", path);
@@ -285,7 +286,7 @@ void vr_texture_eval(const vr_texture *t, double u, double v, double width, int 
       if (!(lw > 0)) continue;
       taps tp = taps_at(t->w[k], t->h[k], u, v);
       for (int q = 0; q < 4; q++)
-        for (int c = 0; c < 3; c++) rgb[c] += lw * tp.wt[q] * t->rgba[k][4 * tp.at[q] + (size_t)c];
+        for (int c = 0; c < 3; c++) rgb[c] += lw * tp.wt[q] * t->px[k][4 * tp.at[q] + (size_t)c];
     }
     float in[3] = {(float)(rgb[0] / 65535), (float)(rgb[1] / 65535), (float)(rgb[2] / 65535)}, c[3];
     vr_rgb_table_lookup(t->tab, in, c);
@@ -314,12 +315,12 @@ void vr_texture_eval(const vr_texture *t, double u, double v, double width, int 
       if (!(lw > 0)) continue;
       taps tp = taps_at(t->w[k], t->h[k], u, v);
       for (int q = 0; q < 4; q++) {
-        const float *s = t->spec[k] + tp.at[q] * t->nb;
-        double val = fb > 0 ? s[b] + fb * (s[b + 1] - s[b]) : s[b];
+        const uint16_t *s = t->px[k] + tp.at[q] * t->nb;
+        double val = fb > 0 ? s[b] + fb * ((double)s[b + 1] - s[b]) : s[b];
         r += lw * tp.wt[q] * val;
       }
     }
-    out[i] = r;
+    out[i] = r / 65535;
   }
 }
 
@@ -327,6 +328,6 @@ double vr_texture_alpha(const vr_texture *t, double u, double v) {
   if (!t->alpha) return 1;
   taps tp = taps_at(t->w[0], t->h[0], u, v);
   double a = 0;
-  for (int q = 0; q < 4; q++) a += tp.wt[q] * t->rgba[0][4 * tp.at[q] + 3];
+  for (int q = 0; q < 4; q++) a += tp.wt[q] * t->px[0][4 * tp.at[q] + 3];
   return a / 65535;
 }

@@ -14,7 +14,8 @@
  *   - Spectral images (the spectral OpenEXR of vr-rgb2spec --texture,
  *     reflective T.<nm> channels): filtered per band, interpolated
  *     linearly between bands, the end bands held outside their range.
- *     Stored as floats, 4 bytes a band a texel.
+ *     Stored as 16-bit codes, 2 bytes a band a texel (plus a third for the
+ *     mips).
  *
  * Coordinates: (u, v) with v up, as the mesh reader's (Assimp's) and the
  * rects' are: (0, 0) is the bottom-left corner of the image, (1, 1) the
