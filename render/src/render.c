@@ -97,6 +97,50 @@ done:
   return st;
 }
 
+/* Each mesh line's triangles and bounds (the objects it became: one per
+ * file material), to check a model's units and place the camera; the
+ * first MESH_LINES_SAID lines, then how many more. */
+enum { MESH_LINES_SAID = 12 };
+static void say_meshes(vr_run *r) {
+  const vr_rscene *rs = r->rs;
+  const vr_scene *s = rs->s;
+  const vr_scene_tables *t = rs->t;
+  size_t said = 0, more = 0;
+  for (size_t i = 0; i < s->nobjects; i++) {
+    const vr_scene_object *o = &s->objects[i];
+    if (o->shape != VR_SHAPE_MESH) continue;
+    /* The first object of its line only (the line's others follow it). */
+    if (i > 0 && s->objects[i - 1].shape == VR_SHAPE_MESH && s->objects[i - 1].loc.line == o->loc.line)
+      continue;
+    if (said == MESH_LINES_SAID) {
+      more++;
+      continue;
+    }
+    uint64_t prims = 0;
+    size_t nobj = 0;
+    double box[6] = {0};
+    bool any = false;
+    for (size_t j = i; j < s->nobjects && s->objects[j].shape == VR_SHAPE_MESH &&
+                       s->objects[j].loc.line == o->loc.line;
+         j++, nobj++) {
+      if (!t->object_prims || !t->object_prims[j]) continue;
+      prims += t->object_prims[j];
+      for (int a = 0; a < 3; a++) {
+        if (!any || t->object_box[j][a] < box[a]) box[a] = t->object_box[j][a];
+        if (!any || t->object_box[j][3 + a] > box[3 + a]) box[3 + a] = t->object_box[j][3 + a];
+      }
+      any = true;
+    }
+    const char *b = strrchr(o->mesh_path, '/');
+    vr_run_say(r, "scene: mesh '%s' (line %ld): %llu triangles in %zu object%s, bounds x %.4g to %.4g, "
+               "y %.4g to %.4g, z %.4g to %.4g (m)",
+               b ? b + 1 : o->mesh_path, o->loc.line, (unsigned long long)prims, nobj,
+               nobj == 1 ? "" : "s", box[0], box[3], box[1], box[4], box[2], box[5]);
+    said++;
+  }
+  if (more) vr_run_say(r, "scene: ... and %zu more mesh lines", more);
+}
+
 /* The film's bins (for the camera's spectral film and the sensors'
  * spectra) and what the scene is, said once it is resolved. */
 static vr_status describe(vr_run *r, int S, double t0, vr_error *err) {
@@ -126,6 +170,7 @@ static vr_status describe(vr_run *r, int S, double t0, vr_error *err) {
   if (rs->ntex)
     vr_run_say(r, "textures: %zu loaded, %.1f MiB with their mip-maps, in %.2f s", rs->ntex,
                (double)rs->tex_bytes / 1048576.0, rs->tex_seconds);
+  say_meshes(r);
   vr_pass_record *prep = vr_run_record(r, "prepare", true,
                                        "materials from the database, geometry, %d sub-domain%s", S,
                                        S == 1 ? "" : "s");

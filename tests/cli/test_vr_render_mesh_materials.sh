@@ -14,7 +14,8 @@
 #   - Khronos's Box.gltf (CC BY 4.0) without material= takes its
 #     baseColorFactor (0.8, 0, 0);
 #   - units=mm up=y turn the file's millimetres, y up, into the scene's
-#     metres, z up (the printed bounds are the Cornell box's);
+#     metres, z up (the printed bounds, the scene's and the mesh line's own
+#     with its triangle count, are the Cornell box's);
 #   - refusals (docs/bad-input.md): a pattern that matches nothing lists
 #     the file's materials, an unknown scene material, a file without
 #     materials and no material=, bad colours, an unknown unit or up axis,
@@ -98,6 +99,8 @@ check "a glTF without material= renders" test $? -eq 0
 check "with its base colour (linear 0.8, 0, 0), said once" \
   test "$(grep -c "(12 triangles) is mapped to nothing: its colour (linear 0.8, 0, 0)" box.err)" -eq 1
 check "the unit cube's bounds" grep -q "scene: bounds x -0.5 to 0.5, y -0.5 to 0.5, z -0.5 to 0.5" box.err
+check "the mesh line's own triangles and bounds" \
+  grep -q "scene: mesh 'Box.gltf' (line 1): 12 triangles in 1 object, bounds x -0.5 to 0.5, y -0.5 to 0.5, z -0.5 to 0.5 (m)" box.err
 
 # Units and up axis: the Cornell data are millimetres with y up; turned to
 # metres and z up, the room spans 0 to 0.556 in x, -0.5592 to 0 in y (its
@@ -108,6 +111,8 @@ sed -i 's/ scale=0.001//' frame.scn
 "$bin" frame.scn -o frame --outputs exr 2> frame.err
 check "units=mm up=y render" test $? -eq 0
 check "the bounds say metres, z up" grep -q "scene: bounds x 0 to 0.556, y -0.5592 to 0, z 0 to 0.5488" frame.err
+check "and the mesh line its 36 triangles over its 4 file materials" \
+  grep -q "scene: mesh 'cornell_box.obj' (line 3): 36 triangles in 4 objects, bounds x 0 to 0.556, y -0.5592 to 0, z 0 to 0.5488 (m)" frame.err
 sed 's/units=mm up=y/units=yd/' frame.scn > bad6.scn
 refuse render-mesh-units-unknown "$bin" bad6.scn -o bad6
 sed 's/units=mm up=y/up=x/' frame.scn > bad7.scn

@@ -21,6 +21,9 @@ typedef struct vr_scene_tables {
   uint64_t degenerate_dropped;  /* zero-area mesh triangles removed */
   size_t nobjects;
   double *object_area;          /* m², world space, per object */
+  double (*object_box)[6];      /* per object: its primitives' bounds, lo then hi (all
+                                   zero for an object without any) */
+  uint64_t *object_prims;       /* per object: its triangles, or 1 for a sphere */
   /* Rect objects: world point = corner + u eu + v ev for (u, v) in [0,1]². */
   uint8_t *is_rect;
   double (*rect_frame)[9];      /* corner, eu, ev */

@@ -245,6 +245,22 @@ static vr_status take_chunk(vr_mesh_builder *B, const vr_geometry *g, size_t fir
   const vr_scene *s = B->b->scene;
   for (size_t o = first; o < last; o++) {
     t->object_area[o] = g->object_area[o];
+    /* The object's own bounds and primitive count, for the decision lines. */
+    bool any = false;
+    for (size_t i = g->object_tri_begin[o]; i < g->object_tri_end[o]; i++) {
+      tri_box(g->verts, g->tris + 3 * i, lo, hi);
+      for (int a = 0; a < 3; a++) {
+        if (!any || lo[a] < t->object_box[o][a]) t->object_box[o][a] = lo[a];
+        if (!any || hi[a] > t->object_box[o][3 + a]) t->object_box[o][3 + a] = hi[a];
+      }
+      any = true;
+    }
+    t->object_prims[o] = g->object_tri_end[o] - g->object_tri_begin[o];
+    if (g->object_sphere[o] != SIZE_MAX) {
+      sphere_box(g->spheres + 4 * g->object_sphere[o], lo, hi);
+      for (int a = 0; a < 3; a++) t->object_box[o][a] = lo[a], t->object_box[o][3 + a] = hi[a];
+      t->object_prims[o] = 1;
+    }
     if (g->object_sphere[o] != SIZE_MAX)
       memcpy(t->sphere[o], g->spheres + 4 * g->object_sphere[o], 4 * sizeof(double));
     bool tris = g->object_tri_end[o] > g->object_tri_begin[o];
@@ -268,13 +284,16 @@ static vr_status pass1(vr_mesh_builder *B) {
   t->nobjects = nobj;
   size_t n = nobj ? nobj : 1;
   t->object_area = calloc(n, sizeof *t->object_area);
+  t->object_box = calloc(n, sizeof *t->object_box);
+  t->object_prims = calloc(n, sizeof *t->object_prims);
   t->is_rect = calloc(n, 1);
   t->rect_frame = calloc(n, sizeof *t->rect_frame);
   t->emit_begin = calloc(n, sizeof *t->emit_begin);
   t->emit_end = calloc(n, sizeof *t->emit_end);
   t->sphere = calloc(n, sizeof *t->sphere);
   B->heap = malloc(VR_CACHE_SAMPLE * sizeof *B->heap);
-  if (!t->object_area || !t->is_rect || !t->rect_frame || !t->emit_begin || !t->emit_end ||
+  if (!t->object_area || !t->object_box || !t->object_prims || !t->is_rect || !t->rect_frame ||
+      !t->emit_begin || !t->emit_end ||
       !t->sphere || !B->heap)
     return nomem(B);
   char path[PATHMAX];

@@ -143,6 +143,8 @@ static void put_tables(vr_wbuf *b, const vr_scene_tables *t) {
   size_t n = t->nobjects;
   put_u64(b, n);
   put(b, t->object_area, n * sizeof *t->object_area);
+  put(b, t->object_box, n * sizeof *t->object_box);
+  put(b, t->object_prims, n * sizeof *t->object_prims);
   put(b, t->is_rect, n);
   put(b, t->rect_frame, n * sizeof *t->rect_frame);
   put(b, t->emit_begin, n * sizeof *t->emit_begin);
@@ -162,6 +164,8 @@ static void get_tables(vr_rbuf *r, vr_scene_tables *t) {
   uint64_t n = get_u64(r);
   t->nobjects = (size_t)n;
   t->object_area = get_array(r, n, sizeof *t->object_area);
+  t->object_box = get_array(r, n, sizeof *t->object_box);
+  t->object_prims = get_array(r, n, sizeof *t->object_prims);
   t->is_rect = get_array(r, n, 1);
   t->rect_frame = get_array(r, n, sizeof *t->rect_frame);
   t->emit_begin = get_array(r, n, sizeof *t->emit_begin);

@@ -19,7 +19,7 @@
 #include "vr/scene_tables.h"
 
 /* Bumped whenever the layout, the build or the key's contents change. */
-#define VR_CACHE_VERSION 3u
+#define VR_CACHE_VERSION 4u
 #define VR_CELL_HEADER 128
 #define VR_CELL_NORMALS 1u
 

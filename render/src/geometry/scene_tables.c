@@ -10,6 +10,8 @@
 void vr_scene_tables_free(vr_scene_tables *t) {
   if (!t) return;
   free(t->object_area);
+  free(t->object_box);
+  free(t->object_prims);
   free(t->is_rect);
   free(t->rect_frame);
   free(t->emit_begin);
