@@ -19,7 +19,8 @@
 #     under a memory budget (textures counted in it) and on 2 MPI ranks;
 #   - refusals (docs/bad-input.md): a missing texture, a folder, a file
 #     that is not an image, a truncated PNG, options without texture=, a
-#     bad cutoff or tile, texture= on a database material other than none.
+#     bad cutoff or tile, texture= on a database material other than none,
+#     normal_scale= without normal_map=, a missing normal map.
 set -u
 bin="$(cd "$VR_BIN" && pwd)/vr-render"
 cmp="$(cd "$VR_TEST_BIN" && pwd)/vr-test-exr-compare"
@@ -133,6 +134,11 @@ plane "texture=photo.jpg tile=0" bad7.scn
 refuse render-texture-tile "$bin" bad7.scn -o bad7
 sed 's/^material m lambert .*/material m db:anything texture=photo.jpg/' jpg.scn > bad8.scn
 refuse render-texture-db-option "$bin" bad8.scn -o bad8
+plane "reflectance=0.5 normal_scale=2" bad9.scn
+refuse render-normal-scale-alone "$bin" bad9.scn -o bad9
+plane "reflectance=0.5 normal_map=nosuch_n.png" bad10.scn
+refuse render-normal-map-missing "$bin" bad10.scn -o bad10
+
 export VR_MATDB="$tmp/m.db"
 ph="$VR_SOURCE_DIR/samples/photos"
 "$VR_RGB2SPEC" "$ph"/d65.png "$ph"/a.png "$ph"/led.png "$ph"/f11.png --per-pixel "$tmp/tex.exr" \

@@ -64,6 +64,8 @@ typedef struct vr_hit {
   double uv[2];      /* object-local surface coordinates (state maps, textures) */
   double uv_rate;    /* (u, v) units per unit of length there: sqrt(uv area / area) of
                         the triangle (texture footprints); 0 when the uv are degenerate */
+  double dpdu[3], dpdv[3]; /* the surface's derivatives along u and v (normal maps' tangent
+                              frame); zero when the uv are degenerate, and on spheres */
 } vr_hit;
 
 typedef struct vr_domains_options {

@@ -116,6 +116,13 @@ typedef struct vr_scene_material {
   double alpha_cutoff;   /* VR_ALPHA_MASK: cut where alpha < this (default 0.5) */
   double tile[2];        /* (u, v) repeats of the texture (default 1, 1) */
   bool texture_off;      /* db:NAME texture=none: the database material's texture unused */
+  /* A tangent-space normal map (lambert normal_map=FILE, a model's normal
+   * texture): a file, or an embedded image's bytes, as for texture;
+   * normal_scale multiplies its x and y (glTF normalTexture.scale). */
+  char *normal_map;
+  unsigned char *normal_bytes;
+  size_t normal_len;
+  double normal_scale;
   vr_scene_loc loc;
 } vr_scene_material;
 

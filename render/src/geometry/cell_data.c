@@ -152,6 +152,17 @@ bool vr_cell_intersect(RTCScene scene, const vr_cell_view *v, const double org[3
     double uv2 = fabs(((double)q[2] - q[0]) * ((double)q[5] - q[1]) -
                       ((double)q[4] - q[0]) * ((double)q[3] - q[1]));
     hit->uv_rate = area2 > 0 && isfinite(uv2 / area2) ? sqrt(uv2 / area2) : 0;
+    /* e1 = du1 dpdu + dv1 dpdv, e2 = du2 dpdu + dv2 dpdv, solved. */
+    double du1 = (double)q[2] - q[0], dv1 = (double)q[3] - q[1], du2 = (double)q[4] - q[0],
+           dv2 = (double)q[5] - q[1], det = du1 * dv2 - du2 * dv1;
+    if (fabs(det) > 1e-20) {
+      for (int a = 0; a < 3; a++) {
+        hit->dpdu[a] = (dv2 * e1[a] - dv1 * e2[a]) / det;
+        hit->dpdv[a] = (du1 * e2[a] - du2 * e1[a]) / det;
+      }
+    } else {
+      memset(hit->dpdu, 0, sizeof hit->dpdu), memset(hit->dpdv, 0, sizeof hit->dpdv);
+    }
   } else {
     uint32_t s = rh.hit.primID;
     const double *sc = v->spheres + 4 * (size_t)s;
@@ -165,6 +176,7 @@ bool vr_cell_intersect(RTCScene scene, const vr_cell_view *v, const double org[3
     hit->uv[1] = acos(fmax(-1.0, fmin(1.0, hit->ng[2]))) / M_PI;
     /* u spans 2 pi r, v spans pi r: the geometric mean of the rates. */
     hit->uv_rate = sc[3] > 0 ? 1.0 / (M_PI * sc[3] * M_SQRT2) : 0;
+    memset(hit->dpdu, 0, sizeof hit->dpdu), memset(hit->dpdv, 0, sizeof hit->dpdv);
   }
   return true;
 }

@@ -295,7 +295,8 @@ static bool is_obj(const char *path) {
  * file name): its compressed bytes (mHeight 0) copied into m.  Raw texel
  * arrays (mHeight > 0) are not a file: left to the caller's error (no
  * file of that name).  false when out of memory. */
-static bool embedded(const struct aiScene *sc, const char *name, vr_mesh_material *m) {
+static bool embedded(const struct aiScene *sc, const char *name, unsigned char **bytes,
+                     size_t *len) {
   const struct aiTexture *t = NULL;
   if (name[0] == '*') {
     char *end;
@@ -307,14 +308,23 @@ static bool embedded(const struct aiScene *sc, const char *name, vr_mesh_materia
         t = sc->mTextures[k];
   }
   if (!t || t->mHeight != 0 || !t->mWidth) return true;
-  if (!(m->texture_bytes = malloc(t->mWidth))) return false;
-  memcpy(m->texture_bytes, t->pcData, t->mWidth);
-  m->texture_len = t->mWidth;
+  if (!(*bytes = malloc(t->mWidth))) return false;
+  memcpy(*bytes, t->pcData, t->mWidth);
+  *len = t->mWidth;
   return true;
 }
 
+/* A texture's file name without its surrounding blanks (an MTL line's
+ * trailing space: tinyobjloader's issue 92); inner ones are kept. */
+static void trimmed(const char *name, char out[256]) {
+  while (*name == ' ' || *name == '\t') name++;
+  int len = (int)strlen(name);
+  while (len > 0 && (name[len - 1] == ' ' || name[len - 1] == '\t' || name[len - 1] == '\r')) len--;
+  snprintf(out, 256, "%.*s", len < 255 ? len : 255, name);
+}
+
 void vr_mesh_materials_free(vr_mesh_material *m, size_t n) {
-  for (size_t i = 0; m && i < n; i++) free(m[i].texture_bytes);
+  for (size_t i = 0; m && i < n; i++) free(m[i].texture_bytes), free(m[i].normal_bytes);
   free(m);
 }
 
@@ -351,14 +361,22 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
                              NULL) == AI_SUCCESS ||
         aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex, NULL, NULL, NULL, NULL, NULL,
                              NULL) == AI_SUCCESS) {
-      /* Surrounding blanks are not part of a file name (an MTL line's
-       * trailing space: tinyobjloader's issue 92); inner ones are. */
-      const char *t0 = tex.data;
-      while (*t0 == ' ' || *t0 == '\t') t0++;
-      int len = (int)strlen(t0);
-      while (len > 0 && (t0[len - 1] == ' ' || t0[len - 1] == '\t' || t0[len - 1] == '\r')) len--;
-      snprintf(m[i].texture, sizeof m[i].texture, "%.*s", len < 255 ? len : 255, t0);
-      if (!embedded(sc, m[i].texture, &m[i])) {
+      trimmed(tex.data, m[i].texture);
+      if (!embedded(sc, m[i].texture, &m[i].texture_bytes, &m[i].texture_len)) {
+        vr_mesh_materials_free(m, sc->mNumMaterials);
+        aiReleaseImport(sc);
+        return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
+      }
+    }
+    m[i].normal_scale = 1;
+    if (aiGetMaterialTexture(am, aiTextureType_NORMALS, 0, &tex, NULL, NULL, NULL, NULL, NULL,
+                             NULL) == AI_SUCCESS) {
+      trimmed(tex.data, m[i].normal);
+      ai_real sc_n;
+      if (aiGetMaterialFloatArray(am, "$tex.scale", aiTextureType_NORMALS, 0, &sc_n, NULL) ==
+              AI_SUCCESS && sc_n >= 0 && sc_n <= 10)
+        m[i].normal_scale = sc_n;
+      if (!embedded(sc, m[i].normal, &m[i].normal_bytes, &m[i].normal_len)) {
         vr_mesh_materials_free(m, sc->mNumMaterials);
         aiReleaseImport(sc);
         return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);

@@ -42,6 +42,10 @@ typedef struct vr_mesh_material {
   unsigned char *texture_bytes; /* an embedded texture's file bytes (glTF data: URIs,
                           GLB buffers; "*N" names), else NULL; vr_mesh_materials_free */
   size_t texture_len;
+  char normal[256];    /* its tangent-space normal map (glTF normalTexture, MTL norm), or "" */
+  unsigned char *normal_bytes; /* an embedded normal map's bytes, else NULL */
+  size_t normal_len;
+  double normal_scale; /* glTF normalTexture.scale (default 1) */
   int alpha;           /* vr_alpha_mode: glTF alphaMode (OPAQUE, MASK, BLEND) */
   double alpha_cutoff; /* glTF alphaCutoff (default 0.5) */
   size_t triangles;    /* triangles that use it */

@@ -46,6 +46,36 @@ static bool is_obj(const char *path) {
   return n > 4 && !strcasecmp(path + n - 4, ".obj");
 }
 
+/* Where a file material's image is: its bytes when the model embeds it
+ * (*path then names it MODEL#NAME for messages), else the file beside the
+ * model (a Windows path's backslashes read as slashes), which must open. */
+static vr_status locate(const vr_scene *s, const vr_scene_object *ob, const vr_mesh_material *mm,
+                        const char *what, const char *name, const unsigned char *bytes,
+                        size_t len, char **path, unsigned char **out_bytes, size_t *out_len,
+                        vr_error *err) {
+  char buf[1400];
+  if (bytes) {
+    if (!(*out_bytes = malloc(len))) return nomem(err);
+    memcpy(*out_bytes, bytes, len);
+    *out_len = len;
+    snprintf(buf, sizeof buf, "%s#%s", ob->mesh_path, name);
+    return (*path = strdup(buf)) ? VR_OK : nomem(err);
+  }
+  const char *slash = strrchr(ob->mesh_path, '/');
+  int dir = slash ? (int)(slash - ob->mesh_path + 1) : 0;
+  snprintf(buf, sizeof buf, "%.*s%s", dir, ob->mesh_path, name);
+  for (char *c = buf + dir; *c; c++)
+    if (*c == '\\') *c = '/';
+  if (!(*path = strdup(buf))) return nomem(err);
+  FILE *f = fopen(*path, "rb");
+  if (!f)
+    return vr_error_at(err, VR_E_IO, s->path, ob->loc.line, ob->loc.col,
+                       "mesh '%s': material '%s': cannot open its %s '%s': %s",
+                       base(ob->mesh_path), mm->name, what, *path, strerror(errno));
+  fclose(f);
+  return VR_OK;
+}
+
 /* The colour factor of a textured file material as a spectrum (none: 1).
  * glTF: the base colour factor multiplies the texture (glTF 2.0 §3.9.2).
  * OBJ: the texture alone: the MTL specification multiplies map_Kd by Kd,
@@ -76,34 +106,17 @@ static vr_status textured(vr_scene *s, const vr_scene_object *ob, const vr_mesh_
   if (st) return st;
   m->alpha = mm->alpha;
   m->alpha_cutoff = mm->alpha_cutoff;
+  if ((st = locate(s, ob, mm, "texture", mm->texture, mm->texture_bytes, mm->texture_len,
+                    &m->texture, &m->texture_bytes, &m->texture_len, err)))
+    return st;
   char note[1400];
-  if (mm->texture_bytes) {
-    if (!(m->texture_bytes = malloc(mm->texture_len))) return nomem(err);
-    memcpy(m->texture_bytes, mm->texture_bytes, mm->texture_len);
-    m->texture_len = mm->texture_len;
-    snprintf(note, sizeof note, "%s#%s", ob->mesh_path, mm->texture);
-    if (!(m->texture = strdup(note))) return nomem(err);
-  } else {
-    const char *slash = strrchr(ob->mesh_path, '/');
-    int dir = slash ? (int)(slash - ob->mesh_path + 1) : 0;
-    snprintf(note, sizeof note, "%.*s%s", dir, ob->mesh_path, mm->texture);
-    for (char *c = note + dir; *c; c++)
-      if (*c == '\\') *c = '/';
-    if (!(m->texture = strdup(note))) return nomem(err);
-    FILE *f = fopen(m->texture, "rb");
-    if (!f)
-      return vr_error_at(err, VR_E_IO, s->path, ob->loc.line, ob->loc.col,
-                         "mesh '%s': material '%s': cannot open its texture '%s': %s",
-                         base(ob->mesh_path), mm->name, m->texture, strerror(errno));
-    fclose(f);
-  }
   snprintf(note, sizeof note,
            "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its texture '%s'%s%s "
-           "as spectra, material '%s'",
+           "as spectra%s, material '%s'",
            base(ob->mesh_path), mm->name, mm->triangles, mm->texture,
            m->reflectance_spectrum ? " times its colour" : "",
            mm->alpha == VR_ALPHA_MASK ? ", cut out by its alpha" : mm->alpha == VR_ALPHA_BLEND ? ", see-through by its alpha" : "",
-           m->name);
+           m->normal_map ? ", with its normal map" : "", m->name);
   return add_note(s, note, err);
 }
 
@@ -135,8 +148,14 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   m->loc = ob->loc;
   m->source = VR_MATSRC_LAMBERT_CONST;
   m->roughness = m->thickness_m = m->state = m->charge_mC_cm2 = m->temperature_K = NAN;
-  m->alpha_cutoff = 0.5, m->tile[0] = m->tile[1] = 1;
+  m->alpha_cutoff = 0.5, m->tile[0] = m->tile[1] = 1, m->normal_scale = 1;
   *out = (int)(s->nmaterials - 1);
+  if (mm->normal[0]) {
+    vr_status st = locate(s, ob, mm, "normal map", mm->normal, mm->normal_bytes, mm->normal_len,
+                          &m->normal_map, &m->normal_bytes, &m->normal_len, err);
+    if (st) return st;
+    m->normal_scale = mm->normal_scale;
+  }
   char note[1024];
   if (mm->texture[0]) return textured(s, ob, mm, m, err);
   if (!mm->has_colour) {

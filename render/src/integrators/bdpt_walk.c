@@ -295,6 +295,7 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
     v->bsdf = rs->mat[ob->material].bsdf;
     v->state = vr_hit_state(rs, &hit);
     v->tinted = vr_hit_texture(rs, &hit, 0, nwl, sm->wl, v->tint);
+    vr_hit_normal_map(rs, &hit, 0, v->ns);
     v->lobes = vr_bsdf_lobes(v->bsdf);
     v->connectible = v->lobes & (VR_LOBE_DIFFUSE | VR_LOBE_GLOSSY_R | VR_LOBE_GLOSSY_T);
     v->source = b->L.of_object[hit.object];

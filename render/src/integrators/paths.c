@@ -228,9 +228,9 @@ vr_surface vr_path_surface(const vr_rscene *rs, const vr_payload *p, const vr_hi
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   vr_surface se = {m->bsdf, vr_hit_state(rs, hit), vr_vec3_of(hit->ns), vr_vec3_of(wo),
                    p->nwl, p->wl, vr_vec3_of(hit->ns), false, {0}};
-  if (m->tex)
-    se.tinted = vr_hit_texture(rs, hit, (double)p->cone_w + hit->t * (double)p->cone_a, p->nwl,
-                               p->wl, se.tint);
+  double width = (double)p->cone_w + hit->t * (double)p->cone_a, nsn[3];
+  if (m->tex) se.tinted = vr_hit_texture(rs, hit, width, p->nwl, p->wl, se.tint);
+  if (m->nmap && vr_hit_normal_map(rs, hit, width, nsn)) se.n = se.ns = vr_vec3_of(nsn);
   return se;
 }
 

@@ -34,7 +34,8 @@ static bool at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr_hi
   double refl[3], fc[VR_MAX_WL], L[VR_MAX_WL];
   for (int a = 0; a < 3; a++) refl[a] = 2 * vr_dot3(n, wo) * n[a] - wo[a];
   vr_surface_f(se, refl, fc);
-  double cs = fabs(vr_dot3(hit->ns, refl)), fd[VR_MAX_WL];
+  double sn[3] = {se->ns.x, se->ns.y, se->ns.z};
+  double cs = fabs(vr_dot3(sn, refl)), fd[VR_MAX_WL];
   for (int k = 0; k < p->nwl; k++) fd[k] = cs > 0 ? fc[k] / cs : 0; /* rho / pi */
   double E[VR_MAX_WL], Et[VR_MAX_WL] = {0};
   uint32_t surface = (uint32_t)hit->object;

@@ -92,7 +92,8 @@ void vr_photon_maps_radiance(const vr_photon_maps *c, const vr_rscene *rs, const
   double refl[3] = {2 * vr_dot3(n, wo) * n[0] - wo[0], 2 * vr_dot3(n, wo) * n[1] - wo[1],
                     2 * vr_dot3(n, wo) * n[2] - wo[2]};
   vr_surface_f(se, refl, fc);
-  double cs = fabs(vr_dot3(hit->ns, refl));
+  double sn[3] = {se->ns.x, se->ns.y, se->ns.z};
+  double cs = fabs(vr_dot3(sn, refl));
   for (int j = 0; j < p->nwl; j++) L[j] = p->beta[j] * (cs > 0 ? fc[j] / cs : 0) * Et[j];
 }
 

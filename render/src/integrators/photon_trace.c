@@ -97,7 +97,9 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
   vr_rng_key key = {rs->seed, p.stream, p.sample, p.depth + 1};
   double wo[3] = {-r->dir[0], -r->dir[1], -r->dir[2]};
   vr_bsdf_sample bs;
-  if (!vr_bsdf_sample_dir(m->bsdf, vr_hit_state(rs, hit), (vr_vec3){hit->ns[0], hit->ns[1], hit->ns[2]},
+  double ns[3] = {hit->ns[0], hit->ns[1], hit->ns[2]};
+  if (m->nmap) vr_hit_normal_map(rs, hit, 0, ns);
+  if (!vr_bsdf_sample_dir(m->bsdf, vr_hit_state(rs, hit), (vr_vec3){ns[0], ns[1], ns[2]},
                           (vr_vec3){wo[0], wo[1], wo[2]}, p.nwl, p.wl, VR_TRANSPORT_IMPORTANCE,
                           vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
                           vr_rng(&key, VR_DIM_DIR_V), &bs))

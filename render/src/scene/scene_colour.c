@@ -77,8 +77,30 @@ static vr_status texture_file(const vr_scn_parser *p, const char *word, const ch
   return VR_OK;
 }
 
+/* normal_map=FILE [normal_scale=S]. */
+static vr_status normal_map(vr_scn_stmt *t, vr_scene_material *m) {
+  vr_scn_parser *p = t->p;
+  const vr_scn_opt *nm = scn_get(t, "normal_map"), *o = scn_get(t, "normal_scale");
+  if (!nm) {
+    if (o) return scn_fail(p, o->word, "\"%s\": normal_scale= goes with normal_map=FILE", o->word);
+    return VR_OK;
+  }
+  if (!nm->val[0]) return scn_fail(p, nm->word, "\"%s\": normal_map= needs an image file", nm->word);
+  if (!(m->normal_map = scn_resolve(p->s, nm->val))) return scn_nomem(p);
+  vr_status st = texture_file(p, nm->word, m->normal_map);
+  if (st) return st;
+  if (o) {
+    if ((st = scn_number(p, o->word, o->val, &m->normal_scale))) return st;
+    if (!(m->normal_scale >= 0 && m->normal_scale <= 10))
+      return scn_fail(p, o->word, "\"%s\": the scale of a normal map's x and y lies in [0, 10]", o->word);
+  }
+  return VR_OK;
+}
+
 vr_status scn_texture(vr_scn_stmt *t, vr_scene_material *m) {
   vr_scn_parser *p = t->p;
+  vr_status st0 = normal_map(t, m);
+  if (st0) return st0;
   const vr_scn_opt *tex = scn_get(t, "texture"), *o;
   if (!tex) {
     static const char *const NEEDS[] = {"colorspace", "alpha", "alpha_cutoff", "tile", NULL};

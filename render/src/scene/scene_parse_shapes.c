@@ -113,12 +113,13 @@ vr_status scn_material(vr_scn_stmt *t) {
   if (!m || !(m->name = strdup(t->w[1]))) return scn_nomem(p);
   m->loc = scn_loc(p, t->w[0]);
   m->roughness = m->thickness_m = m->state = m->charge_mC_cm2 = m->temperature_K = NAN;
-  m->alpha_cutoff = 0.5, m->tile[0] = m->tile[1] = 1;
+  m->alpha_cutoff = 0.5, m->tile[0] = m->tile[1] = 1, m->normal_scale = 1;
   const char *src = t->w[2];
   t->what = "a material";
   if (!strcmp(src, "lambert")) {
-    static const char *const LAMBERT[] = {"reflectance", "color", "rgb", "space", "texture",
-                                          "colorspace", "alpha", "alpha_cutoff", "tile", NULL};
+    static const char *const LAMBERT[] = {"reflectance", "color",        "rgb",  "space",
+                                          "texture",     "colorspace",   "alpha", "alpha_cutoff",
+                                          "tile",        "normal_map",   "normal_scale", NULL};
     m->source = VR_MATSRC_LAMBERT_CONST;
     const vr_scn_opt *o;
     if ((st = scn_options(t, 3, LAMBERT)) || (st = scn_texture(t, m))) return st;

@@ -273,22 +273,32 @@ static void levels_for(const vr_texture *t, double width, int *k0, int *k1, doub
   *k0 = (int)lod, *k1 = *k0 + 1, *f = lod - *k0;
 }
 
+void vr_texture_rgb(const vr_texture *t, double u, double v, double width, double rgb[3]) {
+  int k0, k1;
+  double f;
+  levels_for(t, width, &k0, &k1, &f);
+  rgb[0] = rgb[1] = rgb[2] = 0;
+  if (t->spectral) return;
+  for (int l = 0; l < 2; l++) {
+    int k = l ? k1 : k0;
+    double lw = l ? f : 1 - f;
+    if (!(lw > 0)) continue;
+    taps tp = taps_at(t->w[k], t->h[k], u, v);
+    for (int q = 0; q < 4; q++)
+      for (int c = 0; c < 3; c++) rgb[c] += lw * tp.wt[q] * t->px[k][4 * tp.at[q] + (size_t)c];
+  }
+  for (int c = 0; c < 3; c++) rgb[c] /= 65535;
+}
+
 void vr_texture_eval(const vr_texture *t, double u, double v, double width, int nwl,
                      const double *nm, double *out) {
   int k0, k1;
   double f;
   levels_for(t, width, &k0, &k1, &f);
   if (!t->spectral) {
-    double rgb[3] = {0, 0, 0};
-    for (int l = 0; l < 2; l++) {
-      int k = l ? k1 : k0;
-      double lw = l ? f : 1 - f;
-      if (!(lw > 0)) continue;
-      taps tp = taps_at(t->w[k], t->h[k], u, v);
-      for (int q = 0; q < 4; q++)
-        for (int c = 0; c < 3; c++) rgb[c] += lw * tp.wt[q] * t->px[k][4 * tp.at[q] + (size_t)c];
-    }
-    float in[3] = {(float)(rgb[0] / 65535), (float)(rgb[1] / 65535), (float)(rgb[2] / 65535)}, c[3];
+    double rgb[3];
+    vr_texture_rgb(t, u, v, width, rgb);
+    float in[3] = {(float)rgb[0], (float)rgb[1], (float)rgb[2]}, c[3];
     vr_rgb_table_lookup(t->tab, in, c);
     for (int i = 0; i < nwl; i++) out[i] = vr_rgb_coef_eval(c, nm[i]);
     return;

@@ -60,6 +60,9 @@ bool vr_texture_has_alpha(const vr_texture *t);
  * full-size level, bilinear), at nwl wavelengths (nm) into out. */
 void vr_texture_eval(const vr_texture *t, double u, double v, double width, int nwl,
                      const double *nm, double *out);
+/* The filtered linear RGB of an RGB texture at (u, v), each in [0, 1]
+ * (normal maps); 0 for a spectral one. */
+void vr_texture_rgb(const vr_texture *t, double u, double v, double width, double rgb[3]);
 /* The alpha at (u, v) (1 where the image has none). */
 double vr_texture_alpha(const vr_texture *t, double u, double v);
 /* The mean linear RGB of the full-size level (for descriptions). */

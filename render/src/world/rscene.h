@@ -45,6 +45,8 @@ typedef struct vr_rmaterial {
   const struct vr_texture *tex;
   vr_alpha_mode alpha;
   double alpha_cutoff, tile[2];
+  const struct vr_texture *nmap; /* a tangent-space normal map, or NULL */
+  double nscale;
   double state;            /* chromogenic state from the scene (or 0) */
   bool photochromic;
   struct vr_material *db;  /* the database material, if any */
@@ -91,6 +93,12 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err);
  * the ray footprint there (world units, 0 for the finest level). */
 bool vr_hit_texture(const vr_rscene *rs, const vr_hit *hit, double width, int nwl,
                     const double *nm, double *f);
+/* The shading normal a normal map gives at the hit (glTF's convention:
+ * tangent-space x along +u, y along +v, z the interpolated normal; scaled
+ * x and y, then normalised), into ns: false, ns untouched, when the
+ * material has none or the hit no tangent frame.  It stays on the side of
+ * the geometric normal the interpolated normal is on. */
+bool vr_hit_normal_map(const vr_rscene *rs, const vr_hit *hit, double width, double ns[3]);
 /* Whether the surface is cut out at the hit (alpha); u: a uniform number
  * for VR_ALPHA_BLEND. */
 bool vr_hit_cut_out(const vr_rscene *rs, const vr_hit *hit, double u);

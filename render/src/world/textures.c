@@ -2,6 +2,7 @@
  * share a file material's texture between the objects of every mesh line
  * that names the file), in parallel, with their memory and loading time
  * kept for the report, and read at hits. */
+#include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -10,6 +11,7 @@
 
 #include "textures/texture.h"
 #include "vr/matdb.h"
+#include "vr/vec3.h"
 #include "world/resolve.h"
 
 static double now(void) {
@@ -38,7 +40,7 @@ static const char *source_of(const vr_rscene *rs, size_t i, const char **sha, bo
 typedef struct load_job {
   const vr_scene_material *sm;
   const char *path, *sha;
-  bool spectral;
+  bool spectral, normal; /* a spectral texture; a normal map (linear, its own bytes) */
   vr_texture *t;
   vr_status st;
   vr_error err;
@@ -58,6 +60,11 @@ static void load_one(load_job *j) {
                          sm->db_name, j->path);
   else if (j->spectral)
     j->st = vr_texture_load_spectral(j->path, j->sha, &j->t, &j->err);
+  else if (j->normal && sm->normal_bytes)
+    j->st = vr_texture_load_rgb_memory(sm->normal_bytes, sm->normal_len, j->path, false, &j->t,
+                                       &j->err);
+  else if (j->normal)
+    j->st = vr_texture_load_rgb(j->path, false, &j->t, &j->err);
   else if (sm->texture_bytes)
     j->st = vr_texture_load_rgb_memory(sm->texture_bytes, sm->texture_len, j->path,
                                        !sm->texture_linear, &j->t, &j->err);
@@ -79,9 +86,9 @@ static void *load_worker(void *arg) {
 
 vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
   double t0 = now();
-  load_job *jobs = calloc(rs->nmat + 1, sizeof *jobs);
-  size_t *job_of = calloc(rs->nmat + 1, sizeof *job_of);
-  rs->tex = calloc(rs->nmat + 1, sizeof *rs->tex);
+  load_job *jobs = calloc(2 * rs->nmat + 1, sizeof *jobs);
+  size_t *job_of = calloc(2 * rs->nmat + 1, sizeof *job_of); /* [2i]: texture, [2i+1]: normal map */
+  rs->tex = calloc(2 * rs->nmat + 1, sizeof *rs->tex);
   if (!jobs || !job_of || !rs->tex) {
     free(jobs), free(job_of);
     return vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -93,16 +100,22 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
     const char *sha;
     bool spectral;
     const char *path = source_of(rs, i, &sha, &spectral, &sm);
-    job_of[i] = (size_t)-1;
-    if (!path) continue;
+    job_of[2 * i] = job_of[2 * i + 1] = (size_t)-1;
     vr_rmaterial *rm = &rs->mat[i];
     rm->alpha = sm->alpha;
     rm->alpha_cutoff = sm->alpha_cutoff;
     rm->tile[0] = sm->tile[0], rm->tile[1] = sm->tile[1];
-    size_t k = 0;
-    while (k < n && strcmp(jobs[k].path, path)) k++;
-    if (k == n) jobs[n++] = (load_job){.sm = sm, .path = path, .sha = sha, .spectral = spectral};
-    job_of[i] = k;
+    rm->nscale = sm->normal_scale;
+    for (int kind = 0; kind < 2; kind++) {
+      const char *p = kind ? sm->normal_map : path;
+      if (!p) continue;
+      size_t k = 0;
+      while (k < n && (strcmp(jobs[k].path, p) || jobs[k].normal != (kind == 1))) k++;
+      if (k == n)
+        jobs[n++] = (load_job){.sm = sm, .path = p, .sha = kind ? NULL : sha,
+                               .spectral = !kind && spectral, .normal = kind == 1};
+      job_of[2 * i + (size_t)kind] = k;
+    }
   }
   /* Decoded in parallel (the RGB-to-spectrum table is built once, by
    * whichever gets there first). */
@@ -130,8 +143,10 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
     }
   }
   if (!st)
-    for (size_t i = 0; i < rs->nmat; i++)
-      if (job_of[i] != (size_t)-1) rs->mat[i].tex = jobs[job_of[i]].t;
+    for (size_t i = 0; i < rs->nmat; i++) {
+      if (job_of[2 * i] != (size_t)-1) rs->mat[i].tex = jobs[job_of[2 * i]].t;
+      if (job_of[2 * i + 1] != (size_t)-1) rs->mat[i].nmap = jobs[job_of[2 * i + 1]].t;
+    }
   free(jobs);
   free(job_of);
   rs->tex_seconds = now() - t0;
@@ -151,6 +166,39 @@ bool vr_hit_texture(const vr_rscene *rs, const vr_hit *hit, double width, int nw
   tex_uv(m, hit, &u, &v);
   double tile = m->tile[0] > m->tile[1] ? m->tile[0] : m->tile[1];
   vr_texture_eval(m->tex, u, v, width * hit->uv_rate * tile, nwl, nm, f);
+  return true;
+}
+
+bool vr_hit_normal_map(const vr_rscene *rs, const vr_hit *hit, double width, double ns[3]) {
+  const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
+  if (!m->nmap) return false;
+  /* The tangent frame: T along dp/du made perpendicular to the shading
+   * normal, B = N x T turned towards dp/dv (a mirrored mapping). */
+  const double *N = hit->ns;
+  double d = vr_dot3(hit->dpdu, N), T[3], B[3];
+  for (int a = 0; a < 3; a++) T[a] = hit->dpdu[a] - d * N[a];
+  double tl = sqrt(vr_dot3(T, T));
+  if (!(tl > 0) || !isfinite(tl)) return false;
+  for (int a = 0; a < 3; a++) T[a] /= tl;
+  B[0] = N[1] * T[2] - N[2] * T[1], B[1] = N[2] * T[0] - N[0] * T[2], B[2] = N[0] * T[1] - N[1] * T[0];
+  if (vr_dot3(B, hit->dpdv) < 0)
+    for (int a = 0; a < 3; a++) B[a] = -B[a];
+  double u, v, rgb[3];
+  tex_uv(m, hit, &u, &v);
+  double tile = m->tile[0] > m->tile[1] ? m->tile[0] : m->tile[1];
+  vr_texture_rgb(m->nmap, u, v, width * hit->uv_rate * tile, rgb);
+  double x = (2 * rgb[0] - 1) * m->nscale, y = (2 * rgb[1] - 1) * m->nscale, z = 2 * rgb[2] - 1;
+  double n[3], l = 0;
+  for (int a = 0; a < 3; a++) {
+    n[a] = x * T[a] + y * B[a] + z * N[a];
+    l += n[a] * n[a];
+  }
+  l = sqrt(l);
+  if (!(l > 0)) return false;
+  for (int a = 0; a < 3; a++) n[a] /= l;
+  /* A normal the map turns through the surface is not used. */
+  if (vr_dot3(n, hit->ng) * vr_dot3(N, hit->ng) <= 0) return false;
+  memcpy(ns, n, sizeof n);
   return true;
 }
 
