@@ -322,7 +322,11 @@ static vr_status decode_image(const unsigned char *buf, size_t len, const char *
     tiff_alpha_tags(buf, len, &samples, &extra_alpha);
     /* A fourth channel from OpenCV is alpha only when the file says so (it
      * may be CMYK turned into RGBA, or unspecified extra data)... */
-    if (st == VR_OK && out->alpha && !extra_alpha) out->alpha = 0, out->transparent = 0;
+    if (st == VR_OK && out->alpha && !extra_alpha) {
+      out->alpha = 0, out->transparent = 0;
+      free(out->alpha_data);
+      out->alpha_data = NULL;
+    }
     /* ... and OpenCV reads a grey TIFF as one channel whatever else it holds. */
     if (st == VR_OK && extra_alpha && !out->alpha)
       st = vr_error_at(err, VR_E_PARSE, path, 0, 0,

@@ -9,6 +9,7 @@
  * every cell whose box it touches.  Pass 3 turns each cell's part into its
  * cache file and measures what Embree keeps for it. */
 #include "geometry/cache_build.h"
+#include "geometry/cache_tables.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -149,70 +150,6 @@ static void sample_add(vr_mesh_builder *B, const double lo[3], const double hi[3
   }
 }
 
-static void tri_box(const float *verts, const uint32_t *ix, double lo[3], double hi[3]) {
-  for (int a = 0; a < 3; a++) {
-    lo[a] = INFINITY;
-    hi[a] = -INFINITY;
-  }
-  for (int k = 0; k < 3; k++) {
-    const float *v = verts + 3 * (size_t)ix[k];
-    for (int a = 0; a < 3; a++) {
-      if (v[a] < lo[a]) lo[a] = v[a];
-      if (v[a] > hi[a]) hi[a] = v[a];
-    }
-  }
-}
-
-static void sphere_box(const double *s, double lo[3], double hi[3]) {
-  for (int a = 0; a < 3; a++) {
-    lo[a] = s[a] - s[3];
-    hi[a] = s[a] + s[3];
-  }
-}
-
-static vr_status add_emitter_tris(vr_mesh_builder *B, const vr_geometry *g, size_t o) {
-  size_t lo = g->object_tri_begin[o], hi = g->object_tri_end[o];
-  vr_scene_tables *t = &B->t;
-  if (t->nemit + (hi - lo) > B->emit_cap) {
-    size_t cap = B->emit_cap ? 2 * B->emit_cap : 64;
-    while (cap < t->nemit + (hi - lo)) cap *= 2;
-    float *v = realloc(t->emit_verts, cap * 9 * sizeof *v);
-    if (!v) return nomem(B);
-    t->emit_verts = v;
-    double *c = realloc(t->emit_cdf, cap * sizeof *c);
-    if (!c) return nomem(B);
-    t->emit_cdf = c;
-    B->emit_cap = cap;
-  }
-  t->emit_begin[o] = t->nemit;
-  for (size_t i = lo; i < hi; i++, t->nemit++) {
-    for (int k = 0; k < 3; k++)
-      memcpy(t->emit_verts + 9 * t->nemit + 3 * k, g->verts + 3 * (size_t)g->tris[3 * i + k],
-             3 * sizeof(float));
-    t->emit_cdf[t->nemit] = g->tri_cdf[i];
-  }
-  t->emit_end[o] = t->nemit;
-  return VR_OK;
-}
-
-/* The frame of a rect's (u, v) from its first triangle's corners and their
- * (u, v): p = corner + u eu + v ev. */
-static void rect_frame(const vr_geometry *g, size_t t0, double f[9]) {
-  const uint32_t *ix = g->tris + 3 * t0;
-  const float *uv = g->tri_uv + 6 * t0;
-  double P[3][3];
-  for (int k = 0; k < 3; k++)
-    for (int a = 0; a < 3; a++) P[k][a] = g->verts[3 * (size_t)ix[k] + a];
-  double du1 = uv[2] - uv[0], dv1 = uv[3] - uv[1], du2 = uv[4] - uv[0], dv2 = uv[5] - uv[1];
-  double det = du1 * dv2 - du2 * dv1;
-  for (int a = 0; a < 3; a++) {
-    double d1 = P[1][a] - P[0][a], d2 = P[2][a] - P[0][a];
-    f[3 + a] = (d1 * dv2 - d2 * dv1) / det;
-    f[6 + a] = (du1 * d2 - du2 * d1) / det;
-    f[a] = P[0][a] - uv[0] * f[3 + a] - uv[1] * f[6 + a];
-  }
-}
-
 /* One chunk (objects [first, last) of g) into the spill file, the sample
  * and the tables. */
 static vr_status take_chunk(vr_mesh_builder *B, const vr_geometry *g, size_t first, size_t last) {
@@ -224,11 +161,11 @@ static vr_status take_chunk(vr_mesh_builder *B, const vr_geometry *g, size_t fir
   if (!ok) return io_fail(B, "write", B->tmp);
   double lo[3], hi[3];
   for (size_t i = 0; i < g->ntris; i++) {
-    tri_box(g->verts, g->tris + 3 * i, lo, hi);
+    vr_cache_tri_box(g->verts, g->tris + 3 * i, lo, hi);
     sample_add(B, lo, hi);
   }
   for (size_t i = 0; i < g->nspheres; i++) {
-    sphere_box(g->spheres + 4 * i, lo, hi);
+    vr_cache_sphere_box(g->spheres + 4 * i, lo, hi);
     sample_add(B, lo, hi);
   }
   if (g->ntris || g->nspheres) {
@@ -238,64 +175,14 @@ static vr_status take_chunk(vr_mesh_builder *B, const vr_geometry *g, size_t fir
     }
     B->any = true;
   }
-  vr_scene_tables *t = &B->t;
-  t->ntris += g->ntris;
-  t->nspheres += g->nspheres;
-  t->degenerate_dropped += g->degenerate_dropped;
-  const vr_scene *s = B->b->scene;
-  for (size_t o = first; o < last; o++) {
-    t->object_area[o] = g->object_area[o];
-    /* The object's own bounds and primitive count, for the decision lines. */
-    bool any = false;
-    for (size_t i = g->object_tri_begin[o]; i < g->object_tri_end[o]; i++) {
-      tri_box(g->verts, g->tris + 3 * i, lo, hi);
-      for (int a = 0; a < 3; a++) {
-        if (!any || lo[a] < t->object_box[o][a]) t->object_box[o][a] = lo[a];
-        if (!any || hi[a] > t->object_box[o][3 + a]) t->object_box[o][3 + a] = hi[a];
-      }
-      any = true;
-    }
-    t->object_prims[o] = g->object_tri_end[o] - g->object_tri_begin[o];
-    if (g->object_sphere[o] != SIZE_MAX) {
-      sphere_box(g->spheres + 4 * g->object_sphere[o], lo, hi);
-      for (int a = 0; a < 3; a++) t->object_box[o][a] = lo[a], t->object_box[o][3 + a] = hi[a];
-      t->object_prims[o] = 1;
-    }
-    if (g->object_sphere[o] != SIZE_MAX)
-      memcpy(t->sphere[o], g->spheres + 4 * g->object_sphere[o], 4 * sizeof(double));
-    bool tris = g->object_tri_end[o] > g->object_tri_begin[o];
-    if (!s || !tris) continue;
-    if (s->objects[o].shape == VR_SHAPE_RECT) {
-      t->is_rect[o] = 1;
-      rect_frame(g, g->object_tri_begin[o], t->rect_frame[o]);
-    }
-    if (s->objects[o].emission.value != 0.0) {
-      vr_status st = add_emitter_tris(B, g, o);
-      if (st) return st;
-    }
-  }
-  return VR_OK;
+  return vr_cache_tables_take(&B->t, &B->emit_cap, g, B->b->scene, first, last, B->err);
 }
 
 static vr_status pass1(vr_mesh_builder *B) {
   const vr_cache_build *b = B->b;
   size_t nobj = b->scene ? b->scene->nobjects : b->geometry->nobjects;
-  vr_scene_tables *t = &B->t;
-  t->nobjects = nobj;
-  size_t n = nobj ? nobj : 1;
-  t->object_area = calloc(n, sizeof *t->object_area);
-  t->object_box = calloc(n, sizeof *t->object_box);
-  t->object_prims = calloc(n, sizeof *t->object_prims);
-  t->is_rect = calloc(n, 1);
-  t->rect_frame = calloc(n, sizeof *t->rect_frame);
-  t->emit_begin = calloc(n, sizeof *t->emit_begin);
-  t->emit_end = calloc(n, sizeof *t->emit_end);
-  t->sphere = calloc(n, sizeof *t->sphere);
   B->heap = malloc(VR_CACHE_SAMPLE * sizeof *B->heap);
-  if (!t->object_area || !t->object_box || !t->object_prims || !t->is_rect || !t->rect_frame ||
-      !t->emit_begin || !t->emit_end ||
-      !t->sphere || !B->heap)
-    return nomem(B);
+  if (!vr_cache_tables_alloc(&B->t, nobj) || !B->heap) return nomem(B);
   char path[PATHMAX];
   snprintf(path, sizeof path, "%s/spill", B->tmp);
   if (!(B->soup = fopen(path, "wb"))) return io_fail(B, "create", path);
@@ -323,8 +210,8 @@ static vr_status pass1(vr_mesh_builder *B) {
   B->soup = NULL;
   if (st) return st;
   if (B->any) {
-    memcpy(t->bmin, B->lo, sizeof t->bmin);
-    memcpy(t->bmax, B->hi, sizeof t->bmax);
+    memcpy(B->t.bmin, B->lo, sizeof B->t.bmin);
+    memcpy(B->t.bmax, B->hi, sizeof B->t.bmax);
   }
   return VR_OK;
 }
@@ -459,9 +346,9 @@ static vr_status deal(vr_mesh_builder *B, const vr_build_chunk *k, uint32_t *mar
   double lo[3], hi[3];
   for (size_t i = 0; !st && i < h->ntris + h->nspheres; i++) {
     if (i < h->ntris)
-      tri_box(k->verts, k->tris + 3 * i, lo, hi);
+      vr_cache_tri_box(k->verts, k->tris + 3 * i, lo, hi);
     else
-      sphere_box(k->spheres + 4 * (i - h->ntris), lo, hi);
+      vr_cache_sphere_box(k->spheres + 4 * (i - h->ntris), lo, hi);
     int n = cells_of(B, lo, hi, cells);
     for (int j = 0; j < n; j++) {
       vr_build_part *p = &B->parts[cells[j]];

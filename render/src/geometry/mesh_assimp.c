@@ -301,7 +301,8 @@ static bool embedded(const struct aiScene *sc, const char *name, unsigned char *
   if (name[0] == '*') {
     char *end;
     long k = strtol(name + 1, &end, 10);
-    if (!*end && k >= 0 && (unsigned long)k < sc->mNumTextures) t = sc->mTextures[k];
+    if (end != name + 1 && !*end && k >= 0 && (unsigned long)k < sc->mNumTextures)
+      t = sc->mTextures[k];
   } else {
     for (unsigned k = 0; k < sc->mNumTextures && !t; k++)
       if (sc->mTextures[k]->mFilename.length && !strcmp(sc->mTextures[k]->mFilename.data, name))

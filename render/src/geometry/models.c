@@ -61,8 +61,13 @@ static vr_status locate(const vr_scene *s, const vr_scene_object *ob, const vr_m
     snprintf(buf, sizeof buf, "%s#%s", ob->mesh_path, name);
     return (*path = strdup(buf)) ? VR_OK : nomem(err);
   }
+  if (name[0] == '*')
+    return vr_error_at(err, VR_E_PARSE, s->path, ob->loc.line, ob->loc.col,
+                       "mesh '%s': material '%s': its %s '%s' is an embedded image the file does "
+                       "not hold as a compressed image (no such index, or raw texels)",
+                       base(ob->mesh_path), mm->name, what, name);
   const char *slash = strrchr(ob->mesh_path, '/');
-  int dir = slash ? (int)(slash - ob->mesh_path + 1) : 0;
+  int dir = name[0] == '/' ? 0 : slash ? (int)(slash - ob->mesh_path + 1) : 0; /* absolute as is */
   snprintf(buf, sizeof buf, "%.*s%s", dir, ob->mesh_path, name);
   for (char *c = buf + dir; *c; c++)
     if (*c == '\\') *c = '/';

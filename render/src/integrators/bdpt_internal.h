@@ -40,6 +40,7 @@ typedef struct vr_bdpt_vertex {
   const vr_bsdf *bsdf;
   double state;      /* chromogenic state at the hit */
   bool tinted;       /* a texture multiplies the BSDF by tint */
+  bool bent;         /* ns is a normal map's: nothing scatters across ng */
   double tint[VR_MAX_WL];
   unsigned lobes;
   double p[3], ng[3], ns[3];

@@ -78,6 +78,7 @@ void bdpt_f(const vr_bdpt_vertex *v, const double wi[3], int nwl, const double *
     double in = fabs(vr_dot3(wi, v->ns)), ig = fabs(vr_dot3(wi, v->ng));
     corr = og > 0 && in > 0 ? on * ig / (og * in) : 0;
   }
+  if (v->bent && vr_dot3(v->ng, wi) * vr_dot3(v->ng, v->wo) <= 0) corr = 0;
   for (int k = 0; k < nwl; k++) f[k] = fb[k] * corr * (v->tinted ? v->tint[k] : 1.0);
 }
 
@@ -295,7 +296,7 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
     v->bsdf = rs->mat[ob->material].bsdf;
     v->state = vr_hit_state(rs, &hit);
     v->tinted = vr_hit_texture(rs, &hit, 0, nwl, sm->wl, v->tint);
-    vr_hit_normal_map(rs, &hit, 0, v->ns);
+    v->bent = vr_hit_normal_map(rs, &hit, 0, v->ns);
     v->lobes = vr_bsdf_lobes(v->bsdf);
     v->connectible = v->lobes & (VR_LOBE_DIFFUSE | VR_LOBE_GLOSSY_R | VR_LOBE_GLOSSY_T);
     v->source = b->L.of_object[hit.object];
@@ -318,6 +319,7 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
     if (bs.terminate_secondary && term) bs.weight[0] /= nwl;
     if (bs.terminate_secondary) term = true;
     double wi[3] = {bs.wi.x, bs.wi.y, bs.wi.z};
+    if (v->bent && vr_dot3(v->ng, wi) * vr_dot3(v->ng, v->wo) <= 0) break;
     double pdf_fwd = bs.pdf, pdf_rev = 0;
     if (bs.lobe & VR_LOBE_DELTA) {
       v->delta = true;

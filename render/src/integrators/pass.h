@@ -38,6 +38,10 @@ typedef struct vr_surface {
   vr_vec3 ns;
   bool tinted;              /* a texture multiplies the BSDF by tint (per wavelength) */
   double tint[VR_MAX_WL];
+  bool bent;                /* n and ns are a normal map's: a direction on the other side
+                               of the geometric normal ng from wo scatters nothing (the
+                               textured materials are opaque Lambertian reflectors) */
+  vr_vec3 ng;
 } vr_surface;
 
 /* The spread a ray cone takes on after a diffuse or glossy vertex

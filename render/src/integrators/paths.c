@@ -153,6 +153,7 @@ void vr_surface_f(const void *u, const double wi[3], double *fc) {
   vr_vec3 w = vr_vec3_of(wi);
   vr_bsdf_eval(s->b, s->state, s->n, s->wo, w, s->nwl, s->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
   double c = fabs(vr_vec3_dot(s->ns, w));
+  if (s->bent && vr_vec3_dot(s->ng, w) * vr_vec3_dot(s->ng, s->wo) <= 0) c = 0;
   for (int k = 0; k < s->nwl; k++) fc[k] = f[k] * c * (s->tinted ? s->tint[k] : 1.0);
 }
 
@@ -174,6 +175,8 @@ static bool continue_path(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr
                           vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
                           vr_rng(&key, VR_DIM_DIR_V), &bs))
     return false;
+  /* Around a normal map's normal, a reflection may point into the surface. */
+  if (se->bent && vr_vec3_dot(se->ng, bs.wi) * vr_vec3_dot(se->ng, se->wo) <= 0) return false;
   /* The factor nwl of a dispersive refraction stands for the secondary
    * wavelengths it ends: once only. */
   if (bs.terminate_secondary && (p->flags & VR_PF_TERMINATED)) bs.weight[0] /= p->nwl;
@@ -205,6 +208,7 @@ static bool continue_path(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr
   if (bs.lobe & (VR_LOBE_SPECULAR_T | VR_LOBE_GLOSSY_T))
     p->medium = vr_dot3(wi, hit->ng) < 0 ? (int32_t)hit->object : -1;
   if (c->rs->ntex) vr_cone_advance(p, hit->t, bs.lobe);
+  p->holes = 0;
   p->depth++;
   vr_ray r = {0};
   vr_spawn_origin(hit->p, hit->ng, wi, r.org);
@@ -227,11 +231,22 @@ vr_surface vr_path_surface(const vr_rscene *rs, const vr_payload *p, const vr_hi
                            const double wo[3]) {
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   vr_surface se = {m->bsdf, vr_hit_state(rs, hit), vr_vec3_of(hit->ns), vr_vec3_of(wo),
-                   p->nwl, p->wl, vr_vec3_of(hit->ns), false, {0}};
+                   p->nwl, p->wl, vr_vec3_of(hit->ns), false, {0}, false, vr_vec3_of(hit->ng)};
+  if (!m->tex && !m->nmap) return se;
+  /* The footprint on the surface: the cone's width, stretched by the
+   * incidence (at most 20 times, near grazing). */
   double width = (double)p->cone_w + hit->t * (double)p->cone_a, nsn[3];
+  width /= fmax(fabs(vr_dot3(wo, hit->ng)), 0.05);
   if (m->tex) se.tinted = vr_hit_texture(rs, hit, width, p->nwl, p->wl, se.tint);
-  if (m->nmap && vr_hit_normal_map(rs, hit, width, nsn)) se.n = se.ns = vr_vec3_of(nsn);
+  if (m->nmap && vr_hit_normal_map(rs, hit, width, nsn)) se.n = se.ns = vr_vec3_of(nsn), se.bent = true;
   return se;
+}
+
+/* The key depth of a see-through test: the path's depth and the holes
+ * passed since its last vertex (the same whatever the sub-domains), in a
+ * range no other use of the depth reaches; shadow rays apart. */
+static uint32_t alpha_key(const vr_payload *p, bool shadow) {
+  return 0x40000000u | (shadow ? 0x20000000u : 0) | (uint32_t)p->depth << 8 | p->holes;
 }
 
 void vr_cone_advance(vr_payload *p, double t, unsigned lobe) {
@@ -244,8 +259,9 @@ bool vr_path_pass_through(vr_pass *c, vr_flow_worker *w, const vr_ray *r, const 
   if (!rs->mat[rs->obj[hit->object].material].tex) return false;
   vr_payload p;
   memcpy(&p, r->payload, sizeof p);
-  vr_rng_key key = {rs->seed, p.stream, p.sample, p.depth | (uint32_t)hit->object << 8};
+  vr_rng_key key = {rs->seed, p.stream, p.sample, alpha_key(&p, false)};
   if (!vr_hit_cut_out(rs, hit, vr_rng(&key, VR_DIM_ALPHA))) return false;
+  if (p.holes < 255) p.holes++;
   /* On through the hole, as if nothing were there. */
   vr_path_absorb(rs, &p, hit);
   vr_cone_advance(&p, hit->t, VR_LOBE_STRAIGHT);
@@ -320,10 +336,10 @@ bool vr_path_shadow_hit(void *ctx, vr_flow_worker *w, vr_ray *r, const vr_hit *h
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   vr_payload *p = (vr_payload *)r->payload;
   if (m->tex && m->alpha != VR_ALPHA_OFF) {
-    vr_rng_key key = {rs->seed, p->stream, p->sample, p->depth | (uint32_t)hit->object << 8};
-    /* A shadow ray's own numbers: its kind in the top bits. */
-    key.depth ^= 0x80000000u;
-    if (vr_hit_cut_out(rs, hit, vr_rng(&key, VR_DIM_ALPHA))) return true;
+    vr_rng_key key = {rs->seed, p->stream, p->sample, alpha_key(p, true)};
+    bool through = vr_hit_cut_out(rs, hit, vr_rng(&key, VR_DIM_ALPHA));
+    if (p->holes < 255) p->holes++;
+    if (through) return true;
   }
   double T[VR_BSDF_MAX_WAVELENGTHS];
   double cs = vr_dot3(r->dir, hit->ng);

@@ -45,6 +45,8 @@ typedef struct vr_payload {
   uint16_t flags;          /* VR_PF_* */
   uint8_t patch;           /* sky light: its Tregenza patch (vr/skypatch.h), the ground
                               VR_SKY_GROUND_PATCH; VR_NO_PATCH otherwise */
+  uint8_t holes;           /* alpha cut-outs passed through since the last vertex: keys
+                              each see-through test's number apart */
   int32_t medium;          /* object whose inside the path is in, -1 outside */
   double weight;           /* sample weight (1/spp, ...), applied on delivery */
   double wl[VR_MAX_WL];

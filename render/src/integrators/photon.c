@@ -31,10 +31,13 @@ static bool at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr_hi
   memcpy(n, hit->ng, sizeof n);
   if (vr_dot3(n, wo) < 0)
     for (int a = 0; a < 3; a++) n[a] = -n[a];
-  double refl[3], fc[VR_MAX_WL], L[VR_MAX_WL];
-  for (int a = 0; a < 3; a++) refl[a] = 2 * vr_dot3(n, wo) * n[a] - wo[a];
+  /* rho/pi from the BSDF at wo's mirror about the shading normal (a normal
+   * map's, if any), turned towards wo. */
+  double refl[3], fc[VR_MAX_WL], L[VR_MAX_WL], sn[3] = {se->ns.x, se->ns.y, se->ns.z};
+  if (vr_dot3(sn, wo) < 0)
+    for (int a = 0; a < 3; a++) sn[a] = -sn[a];
+  for (int a = 0; a < 3; a++) refl[a] = 2 * vr_dot3(sn, wo) * sn[a] - wo[a];
   vr_surface_f(se, refl, fc);
-  double sn[3] = {se->ns.x, se->ns.y, se->ns.z};
   double cs = fabs(vr_dot3(sn, refl)), fd[VR_MAX_WL];
   for (int k = 0; k < p->nwl; k++) fd[k] = cs > 0 ? fc[k] / cs : 0; /* rho / pi */
   double E[VR_MAX_WL], Et[VR_MAX_WL] = {0};
@@ -65,6 +68,7 @@ static bool at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr_hi
       vr_payload q = *p;
       q.target = VR_TARGET_GATHER;
       q.flags &= (uint16_t)~VR_PF_SPECULAR_LAST;
+      q.holes = 0;
       q.depth++;
       for (int k = 0; k < p->nwl; k++) q.beta[k] = p->beta[k] * fd[k] * M_PI / ps->gather_rays;
       memcpy(gr.payload, &q, sizeof q);

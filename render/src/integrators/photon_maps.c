@@ -89,10 +89,13 @@ void vr_photon_maps_radiance(const vr_photon_maps *c, const vr_rscene *rs, const
     if (i == 2 && got_global) *got_global = got;
     for (int j = 0; j < p->nwl; j++) Et[j] += E[j];
   }
-  double refl[3] = {2 * vr_dot3(n, wo) * n[0] - wo[0], 2 * vr_dot3(n, wo) * n[1] - wo[1],
-                    2 * vr_dot3(n, wo) * n[2] - wo[2]};
-  vr_surface_f(se, refl, fc);
+  /* rho/pi at wo's mirror about the shading normal, turned towards wo. */
   double sn[3] = {se->ns.x, se->ns.y, se->ns.z};
+  if (vr_dot3(sn, wo) < 0)
+    for (int a = 0; a < 3; a++) sn[a] = -sn[a];
+  double refl[3] = {2 * vr_dot3(sn, wo) * sn[0] - wo[0], 2 * vr_dot3(sn, wo) * sn[1] - wo[1],
+                    2 * vr_dot3(sn, wo) * sn[2] - wo[2]};
+  vr_surface_f(se, refl, fc);
   double cs = fabs(vr_dot3(sn, refl));
   for (int j = 0; j < p->nwl; j++) L[j] = p->beta[j] * (cs > 0 ? fc[j] / cs : 0) * Et[j];
 }

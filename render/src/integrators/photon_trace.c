@@ -98,11 +98,14 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
   double wo[3] = {-r->dir[0], -r->dir[1], -r->dir[2]};
   vr_bsdf_sample bs;
   double ns[3] = {hit->ns[0], hit->ns[1], hit->ns[2]};
-  if (m->nmap) vr_hit_normal_map(rs, hit, 0, ns);
+  bool bent = m->nmap && vr_hit_normal_map(rs, hit, 0, ns);
   if (!vr_bsdf_sample_dir(m->bsdf, vr_hit_state(rs, hit), (vr_vec3){ns[0], ns[1], ns[2]},
                           (vr_vec3){wo[0], wo[1], wo[2]}, p.nwl, p.wl, VR_TRANSPORT_IMPORTANCE,
                           vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
                           vr_rng(&key, VR_DIM_DIR_V), &bs))
+    return;
+  /* Around a normal map's normal, a reflection may point into the surface. */
+  if (bent && vr_dot3(hit->ng, (double[3]){bs.wi.x, bs.wi.y, bs.wi.z}) * vr_dot3(hit->ng, wo) <= 0)
     return;
   if (before_portal) {
     if (!(bs.lobe & VR_LOBE_STRAIGHT)) return; /* shaded before the portal */
@@ -135,6 +138,7 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
   double wi[3] = {bs.wi.x, bs.wi.y, bs.wi.z};
   if (bs.lobe & (VR_LOBE_SPECULAR_T | VR_LOBE_GLOSSY_T))
     p.medium = vr_dot3(wi, hit->ng) < 0 ? (int32_t)hit->object : -1;
+  p.holes = 0;
   p.depth++;
   vr_ray nr = {0};
   vr_spawn_origin(hit->p, hit->ng, wi, nr.org);

@@ -97,17 +97,35 @@ static vr_status normal_map(vr_scn_stmt *t, vr_scene_material *m) {
   return VR_OK;
 }
 
+/* tile=N (both) or tile=NU,NV: for the texture and the normal map. */
+static vr_status tile(vr_scn_stmt *t, vr_scene_material *m) {
+  vr_scn_parser *p = t->p;
+  const vr_scn_opt *o = scn_get(t, "tile");
+  if (!o) return VR_OK;
+  if (!m->texture && !m->normal_map)
+    return scn_fail(p, o->word, "\"%s\": tile= goes with texture=FILE or normal_map=FILE", o->word);
+  double v[2];
+  vr_status st;
+  if (strchr(o->val, ',')) st = scn_numbers(p, o->word, o->val, false, 2, v);
+  else st = scn_number(p, o->word, o->val, &v[0]), v[1] = v[0];
+  if (st) return st;
+  if (!(v[0] > 0 && v[1] > 0 && isfinite(v[0]) && isfinite(v[1])))
+    return scn_fail(p, o->word, "\"%s\": repeats must be positive and finite", o->word);
+  m->tile[0] = v[0], m->tile[1] = v[1];
+  return VR_OK;
+}
+
 vr_status scn_texture(vr_scn_stmt *t, vr_scene_material *m) {
   vr_scn_parser *p = t->p;
   vr_status st0 = normal_map(t, m);
   if (st0) return st0;
   const vr_scn_opt *tex = scn_get(t, "texture"), *o;
   if (!tex) {
-    static const char *const NEEDS[] = {"colorspace", "alpha", "alpha_cutoff", "tile", NULL};
+    static const char *const NEEDS[] = {"colorspace", "alpha", "alpha_cutoff", NULL};
     for (int k = 0; NEEDS[k]; k++)
       if ((o = scn_get(t, NEEDS[k])))
         return scn_fail(p, o->word, "\"%s\": %s= goes with texture=FILE", o->word, NEEDS[k]);
-    return VR_OK;
+    return tile(t, m);
   }
   if (!tex->val[0]) return scn_fail(p, tex->word, "\"%s\": texture= needs an image file", tex->word);
   if (!(m->texture = scn_resolve(p->s, tex->val))) return scn_nomem(p);
@@ -125,15 +143,5 @@ vr_status scn_texture(vr_scn_stmt *t, vr_scene_material *m) {
       return scn_fail(p, o->word, "\"%s\": alpha_cutoff= goes with alpha=mask", o->word);
     if ((st = scn_range(t, "alpha_cutoff", 0, 1, false, false, &m->alpha_cutoff))) return st;
   }
-  if ((o = scn_get(t, "tile"))) {
-    /* tile=N (both) or tile=NU,NV. */
-    double v[2];
-    if (strchr(o->val, ',')) st = scn_numbers(p, o->word, o->val, false, 2, v);
-    else st = scn_number(p, o->word, o->val, &v[0]), v[1] = v[0];
-    if (st) return st;
-    if (!(v[0] > 0 && v[1] > 0 && isfinite(v[0]) && isfinite(v[1])))
-      return scn_fail(p, o->word, "\"%s\": repeats must be positive and finite", o->word);
-    m->tile[0] = v[0], m->tile[1] = v[1];
-  }
-  return VR_OK;
+  return tile(t, m);
 }

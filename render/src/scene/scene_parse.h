@@ -178,8 +178,9 @@ int scn_material_index(const vr_scene *s, const char *name);
  * as an inline reflectance spectrum (new string in *spectrum). */
 vr_status scn_colour(vr_scn_stmt *t, char **spectrum);
 /* A lambert line's texture=FILE [colorspace=srgb|linear] [alpha=off|mask|blend]
- * [alpha_cutoff=A] [tile=N|NU,NV] into m; the file must be a readable
- * regular file.  Without texture= the others are refused. */
+ * [alpha_cutoff=A], normal_map=FILE [normal_scale=S] and tile=N|NU,NV (for
+ * both) into m; the files must be readable regular files.  Options without
+ * the file they go with are refused. */
 vr_status scn_texture(vr_scn_stmt *t, vr_scene_material *m);
 /* Applies translate=, rotate= or scale= (key) after *x. */
 vr_status scn_transform(const vr_scn_parser *p, const char *word, const char *key, const char *v,

@@ -52,6 +52,8 @@ static vr_status next_level(vr_texture *t, int k, vr_error *err) {
   t->px[k + 1] = malloc(n * sizeof(uint16_t));
   if (!acc || !t->px[k + 1]) {
     free(acc);
+    free(t->px[k + 1]);
+    t->px[k + 1] = NULL;
     return vr_error_set(err, VR_E_NOMEM, "out of memory for a texture's mip-maps");
   }
   for (int y = 0; y < H; y++) {
@@ -105,7 +107,7 @@ static vr_status from_image(vr_image *img, const char *name, bool srgb, vr_textu
   t->levels = 1, t->w[0] = img->width, t->h[0] = img->height;
   t->bytes = n * 4 * sizeof(uint16_t);
   t->alpha = img->alpha_data && img->transparent > 0;
-  bool decode = srgb && img->format != VR_IMAGE_FORMAT_EXR;
+  bool decode = srgb && img->bit_depth <= 16; /* integer samples only: float TIFF and EXR are linear */
   float lut[256];
   for (int i = 0; i < 256; i++) lut[i] = (float)vr_srgb_decode(i / 255.0);
   for (size_t i = 0; i < n; i++) {

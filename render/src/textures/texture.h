@@ -9,8 +9,8 @@
  *     are clamped to [0, 1] (a reflectance factor).  Filtering happens in
  *     linear RGB, then the filtered colour becomes a spectrum through the
  *     sigmoid table (vr/rgb_table.h: within Delta E00 0.45 of the colour),
- *     evaluated at the path's wavelengths.  Stored as 16-bit linear codes:
- *     8 bytes a texel with alpha, 6 without, plus a third for the mips.
+ *     evaluated at the path's wavelengths.  Stored as 16-bit linear codes,
+ *     RGB and alpha: 8 bytes a texel, plus a third for the mips.
  *   - Spectral images (the spectral OpenEXR of vr-rgb2spec --texture,
  *     reflective T.<nm> channels): filtered per band, interpolated
  *     linearly between bands, the end bands held outside their range.

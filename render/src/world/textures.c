@@ -41,6 +41,7 @@ typedef struct load_job {
   const vr_scene_material *sm;
   const char *path, *sha;
   bool spectral, normal; /* a spectral texture; a normal map (linear, its own bytes) */
+  bool linear;           /* integer samples read as linear (colorspace=linear, normal maps) */
   vr_texture *t;
   vr_status st;
   vr_error err;
@@ -110,10 +111,14 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
       const char *p = kind ? sm->normal_map : path;
       if (!p) continue;
       size_t k = 0;
-      while (k < n && (strcmp(jobs[k].path, p) || jobs[k].normal != (kind == 1))) k++;
+      bool spec = !kind && spectral, normal = kind == 1, linear = normal || sm->texture_linear;
+      /* The same file decoded the same way (kind, colour space) is shared. */
+      while (k < n && (strcmp(jobs[k].path, p) || jobs[k].normal != normal ||
+                       jobs[k].spectral != spec || jobs[k].linear != linear))
+        k++;
       if (k == n)
-        jobs[n++] = (load_job){.sm = sm, .path = p, .sha = kind ? NULL : sha,
-                               .spectral = !kind && spectral, .normal = kind == 1};
+        jobs[n++] = (load_job){.sm = sm, .path = p, .sha = kind ? NULL : sha, .spectral = spec,
+                               .normal = normal, .linear = linear};
       job_of[2 * i + (size_t)kind] = k;
     }
   }
@@ -153,9 +158,11 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
   return st;
 }
 
+/* A sphere's v runs from its +z pole down (the state maps' convention);
+ * textures have v up, so the image's top is at the +z pole. */
 static void tex_uv(const vr_rmaterial *m, const vr_hit *hit, double *u, double *v) {
   *u = hit->uv[0] * m->tile[0];
-  *v = hit->uv[1] * m->tile[1];
+  *v = (hit->sphere ? 1 - hit->uv[1] : hit->uv[1]) * m->tile[1];
 }
 
 bool vr_hit_texture(const vr_rscene *rs, const vr_hit *hit, double width, int nwl,
