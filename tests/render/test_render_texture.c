@@ -240,49 +240,42 @@ static double mean_y(const vr_render_result *r) {
   return s / (r->width * r->height);
 }
 
+/* The share of a 100 cd/m2 emitter seen through the CMake logo's rect with
+ * the given material options (after texture=), behind the extra lines. */
+static double through(const char *opts, const char *extra, int spp) {
+  char mat[700], lines[1200];
+  snprintf(mat, sizeof mat,
+           "material m lambert texture=%s/images/cmake_smalllogo_grey_alpha.png %s", VR_TEST_DATA,
+           opts);
+  snprintf(lines, sizeof lines,
+           "material black black\n"
+           "rect center=0,1,0 normal=0,-1,0 size=8,8 material=black emission=100cd/m2\n%s",
+           extra);
+  vr_render_result *r = view(mat, 1.0, 60, spp, lines);
+  double t = mean_y(r) / 100;
+  vr_render_result_destroy(r);
+  return t;
+}
+
 static void test_alpha(void **state) {
   (void)state;
-  const char *bg = "material black black\n"
-                   "rect center=0,1,0 normal=0,-1,0 size=8,8 material=black emission=100cd/m2\n";
-  char mat[700];
-  snprintf(mat, sizeof mat,
-           "material m lambert texture=%s/images/cmake_smalllogo_grey_alpha.png alpha=blend",
-           VR_TEST_DATA);
-  vr_render_result *r = view(mat, 1.0, 60, 64, bg);
-  double through = mean_y(r) / 100;
-  printf("# alpha=blend: %.4f of the emitter through (1 - 0.170980 = 0.829020)\n", through);
-  assert_true(fabs(through - (1 - 153.88235294 / 900)) < 0.005);
-  vr_render_result_destroy(r);
-  snprintf(mat, sizeof mat,
-           "material m lambert texture=%s/images/cmake_smalllogo_grey_alpha.png alpha=mask",
-           VR_TEST_DATA);
-  r = view(mat, 1.0, 60, 16, bg);
-  through = mean_y(r) / 100;
-  printf("# alpha=mask: %.4f of the emitter through (0.824225)\n", through);
-  assert_true(fabs(through - 0.824225) < 0.005);
-  vr_render_result_destroy(r);
+  double t = through("alpha=blend", "", 64);
+  printf("# alpha=blend: %.4f of the emitter through (1 - 0.170980 = 0.829020)\n", t);
+  assert_true(fabs(t - (1 - 153.88235294 / 900)) < 0.005);
+  t = through("alpha=mask", "", 16);
+  printf("# alpha=mask: %.4f of the emitter through (0.824225)\n", t);
+  assert_true(fabs(t - 0.824225) < 0.005);
   /* Two blend layers 1 cm apart: each draws its own number, so the pair
    * lets through the area mean of (1 - alpha)^2, 0.750584 (the same
-   * independent integration); one number for both would give 0.829. */
-  char two[1200];
-  snprintf(two, sizeof two, "%srect center=0,0.01,0 normal=0,-1,0 size=1,1 up=0,0,1 material=m\n", bg);
-  /* Black layers (the texture times reflectance 0): light the back layer
-   * reflects between them would add to what comes through. */
-  snprintf(mat, sizeof mat,
-           "material m lambert texture=%s/images/cmake_smalllogo_grey_alpha.png alpha=blend "
-           "reflectance=0",
-           VR_TEST_DATA);
-  r = view(mat, 1.0, 60, 64, two);
-  through = mean_y(r) / 100;
-  printf("# two alpha=blend layers: %.4f through (0.750584)\n", through);
-  assert_true(fabs(through - 0.750584) < 0.006);
-  vr_render_result_destroy(r);
+   * independent integration); one number for both would give 0.829.  The
+   * layers are black (the texture times reflectance 0): light the back
+   * layer reflected between them would add to what comes through. */
+  t = through("alpha=blend reflectance=0",
+              "rect center=0,0.01,0 normal=0,-1,0 size=1,1 up=0,0,1 material=m\n", 64);
+  printf("# two alpha=blend layers: %.4f through (0.750584)\n", t);
+  assert_true(fabs(t - 0.750584) < 0.006);
   /* Without alpha= the same file is opaque: nothing through. */
-  snprintf(mat, sizeof mat, "material m lambert texture=%s/images/cmake_smalllogo_grey_alpha.png",
-           VR_TEST_DATA);
-  r = view(mat, 1.0, 60, 4, bg);
-  assert_true(mean_y(r) < 1e-9);
-  vr_render_result_destroy(r);
+  assert_true(through("", "", 4) < 1e-9);
 }
 
 int main(void) {
