@@ -9,6 +9,8 @@
 #   - material.*=wall maps every group: no note, and the image is the one
 #     of material=wall (the same triangles, split over 4 objects);
 #   - material.red=grey maps one: the others still from the file;
+#   - materials=FILE holds the maps in a file of their own ("* = wall" gives
+#     the image of material=wall), its errors at the file's lines;
 #   - an OBJ whose mtllib is commented out: its usemtl names are grey 0.5,
 #     said to be defined nowhere (not Assimp's 0.6 passed off as theirs);
 #   - Khronos's Box.gltf (CC BY 4.0) without material= takes its
@@ -54,6 +56,26 @@ scene "material=wall" one.scn
 check "material.*=wall and material=wall render" test $? -eq 0
 check "every group mapped: no note" bash -c "! grep -q 'mapped to nothing' all.err"
 check "material.*=wall gives the image of material=wall" "$cmp" all.exr one.exr 1e-6
+
+# The same maps kept in a file (materials=FILE): one per line, comments.
+printf '# the Cornell box, every group the wall\n\n*  =  wall\n' > all.map
+scene "materials=all.map" mapped.scn
+"$bin" mapped.scn -o mapped --outputs exr 2> mapped.err
+check "materials=FILE renders" test $? -eq 0
+check "materials=FILE gives the image of material=wall" "$cmp" mapped.exr one.exr 1e-6
+printf 'white = wall\nmarble = grey\n' > bad.map
+scene "materials=bad.map" mapbad1.scn
+refuse render-mesh-mapfile-matches-nothing "$bin" mapbad1.scn -o mapbad1
+check "the refusal names the map file's line" grep -q "bad.map:2:1: 'marble' matches no material" "$tmp/refused.err"
+printf 'white = nosuch\n' > bad2.map
+scene "materials=bad2.map" mapbad2.scn
+refuse render-mesh-mapfile-unknown-material "$bin" mapbad2.scn -o mapbad2
+check "an unknown material is named at the map file's line" grep -q "bad2.map:1:1: unknown material" "$tmp/refused.err"
+printf 'white wall\n' > bad3.map
+scene "materials=bad3.map" mapbad3.scn
+refuse render-mesh-mapfile-malformed "$bin" mapbad3.scn -o mapbad3
+scene "materials=nosuch.map" mapbad4.scn
+refuse render-mesh-mapfile-missing "$bin" mapbad4.scn -o mapbad4
 
 scene "material.red=grey material=wall" red.scn
 "$bin" red.scn -o red --outputs exr 2> red.err

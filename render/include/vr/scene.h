@@ -366,6 +366,7 @@ typedef struct vr_scene_mesh_map {
   char *pattern;
   int material;    /* index into vr_scene.materials */
   vr_scene_loc loc;
+  char *file;      /* a materials=FILE entry: that file (loc is then its line there), else NULL */
 } vr_scene_mesh_map;
 
 typedef struct vr_scene {

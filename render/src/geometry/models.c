@@ -223,6 +223,10 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
         len += (size_t)w;
       }
     vr_mesh_materials_free(mm, nm);
+    if (map->file)
+      return vr_error_at(err, VR_E_PARSE, map->file, map->loc.line, map->loc.col,
+                         "'%s' matches no material of '%s' (its materials: %s)", map->pattern,
+                         base(ob->mesh_path), len ? list : "none");
     return vr_error_at(err, VR_E_PARSE, s->path, map->loc.line, map->loc.col,
                        "material.%s= matches no material of '%s' (its materials: %s)", map->pattern,
                        base(ob->mesh_path), len ? list : "none");
@@ -298,7 +302,7 @@ vr_status vr_scene_load_models(vr_scene *s, vr_error *err) {
   s->objects = out;
   s->nobjects = nout;
   /* The patterns are spent: the objects now say which material is theirs. */
-  for (size_t k = 0; k < s->nmesh_maps; k++) free(s->mesh_maps[k].pattern);
+  for (size_t k = 0; k < s->nmesh_maps; k++) free(s->mesh_maps[k].pattern), free(s->mesh_maps[k].file);
   free(s->mesh_maps);
   s->mesh_maps = NULL;
   s->nmesh_maps = 0;

@@ -36,7 +36,7 @@ void vr_scene_destroy(vr_scene *s) {
     free(s->lights[i].spectrum);
   }
   for (size_t i = 0; i < s->nsensors; i++) free(s->sensors[i].name);
-  for (size_t i = 0; i < s->nmesh_maps; i++) free(s->mesh_maps[i].pattern);
+  for (size_t i = 0; i < s->nmesh_maps; i++) free(s->mesh_maps[i].pattern), free(s->mesh_maps[i].file);
   free(s->mesh_maps);
   for (size_t i = 0; i < s->nnotes; i++) free(s->notes[i]);
   free(s->notes);
@@ -225,10 +225,11 @@ static vr_status finish(vr_scn_parser *p) {
     vr_scn_mesh_map *m = &p->maps[k];
     int idx = scn_material_index(s, m->alias);
     if (idx < 0)
-      return vr_error_at(p->err, VR_E_PARSE, p->file, m->loc.line, m->loc.col,
-                         "unknown material \"%s\" (no 'material %s ...' line)", m->alias, m->alias);
-    s->mesh_maps[k] = (vr_scene_mesh_map){m->object, m->pattern, idx, m->loc};
-    m->pattern = NULL; /* the scene's now */
+      return vr_error_at(p->err, VR_E_PARSE, m->file ? m->file : p->file, m->loc.line, m->loc.col,
+                         "unknown material \"%s\" (no 'material %s ...' line in %s)", m->alias,
+                         m->alias, p->file);
+    s->mesh_maps[k] = (vr_scene_mesh_map){m->object, m->pattern, idx, m->loc, m->file};
+    m->pattern = NULL, m->file = NULL; /* the scene's now */
     s->nmesh_maps = k + 1;
   }
   vr_status st = scn_sky_finish(p);
@@ -339,7 +340,8 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
   if (!st) st = finish(&p);
   for (size_t i = 0; i < p.nalias; i++) free(p.alias[i]);
   free(p.alias);
-  for (size_t i = 0; i < p.nmaps; i++) free(p.maps[i].pattern), free(p.maps[i].alias);
+  for (size_t i = 0; i < p.nmaps; i++)
+    free(p.maps[i].pattern), free(p.maps[i].alias), free(p.maps[i].file);
   free(p.maps);
   free(p.alias_loc);
   free(p.annual_glass);

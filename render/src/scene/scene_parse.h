@@ -169,7 +169,12 @@ typedef struct vr_scn_mesh_map {
   size_t object;
   char *pattern, *alias;
   vr_scene_loc loc;
+  char *file;      /* from materials=FILE (loc: its line there), else NULL */
 } vr_scn_mesh_map;
+/* scene_mapfile.c: a mesh line's materials=FILE (option o) as maps of the
+ * line's object, after its material.PATTERN= options; errors name the file
+ * and its line. */
+vr_status scn_map_file(vr_scn_stmt *t, const vr_scn_opt *o, size_t object);
 
 /* The index of the material named name, or -1. */
 int scn_material_index(const vr_scene *s, const char *name);

@@ -291,7 +291,7 @@ vr_status scn_object(vr_scn_stmt *t, vr_shape_kind kind) {
   static const char *const SPHERE[] = {"center", "radius", OBJECT_OPTIONS, NULL};
   static const char *const RECT[] = {"center", "normal", "size", "up", OBJECT_OPTIONS, NULL};
   static const char *const BOX[] = {"min", "max", OBJECT_OPTIONS, NULL};
-  static const char *const MESH[] = {OBJECT_OPTIONS, "material.*", "units", "up", NULL};
+  static const char *const MESH[] = {OBJECT_OPTIONS, "material.*", "materials", "units", "up", NULL};
   static const char *const *const ALLOWED[] = {SPHERE, RECT, BOX, MESH};
   static const char *const WHAT[] = {"a sphere", "a rectangle", "a box", "a mesh"};
   t->what = WHAT[kind];
@@ -352,6 +352,8 @@ vr_status scn_object(vr_scn_stmt *t, vr_shape_kind kind) {
     if (!(map->pattern = strndup(m->word + 9, m->klen - 9)) || !(map->alias = strdup(m->val)))
       return scn_nomem(p);
   }
+  if (kind == VR_SHAPE_MESH && (o = scn_get(t, "materials")) && (st = scn_map_file(t, o, s->nobjects - 1)))
+    return st;
   if ((o = scn_get(t, "name")) && !(ob->name = strdup(o->val))) return scn_nomem(p);
   static const vr_light_unit EMISSION[] = {VR_UNIT_CD_M2, VR_UNIT_W_M2_SR, VR_UNIT_NONE};
   if ((o = scn_get(t, "emission")) &&
