@@ -369,6 +369,13 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
         return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
       }
     }
+    ai_real mf, rf;
+    m[i].metallic = aiGetMaterialFloatArray(am, AI_MATKEY_METALLIC_FACTOR, &mf, NULL) == AI_SUCCESS ? mf : NAN;
+    m[i].roughness = aiGetMaterialFloatArray(am, AI_MATKEY_ROUGHNESS_FACTOR, &rf, NULL) == AI_SUCCESS ? rf : NAN;
+    m[i].mr_texture = aiGetMaterialTexture(am, aiTextureType_METALNESS, 0, &tex, NULL, NULL, NULL,
+                                           NULL, NULL, NULL) == AI_SUCCESS ||
+                      aiGetMaterialTexture(am, aiTextureType_DIFFUSE_ROUGHNESS, 0, &tex, NULL, NULL,
+                                           NULL, NULL, NULL, NULL) == AI_SUCCESS;
     m[i].normal_scale = 1;
     if (aiGetMaterialTexture(am, aiTextureType_NORMALS, 0, &tex, NULL, NULL, NULL, NULL, NULL,
                              NULL) == AI_SUCCESS) {

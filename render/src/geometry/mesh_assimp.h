@@ -46,6 +46,11 @@ typedef struct vr_mesh_material {
   unsigned char *normal_bytes; /* an embedded normal map's bytes, else NULL */
   size_t normal_len;
   double normal_scale; /* glTF normalTexture.scale (default 1) */
+  /* glTF metallic-roughness, which the renderer does not model on a
+   * file material (it renders the base colour as a diffuse reflector):
+   * kept to say so.  metallic NAN when the file gives no factor. */
+  double metallic, roughness;
+  bool mr_texture;     /* a metallicRoughnessTexture */
   int alpha;           /* vr_alpha_mode: glTF alphaMode (OPAQUE, MASK, BLEND) */
   double alpha_cutoff; /* glTF alphaCutoff (default 0.5) */
   size_t triangles;    /* triangles that use it */

@@ -101,6 +101,19 @@ static vr_status factor(vr_scene *s, const vr_scene_object *ob, const vr_mesh_ma
   return VR_OK;
 }
 
+/* What the renderer leaves out of a file material, for its note: glTF's
+ * metallic-roughness (a metal, or a map of it, renders as a diffuse
+ * reflector of the base colour: map it to a database conductor). */
+static void left_out(const vr_mesh_material *mm, char *out, size_t cap) {
+  out[0] = '\0';
+  if ((isfinite(mm->metallic) && mm->metallic > 0) || mm->mr_texture)
+    snprintf(out, cap,
+             "; its glTF metallic-roughness (metallic %g%s) is not rendered: it reflects "
+             "diffusely (map it to a database conductor with material.%s=)",
+             isfinite(mm->metallic) ? mm->metallic : 1.0, mm->mr_texture ? ", a texture" : "",
+             mm->name);
+}
+
 /* A file material with a base-colour texture: the texture (times its
  * colour factor in glTF, see factor()).  The texture's file is looked for
  * beside the model (a Windows path's backslashes read as slashes), or is
@@ -115,13 +128,15 @@ static vr_status textured(vr_scene *s, const vr_scene_object *ob, const vr_mesh_
                     &m->texture, &m->texture_bytes, &m->texture_len, err)))
     return st;
   char note[1400];
+  char extra[300];
+  left_out(mm, extra, sizeof extra);
   snprintf(note, sizeof note,
            "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its texture '%s'%s%s "
-           "as spectra%s, material '%s'",
+           "as spectra%s, material '%s'%s",
            base(ob->mesh_path), mm->name, mm->triangles, mm->texture,
            m->reflectance_spectrum ? " times its colour" : "",
            mm->alpha == VR_ALPHA_MASK ? ", cut out by its alpha" : mm->alpha == VR_ALPHA_BLEND ? ", see-through by its alpha" : "",
-           m->normal_map ? ", with its normal map" : "", m->name);
+           m->normal_map ? ", with its normal map" : "", m->name, extra);
   return add_note(s, note, err);
 }
 
@@ -161,7 +176,7 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
     if (st) return st;
     m->normal_scale = mm->normal_scale;
   }
-  char note[1024];
+  char note[1600];
   if (mm->texture[0]) return textured(s, ob, mm, m, err);
   if (!mm->has_colour) {
     m->reflectance = 0.5;
@@ -183,11 +198,13 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   if (!(m->reflectance_spectrum = vr_scene_colour_spectrum(rgb, &e)))
     return vr_error_at(err, e.status, s->path, ob->loc.line, ob->loc.col,
                        "mesh '%s': material '%s': %s", base(ob->mesh_path), mm->name, e.message);
+  char extra[300];
+  left_out(mm, extra, sizeof extra);
   snprintf(note, sizeof note,
            "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its colour "
-           "(linear %.3g, %.3g, %.3g%s) as a spectrum, material '%s'",
+           "(linear %.3g, %.3g, %.3g%s) as a spectrum, material '%s'%s",
            base(ob->mesh_path), mm->name, mm->triangles, rgb[0], rgb[1], rgb[2],
-           clipped ? ", clipped to [0, 1]" : "", name);
+           clipped ? ", clipped to [0, 1]" : "", name, extra);
   return add_note(s, note, err);
 }
 
