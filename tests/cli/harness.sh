@@ -1,14 +1,9 @@
 # Shared by the command-line tests (sourced): a temporary folder removed on
-# exit, a fresh material database and Open MPI's session folders in it, and
-# "check NAME CONDITION..." that
+# exit, a fresh material database in it, and "check NAME CONDITION..." that
 # prints TAP-style lines; "finish" prints the totals and sets the status.
 tmp=$(mktemp -d)
 trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$tmp"' EXIT
 export VR_MATDB="$tmp/materials.db"
-# Open MPI's session folders in the test's own folder: a stale
-# /tmp/ompi.HOST.UID/jf.N left by a killed mpirun made a later one whose job
-# family hashed to the same N fail in orte_init ("File exists").
-export OMPI_MCA_orte_tmpdir_base="$tmp"
 pass=0 fails=0
 check() {
   local name=$1; shift
