@@ -294,9 +294,6 @@ void vr_texture_rgb(const vr_texture *t, double u, double v, double width, doubl
 
 void vr_texture_eval(const vr_texture *t, double u, double v, double width, int nwl,
                      const double *nm, double *out) {
-  int k0, k1;
-  double f;
-  levels_for(t, width, &k0, &k1, &f);
   if (!t->spectral) {
     double rgb[3];
     vr_texture_rgb(t, u, v, width, rgb);
@@ -306,6 +303,9 @@ void vr_texture_eval(const vr_texture *t, double u, double v, double width, int 
     return;
   }
   /* Spectral: each wavelength between its two bands, filtered. */
+  int k0, k1;
+  double f;
+  levels_for(t, width, &k0, &k1, &f);
   for (int i = 0; i < nwl; i++) {
     size_t b = 0;
     double fb = 0;
