@@ -5,6 +5,14 @@
  *
  * What a material becomes, from its kind and the settings:
  *   black, lambert reflectance=R        Lambertian (R constant or 0)
+ *   pbr color=C metallic=M roughness=R  glTF 2.0 metallic-roughness BRDF
+ *                                       (the specification's Appendix B):
+ *                                       a Lambertian base under a GGX
+ *                                       dielectric coat (ior 1.5, Schlick
+ *                                       F0 0.04) mixed with a GGX metal
+ *                                       whose Schlick F0 is the base
+ *                                       colour, by M; alpha = R^2, a
+ *                                       mirror below alpha 1e-3
  *   reflectance (role "value")          Lambertian with that spectrum
  *   conductor                           Fresnel mirror with complex N;
  *                                       GGX (roughness=alpha) when rough
@@ -125,6 +133,39 @@ typedef struct vr_bsdf_sample {
 bool vr_bsdf_sample_dir(const vr_bsdf *b, double state, vr_vec3 n, vr_vec3 wo, int nwl,
                         const double *nm, vr_transport mode, double u1, double u2, double u3,
                         vr_bsdf_sample *out);
+
+/* What one surface point changes in its material (textures), for the
+ * *_at calls; NULL there is the material as created.
+ *   - base: per wavelength (nwl values), multiplies a pbr material's base
+ *     colour (its base-colour texture); NULL: 1.  Other kinds ignore it
+ *     (the caller multiplies their BSDF by a texture's factor itself);
+ *     base_mean is its mean over the wavelengths (it sets the probability
+ *     of choosing the diffuse or the specular lobe, which must not depend
+ *     on how many wavelengths a call evaluates);
+ *   - metallic, roughness: a pbr material's at this point (its
+ *     metallic-roughness texture times its factors), NAN: the material's;
+ *   - only: the lobes (vr_lobe bits) to evaluate and sample, 0: all.  The
+ *     photon integrators estimate a pbr surface's diffuse part from their
+ *     maps and follow its specular part only. */
+typedef struct vr_bsdf_point {
+  bool has_base;
+  double base[VR_BSDF_MAX_WAVELENGTHS];
+  double base_mean;
+  double metallic, roughness;
+  unsigned only;
+} vr_bsdf_point;
+/* The point of the material as created: no texture, every lobe. */
+vr_bsdf_point vr_bsdf_point_plain(void);
+/* vr_bsdf_eval and vr_bsdf_sample_dir at a point (pt may be NULL). */
+void vr_bsdf_eval_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, vr_vec3 n,
+                     vr_vec3 wo, vr_vec3 wi, int nwl, const double *nm, vr_transport mode,
+                     double *f, double *pdf);
+bool vr_bsdf_sample_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, vr_vec3 n,
+                       vr_vec3 wo, int nwl, const double *nm, vr_transport mode, double u1,
+                       double u2, double u3, vr_bsdf_sample *out);
+/* A glTF metallic-roughness material (source pbr): its base colour is
+ * inside the BSDF, so a texture reaches it through vr_bsdf_point.base. */
+bool vr_bsdf_is_pbr(const vr_bsdf *b);
 
 /* Shadow rays: transmittance (unpolarised) of a thin element along a
  * straight line meeting it at cos_theta (either sign), per wavelength.

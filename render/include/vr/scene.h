@@ -123,6 +123,16 @@ typedef struct vr_scene_material {
   unsigned char *normal_bytes;
   size_t normal_len;
   double normal_scale;
+  /* glTF 2.0 metallic-roughness (the pbr source, a model's glTF
+   * materials): the base colour is the reflectance above (times the
+   * texture), metallic in [0, 1] and the perceptual roughness r in [0, 1]
+   * (GGX alpha = r^2), each multiplied per point by a metallic-roughness
+   * texture's blue and green channels (linear) when mr_map names one. */
+  bool pbr;
+  double metallic, pbr_roughness;
+  char *mr_map;
+  unsigned char *mr_bytes;
+  size_t mr_len;
   vr_scene_loc loc;
 } vr_scene_material;
 

@@ -325,7 +325,7 @@ static void trimmed(const char *name, char out[256]) {
 }
 
 void vr_mesh_materials_free(vr_mesh_material *m, size_t n) {
-  for (size_t i = 0; m && i < n; i++) free(m[i].texture_bytes), free(m[i].normal_bytes);
+  for (size_t i = 0; m && i < n; i++) free(m[i].texture_bytes), free(m[i].normal_bytes), free(m[i].mr_bytes);
   free(m);
 }
 
@@ -369,13 +369,30 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
         return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
       }
     }
-    ai_real mf, rf;
+    ai_real mf, rf, xf;
+    m[i].clearcoat = aiGetMaterialFloatArray(am, AI_MATKEY_CLEARCOAT_FACTOR, &xf, NULL) == AI_SUCCESS ? xf : 0;
+    m[i].transmission = aiGetMaterialFloatArray(am, AI_MATKEY_TRANSMISSION_FACTOR, &xf, NULL) == AI_SUCCESS ? xf : 0;
     m[i].metallic = aiGetMaterialFloatArray(am, AI_MATKEY_METALLIC_FACTOR, &mf, NULL) == AI_SUCCESS ? mf : NAN;
     m[i].roughness = aiGetMaterialFloatArray(am, AI_MATKEY_ROUGHNESS_FACTOR, &rf, NULL) == AI_SUCCESS ? rf : NAN;
-    m[i].mr_texture = aiGetMaterialTexture(am, aiTextureType_METALNESS, 0, &tex, NULL, NULL, NULL,
-                                           NULL, NULL, NULL) == AI_SUCCESS ||
-                      aiGetMaterialTexture(am, aiTextureType_DIFFUSE_ROUGHNESS, 0, &tex, NULL, NULL,
-                                           NULL, NULL, NULL, NULL) == AI_SUCCESS;
+    /* Assimp 5.2 keeps glTF's metallicRoughnessTexture as the first
+     * "unknown" texture (AI_MATKEY_GLTF_PBRMETALLICROUGHNESS_METALLICROUGHNESS_TEXTURE),
+     * later versions as the metalness and roughness textures; only glTF
+     * files (which give a metallic factor) are asked, an unknown texture
+     * of another format being anything. */
+    if (isfinite(m[i].metallic) &&
+        (aiGetMaterialTexture(am, aiTextureType_UNKNOWN, 0, &tex, NULL, NULL, NULL, NULL, NULL,
+                              NULL) == AI_SUCCESS ||
+         aiGetMaterialTexture(am, aiTextureType_METALNESS, 0, &tex, NULL, NULL, NULL, NULL, NULL,
+                              NULL) == AI_SUCCESS ||
+         aiGetMaterialTexture(am, aiTextureType_DIFFUSE_ROUGHNESS, 0, &tex, NULL, NULL, NULL,
+                              NULL, NULL, NULL) == AI_SUCCESS)) {
+      trimmed(tex.data, m[i].mr);
+      if (!embedded(sc, m[i].mr, &m[i].mr_bytes, &m[i].mr_len)) {
+        vr_mesh_materials_free(m, sc->mNumMaterials);
+        aiReleaseImport(sc);
+        return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
+      }
+    }
     m[i].normal_scale = 1;
     if (aiGetMaterialTexture(am, aiTextureType_NORMALS, 0, &tex, NULL, NULL, NULL, NULL, NULL,
                              NULL) == AI_SUCCESS) {

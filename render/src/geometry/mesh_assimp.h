@@ -46,11 +46,17 @@ typedef struct vr_mesh_material {
   unsigned char *normal_bytes; /* an embedded normal map's bytes, else NULL */
   size_t normal_len;
   double normal_scale; /* glTF normalTexture.scale (default 1) */
-  /* glTF metallic-roughness, which the renderer does not model on a
-   * file material (it renders the base colour as a diffuse reflector):
-   * kept to say so.  metallic NAN when the file gives no factor. */
+  /* glTF metallic-roughness factors, NAN when the file gives none (OBJ,
+   * PLY), and its metallicRoughnessTexture (roughness in green, metallic
+   * in blue, linear), "" when none, with an embedded one's bytes. */
   double metallic, roughness;
-  bool mr_texture;     /* a metallicRoughnessTexture */
+  char mr[256];
+  /* glTF extensions the renderer does not model, kept to say so:
+   * KHR_materials_clearcoat's and KHR_materials_transmission's factors
+   * (0 when absent). */
+  double clearcoat, transmission;
+  unsigned char *mr_bytes;
+  size_t mr_len;
   int alpha;           /* vr_alpha_mode: glTF alphaMode (OPAQUE, MASK, BLEND) */
   double alpha_cutoff; /* glTF alphaCutoff (default 0.5) */
   size_t triangles;    /* triangles that use it */

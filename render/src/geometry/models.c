@@ -4,7 +4,8 @@
  * wildcards) that matches the file's material name gives the scene
  * material; else material= when the line has one; else a lambert reflector
  * made from the file's own colour (glTF base colour, MTL Kd) as a sigmoid
- * spectrum (vr/rgb_spectrum.h), which the user hears about once through
+ * spectrum (vr/rgb_spectrum.h), with its glTF metallic-roughness when
+ * the file gives one, which the user hears about once through
  * s->notes.  The geometry then takes each object's triangles of its file
  * material only (vr_scene_object.mesh_material). */
 #include <errno.h>
@@ -101,17 +102,32 @@ static vr_status factor(vr_scene *s, const vr_scene_object *ob, const vr_mesh_ma
   return VR_OK;
 }
 
-/* What the renderer leaves out of a file material, for its note: glTF's
- * metallic-roughness (a metal, or a map of it, renders as a diffuse
- * reflector of the base colour: map it to a database conductor). */
-static void left_out(const vr_mesh_material *mm, char *out, size_t cap) {
-  out[0] = '\0';
-  if ((isfinite(mm->metallic) && mm->metallic > 0) || mm->mr_texture)
-    snprintf(out, cap,
-             "; its glTF metallic-roughness (metallic %g%s) is not rendered: it reflects "
-             "diffusely (map it to a database conductor with material.%s=)",
-             isfinite(mm->metallic) ? mm->metallic : 1.0, mm->mr_texture ? ", a texture" : "",
-             mm->name);
+/* A glTF material's metallic-roughness (the file gives a metallic factor):
+ * the pbr BRDF with its factors (glTF's defaults, 1 and 1, where one is
+ * missing) and its metallic-roughness texture; said in its note (extra). */
+static vr_status metal_rough(vr_scene *s, const vr_scene_object *ob, const vr_mesh_material *mm,
+                             vr_scene_material *m, char *extra, size_t cap, vr_error *err) {
+  extra[0] = '\0';
+  if (!isfinite(mm->metallic)) return VR_OK;
+  m->pbr = true;
+  m->metallic = fmin(fmax(mm->metallic, 0), 1);
+  m->pbr_roughness = isfinite(mm->roughness) ? fmin(fmax(mm->roughness, 0), 1) : 1;
+  if (mm->mr[0]) {
+    vr_status st = locate(s, ob, mm, "metallic-roughness texture", mm->mr, mm->mr_bytes,
+                          mm->mr_len, &m->mr_map, &m->mr_bytes, &m->mr_len, err);
+    if (st) return st;
+  }
+  int n = snprintf(extra, cap, ", glTF metallic-roughness (metallic %g, roughness %g%s)",
+                   m->metallic, m->pbr_roughness,
+                   mm->mr[0] ? ", times its metallic-roughness texture" : "");
+  size_t k = n > 0 && (size_t)n < cap ? (size_t)n : cap - 1;
+  if (mm->clearcoat > 0 || mm->transmission > 0)
+    snprintf(extra + k, cap - k, "; its %s%s%s is not rendered (map it to a database %s with material.%s=)",
+             mm->clearcoat > 0 ? "KHR_materials_clearcoat" : "",
+             mm->clearcoat > 0 && mm->transmission > 0 ? " and " : "",
+             mm->transmission > 0 ? "KHR_materials_transmission" : "",
+             mm->transmission > 0 ? "glass" : "material", mm->name);
+  return VR_OK;
 }
 
 /* A file material with a base-colour texture: the texture (times its
@@ -129,7 +145,7 @@ static vr_status textured(vr_scene *s, const vr_scene_object *ob, const vr_mesh_
     return st;
   char note[1400];
   char extra[300];
-  left_out(mm, extra, sizeof extra);
+  if ((st = metal_rough(s, ob, mm, m, extra, sizeof extra, err))) return st;
   snprintf(note, sizeof note,
            "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its texture '%s'%s%s "
            "as spectra%s, material '%s'%s",
@@ -199,7 +215,8 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
     return vr_error_at(err, e.status, s->path, ob->loc.line, ob->loc.col,
                        "mesh '%s': material '%s': %s", base(ob->mesh_path), mm->name, e.message);
   char extra[300];
-  left_out(mm, extra, sizeof extra);
+  vr_status st = metal_rough(s, ob, mm, m, extra, sizeof extra, err);
+  if (st) return st;
   snprintf(note, sizeof note,
            "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its colour "
            "(linear %.3g, %.3g, %.3g%s) as a spectrum, material '%s'%s",

@@ -92,9 +92,9 @@ static double vpdf(const vr_bdpt *b, const vr_bdpt_sample *sm, const vr_bdpt_ver
     }
     if (!(m2 > 0)) return 0;
     double m = sqrt(m2);
-    vr_bsdf_eval(v->bsdf, v->state, (vr_vec3){v->ns[0], v->ns[1], v->ns[2]},
-                 (vr_vec3){wp[0] / m, wp[1] / m, wp[2] / m}, (vr_vec3){wn[0], wn[1], wn[2]}, 1,
-                 sm->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
+    vr_bsdf_eval_at(v->bsdf, &v->pt, v->state, (vr_vec3){v->ns[0], v->ns[1], v->ns[2]},
+                    (vr_vec3){wp[0] / m, wp[1] / m, wp[2] / m}, (vr_vec3){wn[0], wn[1], wn[2]},
+                    1, sm->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
   }
   }
   return bdpt_to_area(v, next, pdf);

@@ -42,6 +42,7 @@ typedef struct vr_bdpt_vertex {
   bool tinted;       /* a texture multiplies the BSDF by tint */
   bool bent;         /* ns is a normal map's: nothing scatters across ng */
   double tint[VR_MAX_WL];
+  vr_bsdf_point pt;  /* a pbr material's textures at the hit (its BRDF's, not a tint) */
   unsigned lobes;
   double p[3], ng[3], ns[3];
   double wo[3];      /* unit, towards the previous vertex of its subpath */

@@ -68,7 +68,7 @@ void bdpt_f(const vr_bdpt_vertex *v, const double wi[3], int nwl, const double *
   double fb[VR_BSDF_MAX_WAVELENGTHS];
   vr_vec3 n = {v->ns[0], v->ns[1], v->ns[2]}, wo = {v->wo[0], v->wo[1], v->wo[2]};
   vr_vec3 w = {wi[0], wi[1], wi[2]};
-  vr_bsdf_eval(v->bsdf, v->state, n, wo, w, nwl, wl,
+  vr_bsdf_eval_at(v->bsdf, &v->pt, v->state, n, wo, w, nwl, wl,
                importance ? VR_TRANSPORT_IMPORTANCE : VR_TRANSPORT_RADIANCE, fb, pdf);
   double corr = 1;
   if (importance) {
@@ -295,7 +295,9 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
     const vr_robject *ob = &rs->obj[hit.object];
     v->bsdf = rs->mat[ob->material].bsdf;
     v->state = vr_hit_state(rs, &hit);
-    v->tinted = vr_hit_texture(rs, &hit, 0, nwl, sm->wl, v->tint);
+    v->pt = vr_bsdf_point_plain();
+    v->tinted = !vr_hit_pbr(rs, &hit, 0, nwl, sm->wl, &v->pt) &&
+                vr_hit_texture(rs, &hit, 0, nwl, sm->wl, v->tint);
     v->bent = vr_hit_normal_map(rs, &hit, 0, v->ns);
     v->lobes = vr_bsdf_lobes(v->bsdf);
     v->connectible = v->lobes & (VR_LOBE_DIFFUSE | VR_LOBE_GLOSSY_R | VR_LOBE_GLOSSY_T);
@@ -309,9 +311,9 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
     if (!pane_reflect) {
       key.depth = key_base + (uint32_t)(n - 1) + 0x800u;
       vr_vec3 ns = {v->ns[0], v->ns[1], v->ns[2]}, wo = {v->wo[0], v->wo[1], v->wo[2]};
-      if (!vr_bsdf_sample_dir(v->bsdf, v->state, ns, wo, nwl, sm->wl, mode,
-                              vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
-                              vr_rng(&key, VR_DIM_DIR_V), &bs))
+      if (!vr_bsdf_sample_at(v->bsdf, &v->pt, v->state, ns, wo, nwl, sm->wl, mode,
+                             vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
+                             vr_rng(&key, VR_DIM_DIR_V), &bs))
         break;
     }
     /* The factor nwl of a dispersive refraction stands for the secondary
@@ -327,8 +329,8 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
     } else {
       double fb[VR_BSDF_MAX_WAVELENGTHS];
       vr_vec3 ns = {v->ns[0], v->ns[1], v->ns[2]};
-      vr_bsdf_eval(v->bsdf, v->state, ns, (vr_vec3){wi[0], wi[1], wi[2]},
-                   (vr_vec3){v->wo[0], v->wo[1], v->wo[2]}, 1, sm->wl, mode, fb, &pdf_rev);
+      vr_bsdf_eval_at(v->bsdf, &v->pt, v->state, ns, (vr_vec3){wi[0], wi[1], wi[2]},
+                      (vr_vec3){v->wo[0], v->wo[1], v->wo[2]}, 1, sm->wl, mode, fb, &pdf_rev);
     }
     double corr = 1;
     if (importance) {

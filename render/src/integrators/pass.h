@@ -38,6 +38,8 @@ typedef struct vr_surface {
   vr_vec3 ns;
   bool tinted;              /* a texture multiplies the BSDF by tint (per wavelength) */
   double tint[VR_MAX_WL];
+  vr_bsdf_point pt;         /* a pbr material's textures at the point (not a tint: its
+                               base colour is inside the BRDF), and the lobes asked for */
   bool bent;                /* n and ns are a normal map's: a direction on the other side
                                of the geometric normal ng from wo scatters nothing (the
                                textured materials are opaque Lambertian reflectors) */

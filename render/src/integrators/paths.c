@@ -151,7 +151,8 @@ void vr_surface_f(const void *u, const double wi[3], double *fc) {
   const vr_surface *s = u;
   double f[VR_BSDF_MAX_WAVELENGTHS], pdf;
   vr_vec3 w = vr_vec3_of(wi);
-  vr_bsdf_eval(s->b, s->state, s->n, s->wo, w, s->nwl, s->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
+  vr_bsdf_eval_at(s->b, &s->pt, s->state, s->n, s->wo, w, s->nwl, s->wl, VR_TRANSPORT_RADIANCE,
+                  f, &pdf);
   double c = fabs(vr_vec3_dot(s->ns, w));
   if (s->bent && vr_vec3_dot(s->ng, w) * vr_vec3_dot(s->ng, s->wo) <= 0) c = 0;
   for (int k = 0; k < s->nwl; k++) fc[k] = f[k] * c * (s->tinted ? s->tint[k] : 1.0);
@@ -171,9 +172,9 @@ static bool continue_path(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr
   if (p->depth + 1 >= c->max_depth) return false;
   vr_rng_key key = {rs->seed, p->stream, p->sample, p->depth};
   vr_bsdf_sample bs;
-  if (!vr_bsdf_sample_dir(se->b, se->state, se->n, se->wo, p->nwl, p->wl, VR_TRANSPORT_RADIANCE,
-                          vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
-                          vr_rng(&key, VR_DIM_DIR_V), &bs))
+  if (!vr_bsdf_sample_at(se->b, &se->pt, se->state, se->n, se->wo, p->nwl, p->wl,
+                         VR_TRANSPORT_RADIANCE, vr_rng(&key, VR_DIM_LOBE),
+                         vr_rng(&key, VR_DIM_DIR_U), vr_rng(&key, VR_DIM_DIR_V), &bs))
     return false;
   /* Around a normal map's normal, a reflection may point into the surface. */
   if (se->bent && vr_vec3_dot(se->ng, bs.wi) * vr_vec3_dot(se->ng, se->wo) <= 0) return false;
@@ -231,13 +232,17 @@ vr_surface vr_path_surface(const vr_rscene *rs, const vr_payload *p, const vr_hi
                            const double wo[3]) {
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   vr_surface se = {m->bsdf, vr_hit_state(rs, hit), vr_vec3_of(hit->ns), vr_vec3_of(wo),
-                   p->nwl, p->wl, vr_vec3_of(hit->ns), false, {0}, false, vr_vec3_of(hit->ng)};
-  if (!m->tex && !m->nmap) return se;
+                   p->nwl, p->wl, vr_vec3_of(hit->ns), false, {0}, vr_bsdf_point_plain(), false,
+                   vr_vec3_of(hit->ng)};
+  if (!m->tex && !m->nmap && !m->mrmap) return se;
   /* The footprint on the surface: the cone's width, stretched by the
    * incidence (at most 20 times, near grazing). */
   double width = (double)p->cone_w + hit->t * (double)p->cone_a, nsn[3];
   width /= fmax(fabs(vr_dot3(wo, hit->ng)), 0.05);
-  if (m->tex) se.tinted = vr_hit_texture(rs, hit, width, p->nwl, p->wl, se.tint);
+  if (vr_bsdf_is_pbr(m->bsdf))
+    vr_hit_pbr(rs, hit, width, p->nwl, p->wl, &se.pt);
+  else if (m->tex)
+    se.tinted = vr_hit_texture(rs, hit, width, p->nwl, p->wl, se.tint);
   if (m->nmap && vr_hit_normal_map(rs, hit, width, nsn)) se.n = se.ns = vr_vec3_of(nsn), se.bent = true;
   return se;
 }
@@ -325,7 +330,12 @@ void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit
     vr_path_next_event(c, w, &p, hit->p, hit->ng, (lobes & VR_LOBE_GLOSSY_T) ? NULL : nsky,
                        vr_surface_f, &se, 1000u + p.depth);
   }
-  if (diffuse && c->at_diffuse && c->at_diffuse(c, w, &p, hit, &se, wo)) return;
+  if (diffuse && c->at_diffuse && c->at_diffuse(c, w, &p, hit, &se, wo)) {
+    /* The integrator took the diffuse part; a pbr surface's specular part
+     * goes on by sampling. */
+    if (!(lobes & ~(unsigned)VR_LOBE_DIFFUSE)) return;
+    se.pt.only = lobes & ~(unsigned)VR_LOBE_DIFFUSE;
+  }
   continue_path(c, w, &p, hit, &se);
 }
 

@@ -37,7 +37,9 @@ static bool at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr_hi
   if (vr_dot3(sn, wo) < 0)
     for (int a = 0; a < 3; a++) sn[a] = -sn[a];
   for (int a = 0; a < 3; a++) refl[a] = 2 * vr_dot3(sn, wo) * sn[a] - wo[a];
-  vr_surface_f(se, refl, fc);
+  vr_surface sd = *se; /* the diffuse part (a pbr surface's specular part goes on) */
+  sd.pt.only = VR_LOBE_DIFFUSE;
+  vr_surface_f(&sd, refl, fc);
   double cs = fabs(vr_dot3(sn, refl)), fd[VR_MAX_WL];
   for (int k = 0; k < p->nwl; k++) fd[k] = cs > 0 ? fc[k] / cs : 0; /* rho / pi */
   double E[VR_MAX_WL], Et[VR_MAX_WL] = {0};

@@ -95,7 +95,9 @@ void vr_photon_maps_radiance(const vr_photon_maps *c, const vr_rscene *rs, const
     for (int a = 0; a < 3; a++) sn[a] = -sn[a];
   double refl[3] = {2 * vr_dot3(sn, wo) * sn[0] - wo[0], 2 * vr_dot3(sn, wo) * sn[1] - wo[1],
                     2 * vr_dot3(sn, wo) * sn[2] - wo[2]};
-  vr_surface_f(se, refl, fc);
+  vr_surface sd = *se; /* the diffuse part (a pbr surface's specular part goes on) */
+  sd.pt.only = VR_LOBE_DIFFUSE;
+  vr_surface_f(&sd, refl, fc);
   double cs = fabs(vr_dot3(sn, refl));
   for (int j = 0; j < p->nwl; j++) L[j] = p->beta[j] * (cs > 0 ? fc[j] / cs : 0) * Et[j];
 }

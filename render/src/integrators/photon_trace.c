@@ -99,10 +99,16 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
   vr_bsdf_sample bs;
   double ns[3] = {hit->ns[0], hit->ns[1], hit->ns[2]};
   bool bent = m->nmap && vr_hit_normal_map(rs, hit, 0, ns);
-  if (!vr_bsdf_sample_dir(m->bsdf, vr_hit_state(rs, hit), (vr_vec3){ns[0], ns[1], ns[2]},
-                          (vr_vec3){wo[0], wo[1], wo[2]}, p.nwl, p.wl, VR_TRANSPORT_IMPORTANCE,
-                          vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
-                          vr_rng(&key, VR_DIM_DIR_V), &bs))
+  /* A texture multiplies what the surface reflects (finest level: a
+   * photon has no footprint); a pbr material's textures are its BRDF's. */
+  vr_bsdf_point pt = vr_bsdf_point_plain();
+  double tint[VR_MAX_WL];
+  bool tinted = !vr_hit_pbr(rs, hit, 0, p.nwl, p.wl, &pt) &&
+                vr_hit_texture(rs, hit, 0, p.nwl, p.wl, tint);
+  if (!vr_bsdf_sample_at(m->bsdf, &pt, vr_hit_state(rs, hit), (vr_vec3){ns[0], ns[1], ns[2]},
+                         (vr_vec3){wo[0], wo[1], wo[2]}, p.nwl, p.wl, VR_TRANSPORT_IMPORTANCE,
+                         vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
+                         vr_rng(&key, VR_DIM_DIR_V), &bs))
     return;
   /* Around a normal map's normal, a reflection may point into the surface. */
   if (bent && vr_dot3(hit->ng, (double[3]){bs.wi.x, bs.wi.y, bs.wi.z}) * vr_dot3(hit->ng, wo) <= 0)
@@ -116,10 +122,6 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
     if (p.flags & VR_PF_TERMINATED) bs.weight[0] /= p.nwl;
     p.flags |= VR_PF_TERMINATED;
   }
-  /* A texture multiplies what the surface reflects (finest level: a
-   * photon has no footprint). */
-  double tint[VR_MAX_WL];
-  bool tinted = vr_hit_texture(rs, hit, 0, p.nwl, p.wl, tint);
   double old = 0, mx = 0;
   for (int k = 0; k < p.nwl; k++) {
     if (p.beta[k] > old) old = p.beta[k];

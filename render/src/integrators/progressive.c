@@ -49,7 +49,7 @@ static bool at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr_hi
   for (int k = 0; k < p->nwl; k++) bw[k] = p->beta[k] * p->weight * (se->tinted ? se->tint[k] : 1.0);
   double ns[3] = {se->ns.x, se->ns.y, se->ns.z}; /* a normal map's, if any */
   vr_sppm_set_point(c->state, c->rs, p->index, hit->p, ns, wo,
-                    c->rs->obj[hit->object].material, se->state, p->nwl, bw,
+                    c->rs->obj[hit->object].material, se->state, &se->pt, p->nwl, bw,
                     (p->flags & VR_PF_TERMINATED) != 0);
   return true;
 }

@@ -96,19 +96,25 @@ void vr_sppm_begin(vr_sppm *s, const vr_rscene *rs, int iteration, int iteration
 
 void vr_sppm_set_point(vr_sppm *s, const vr_rscene *rs, uint32_t pixel, const double p[3],
                        const double ns[3], const double wo[3], int material, double state,
-                       int nwl, const double *beta, bool terminated) {
+                       const vr_bsdf_point *pt, int nwl, const double *beta, bool terminated) {
   if (pixel >= s->npx) return;
   double *v = s->vp + slot_of(s, pixel) * VP_DOUBLES;
   const vr_bsdf *b = rs->mat[material].bsdf;
   /* A Lambertian surface's f is one value for every wi on wo's side:
-   * evaluated here once, for the mirror direction, not per photon. */
-  bool lambert = vr_bsdf_lobes(b) == VR_LOBE_DIFFUSE && !vr_bsdf_is_thin(b);
+   * evaluated here once, for the mirror direction, not per photon.  So is
+   * a pbr surface's diffuse part (its specular part is followed by the
+   * camera path): at the mirror direction, where its (1 - F) factor is
+   * that of wo's incidence. */
+  bool pbr = vr_bsdf_is_pbr(b);
+  bool lambert = (vr_bsdf_lobes(b) == VR_LOBE_DIFFUSE && !vr_bsdf_is_thin(b)) || pbr;
   double f[VR_BSDF_MAX_WAVELENGTHS];
   if (lambert) {
     double c = ns[0] * wo[0] + ns[1] * wo[1] + ns[2] * wo[2], wi[3], pdf;
     for (int a = 0; a < 3; a++) wi[a] = 2 * c * ns[a] - wo[a];
-    vr_bsdf_eval(b, state, (vr_vec3){ns[0], ns[1], ns[2]}, (vr_vec3){wo[0], wo[1], wo[2]},
-                 (vr_vec3){wi[0], wi[1], wi[2]}, nwl, s->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
+    vr_bsdf_point d = pt ? *pt : vr_bsdf_point_plain();
+    d.only = VR_LOBE_DIFFUSE;
+    vr_bsdf_eval_at(b, &d, state, (vr_vec3){ns[0], ns[1], ns[2]}, (vr_vec3){wo[0], wo[1], wo[2]},
+                    (vr_vec3){wi[0], wi[1], wi[2]}, nwl, s->wl, VR_TRANSPORT_RADIANCE, f, &pdf);
   }
   bool any = false;
   for (int k = 0; k < nwl && k < VR_MAX_WL; k++)

@@ -101,7 +101,7 @@ void vr_sppm_begin(vr_sppm *s, const vr_rscene *rs, int iteration, int iteration
  * only the hero, times nwl (bsdf_dielectric.c). */
 void vr_sppm_set_point(vr_sppm *s, const vr_rscene *rs, uint32_t pixel, const double p[3],
                        const double ns[3], const double wo[3], int material, double state,
-                       int nwl, const double *beta, bool terminated);
+                       const vr_bsdf_point *pt, int nwl, const double *beta, bool terminated);
 
 /* After the camera pass (and the ranks' sum of the points): the grid. */
 vr_status vr_sppm_build(vr_sppm *s, vr_error *err);

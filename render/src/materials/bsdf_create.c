@@ -121,6 +121,32 @@ static vr_status make_lambert(vr_bsdf *b, const vr_scene_material *sm, const vr_
   return VR_OK;
 }
 
+/* glTF metallic-roughness: the base colour as a Lambertian's reflectance
+ * (constant, inline spectrum or colour), then its factors. */
+static vr_status make_pbr(vr_bsdf *b, const vr_scene_material *sm, vr_error *err) {
+  vr_status st = make_lambert(b, sm, NULL, err);
+  if (st) return st;
+  if (!(sm->metallic >= 0.0 && sm->metallic <= 1.0))
+    return vr_error_set(err, VR_E_RANGE, "metallic %g outside [0, 1]", sm->metallic);
+  if (!(sm->pbr_roughness >= 0.0 && sm->pbr_roughness <= 1.0))
+    return vr_error_set(err, VR_E_RANGE, "roughness %g outside [0, 1]", sm->pbr_roughness);
+  b->kind = VR_BK_PBR;
+  b->metallic = sm->metallic;
+  b->pbr_r = sm->pbr_roughness;
+  double sum = 0.0;
+  for (size_t i = 0; i < b->nl; i++) sum += b->refl[i];
+  b->refl_mean = sum / (double)b->nl;
+  /* A texture can lower both factors per point (it multiplies them). */
+  bool mapped = sm->mr_map != NULL, mirror = vr_bsdfi_pbr_mirror(b->pbr_r * b->pbr_r);
+  b->lobes = 0;
+  if (b->metallic < 1.0 || mapped) b->lobes |= VR_LOBE_DIFFUSE;
+  if (mirror || mapped) b->lobes |= VR_LOBE_SPECULAR_R;
+  if (!mirror) b->lobes |= VR_LOBE_GLOSSY_R;
+  snprintf(b->desc, sizeof b->desc, "glTF metallic-roughness (metallic %g, roughness %g%s)",
+           b->metallic, b->pbr_r, mapped ? ", times a texture per point" : "");
+  return VR_OK;
+}
+
 static vr_status make_conductor(vr_bsdf *b, const vr_scene_material *sm, const vr_material *m,
                                 vr_error *err) {
   b->kind = VR_BK_CONDUCTOR;
@@ -267,7 +293,8 @@ static vr_status build(vr_bsdf *b, const vr_scene_material *sm, const vr_materia
     snprintf(b->desc, sizeof b->desc, "black");
     return VR_OK;
   }
-  if (sm->source == VR_MATSRC_LAMBERT_CONST) return make_lambert(b, sm, NULL, err);
+  if (sm->source == VR_MATSRC_LAMBERT_CONST)
+    return sm->pbr ? make_pbr(b, sm, err) : make_lambert(b, sm, NULL, err);
   if (!m) return vr_error_set(err, VR_E_ARG, "the database material was not resolved");
   vr_status st = check_settings(sm, m->kind, err);
   if (st) return st;
@@ -355,6 +382,7 @@ bool vr_bsdf_is_chromogenic(const vr_bsdf *b) { return b->kind == VR_BK_CHROMO; 
 bool vr_bsdf_is_photochromic(const vr_bsdf *b) {
   return b->kind == VR_BK_CHROMO && b->photochromic;
 }
+bool vr_bsdf_is_pbr(const vr_bsdf *b) { return b->kind == VR_BK_PBR; }
 bool vr_bsdf_is_thin(const vr_bsdf *b) { return b->kind == VR_BK_PANE || b->kind == VR_BK_CHROMO; }
 double vr_bsdf_default_state(const vr_bsdf *b) { return b->default_state; }
 bool vr_bsdf_extrapolated(const vr_bsdf *b) { return b->extrapolated; }

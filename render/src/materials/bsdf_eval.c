@@ -34,12 +34,25 @@ static int clamp_nwl(int nwl) {
   return nwl < 0 ? 0 : (nwl > VR_BSDF_MAX_WAVELENGTHS ? VR_BSDF_MAX_WAVELENGTHS : nwl);
 }
 
+vr_bsdf_point vr_bsdf_point_plain(void) {
+  vr_bsdf_point p = {0};
+  p.metallic = p.roughness = NAN;
+  return p;
+}
+
 void vr_bsdf_eval(const vr_bsdf *b, double state, vr_vec3 n, vr_vec3 wo, vr_vec3 wi, int nwl,
                   const double *nm, vr_transport mode, double *f, double *pdf) {
+  vr_bsdf_eval_at(b, NULL, state, n, wo, wi, nwl, nm, mode, f, pdf);
+}
+
+void vr_bsdf_eval_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, vr_vec3 n,
+                     vr_vec3 wo, vr_vec3 wi, int nwl, const double *nm, vr_transport mode,
+                     double *f, double *pdf) {
   (void)state; /* thin elements and chromogenic glass are all delta lobes */
   nwl = clamp_nwl(nwl);
   for (int w = 0; w < nwl; w++) f[w] = 0.0;
   if (pdf) *pdf = 0.0;
+  if (pt && pt->only && !(b->lobes & pt->only)) return;
   vr_shading_frame fr = vr_shading_frame_of(n);
   vr_vec3 o = to_local(&fr, wo), i = to_local(&fr, wi);
   switch (b->kind) {
@@ -59,6 +72,16 @@ void vr_bsdf_eval(const vr_bsdf *b, double state, vr_vec3 n, vr_vec3 wo, vr_vec3
   case VR_BK_INTERFACE:
     vr_bsdfi_dielectric_eval(b, o, i, nwl, nm, mode, f, pdf);
     break;
+  case VR_BK_PBR: {
+    vr_bsdfi_pbr q;
+    vr_bsdfi_pbr_setup(b, pt, nwl, nm, &q);
+    if (o.z < 0.0) {
+      o = flip(o);
+      i = flip(i);
+    }
+    vr_bsdfi_pbr_eval(&q, o, i, nwl, f, pdf);
+    break;
+  }
   default:
     break;
   }
@@ -82,6 +105,12 @@ static bool lambert_sample(const vr_bsdf *b, vr_vec3 wo, int nwl, const double *
 bool vr_bsdf_sample_dir(const vr_bsdf *b, double state, vr_vec3 n, vr_vec3 wo, int nwl,
                         const double *nm, vr_transport mode, double u1, double u2, double u3,
                         vr_bsdf_sample *out) {
+  return vr_bsdf_sample_at(b, NULL, state, n, wo, nwl, nm, mode, u1, u2, u3, out);
+}
+
+bool vr_bsdf_sample_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, vr_vec3 n,
+                       vr_vec3 wo, int nwl, const double *nm, vr_transport mode, double u1,
+                       double u2, double u3, vr_bsdf_sample *out) {
   nwl = clamp_nwl(nwl);
   if (nwl == 0) return false;
   vr_shading_frame fr = vr_shading_frame_of(n);
@@ -106,8 +135,16 @@ bool vr_bsdf_sample_dir(const vr_bsdf *b, double state, vr_vec3 n, vr_vec3 wo, i
   case VR_BK_CHROMO:
     ok = vr_bsdfi_pane_sample(b, state, o, nwl, nm, u3, out);
     break;
+  case VR_BK_PBR: {
+    vr_bsdfi_pbr q;
+    vr_bsdfi_pbr_setup(b, pt, nwl, nm, &q);
+    bool below = o.z < 0.0;
+    ok = vr_bsdfi_pbr_sample(&q, below ? flip(o) : o, nwl, u1, u2, u3, out);
+    if (ok && below) out->wi = flip(out->wi);
+    break;
   }
-  if (!ok) return false;
+  }
+  if (!ok || (pt && pt->only && !(out->lobe & pt->only))) return false;
   for (int w = nwl; w < VR_BSDF_MAX_WAVELENGTHS; w++) out->weight[w] = 0.0;
   out->wi = to_world(&fr, out->wi);
   return true;
@@ -135,6 +172,9 @@ void vr_bsdf_rta(const vr_bsdf *b, double state, double cos_theta, double nm, do
     break;
   case VR_BK_CONDUCTOR:
     r = vr_bsdfi_conductor_albedo(b, nm, cos_theta);
+    break;
+  case VR_BK_PBR:
+    r = vr_bsdfi_pbr_albedo(b, nm, cos_theta);
     break;
   case VR_BK_INTERFACE:
     vr_bsdfi_dielectric_rt(b, cos_theta, nm, &r, &t);

@@ -26,7 +26,8 @@ typedef enum vr_bsdf_kind {
   VR_BK_CONDUCTOR, /* smooth mirror or GGX */
   VR_BK_INTERFACE, /* refracting dielectric interface, smooth or GGX */
   VR_BK_PANE,      /* thin element from tables over (cos, wavelength) */
-  VR_BK_CHROMO     /* thin element whose normal-incidence T, R follow the state */
+  VR_BK_CHROMO,    /* thin element whose normal-incidence T, R follow the state */
+  VR_BK_PBR        /* glTF metallic-roughness (bsdf_pbr.c) */
 } vr_bsdf_kind;
 
 struct vr_bsdf {
@@ -34,6 +35,9 @@ struct vr_bsdf {
   unsigned lobes;
   bool rough, dispersive, photochromic, extrapolated;
   double alpha;          /* GGX roughness when rough */
+  /* pbr: metallic and perceptual roughness (alpha = pbr_r^2) where no
+   * texture says otherwise; the base colour is refl, its mean refl_mean. */
+  double metallic, pbr_r, refl_mean;
   double default_state;  /* chromogenic */
   char desc[200];
 
@@ -135,6 +139,25 @@ bool vr_bsdfi_dielectric_sample(const vr_bsdf *b, vr_vec3 wo, int nwl, const dou
                                 vr_transport mode, double u1, double u2, double u3,
                                 vr_bsdf_sample *out);
 void vr_bsdfi_dielectric_rt(const vr_bsdf *b, double cos_i, double nm, double *R, double *T);
+
+/* bsdf_pbr.c: the glTF metallic-roughness BRDF at one point, set up from
+ * the material and the point's textures (vr_bsdf_point, may be NULL) for
+ * nwl wavelengths, then evaluated and sampled in the local frame with wo
+ * above the surface. */
+typedef struct vr_bsdfi_pbr {
+  double base[VR_BSDF_MAX_WAVELENGTHS]; /* the base colour per wavelength */
+  double base_mean, metallic, alpha;
+  bool mirror;    /* alpha below the mirror threshold: a delta specular lobe */
+  unsigned only;  /* the lobes asked for */
+} vr_bsdfi_pbr;
+bool vr_bsdfi_pbr_mirror(double alpha);
+void vr_bsdfi_pbr_setup(const vr_bsdf *b, const vr_bsdf_point *pt, int nwl, const double *nm,
+                        vr_bsdfi_pbr *q);
+void vr_bsdfi_pbr_eval(const vr_bsdfi_pbr *q, vr_vec3 wo, vr_vec3 wi, int nwl, double *f,
+                       double *pdf);
+bool vr_bsdfi_pbr_sample(const vr_bsdfi_pbr *q, vr_vec3 wo, int nwl, double u1, double u2,
+                         double u3, vr_bsdf_sample *out);
+double vr_bsdfi_pbr_albedo(const vr_bsdf *b, double nm, double cos_i);
 
 bool vr_bsdfi_pane_sample(const vr_bsdf *b, double state, vr_vec3 wo, int nwl, const double *nm,
                           double u3, vr_bsdf_sample *out);

@@ -97,13 +97,33 @@ static vr_status normal_map(vr_scn_stmt *t, vr_scene_material *m) {
   return VR_OK;
 }
 
+/* A pbr line's metallic=M roughness=R (both required, glTF's factors in
+ * [0, 1]) and metallic_roughness=FILE (glTF's packing: roughness in
+ * green, metallic in blue, linear). */
+vr_status scn_pbr(vr_scn_stmt *t, vr_scene_material *m) {
+  vr_scn_parser *p = t->p;
+  const vr_scn_opt *o;
+  m->pbr = true;
+  vr_status st;
+  if ((st = scn_need(t, "metallic", &o)) ||
+      (st = scn_range(t, "metallic", 0, 1, false, false, &m->metallic)) ||
+      (st = scn_need(t, "roughness", &o)) ||
+      (st = scn_range(t, "roughness", 0, 1, false, false, &m->pbr_roughness)))
+    return st;
+  if (!(o = scn_get(t, "metallic_roughness"))) return VR_OK;
+  if (!o->val[0])
+    return scn_fail(p, o->word, "\"%s\": metallic_roughness= needs an image file", o->word);
+  if (!(m->mr_map = scn_resolve(p->s, o->val))) return scn_nomem(p);
+  return texture_file(p, o->word, m->mr_map);
+}
+
 /* tile=N (both) or tile=NU,NV: for the texture and the normal map. */
 static vr_status tile(vr_scn_stmt *t, vr_scene_material *m) {
   vr_scn_parser *p = t->p;
   const vr_scn_opt *o = scn_get(t, "tile");
   if (!o) return VR_OK;
-  if (!m->texture && !m->normal_map)
-    return scn_fail(p, o->word, "\"%s\": tile= goes with texture=FILE or normal_map=FILE", o->word);
+  if (!m->texture && !m->normal_map && !m->mr_map)
+    return scn_fail(p, o->word, "\"%s\": tile= goes with texture=, normal_map= or metallic_roughness=", o->word);
   double v[2];
   vr_status st;
   if (strchr(o->val, ',')) st = scn_numbers(p, o->word, o->val, false, 2, v);

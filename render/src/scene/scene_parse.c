@@ -25,6 +25,8 @@ void vr_scene_destroy(vr_scene *s) {
     free(s->materials[i].texture_bytes);
     free(s->materials[i].normal_map);
     free(s->materials[i].normal_bytes);
+    free(s->materials[i].mr_map);
+    free(s->materials[i].mr_bytes);
   }
   for (size_t i = 0; i < s->nobjects; i++) {
     free(s->objects[i].name);

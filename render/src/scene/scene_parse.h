@@ -187,6 +187,8 @@ vr_status scn_colour(vr_scn_stmt *t, char **spectrum);
  * both) into m; the files must be readable regular files.  Options without
  * the file they go with are refused. */
 vr_status scn_texture(vr_scn_stmt *t, vr_scene_material *m);
+/* A pbr line's metallic=, roughness= (required) and metallic_roughness=FILE. */
+vr_status scn_pbr(vr_scn_stmt *t, vr_scene_material *m);
 /* Applies translate=, rotate= or scale= (key) after *x. */
 vr_status scn_transform(const vr_scn_parser *p, const char *word, const char *key, const char *v,
                         vr_xform *x);

@@ -103,7 +103,7 @@ vr_status scn_camera(vr_scn_stmt *t) {
 vr_status scn_material(vr_scn_stmt *t) {
   vr_scn_parser *p = t->p;
   vr_scene *s = p->s;
-  vr_status st = scn_positional(t, 2, "a name and a source: db:NAME, lambert or black");
+  vr_status st = scn_positional(t, 2, "a name and a source: db:NAME, lambert, pbr or black");
   if (st) return st;
   for (size_t i = 0; i < s->nmaterials; i++)
     if (!strcmp(s->materials[i].name, t->w[1]))
@@ -116,13 +116,21 @@ vr_status scn_material(vr_scn_stmt *t) {
   m->alpha_cutoff = 0.5, m->tile[0] = m->tile[1] = 1, m->normal_scale = 1;
   const char *src = t->w[2];
   t->what = "a material";
-  if (!strcmp(src, "lambert")) {
+  bool pbr = !strcmp(src, "pbr");
+  if (pbr) t->what = "a pbr material (glTF's factors)";
+  if (!strcmp(src, "lambert") || pbr) {
     static const char *const LAMBERT[] = {"reflectance", "color",        "rgb",  "space",
                                           "texture",     "colorspace",   "alpha", "alpha_cutoff",
                                           "tile",        "normal_map",   "normal_scale", NULL};
+    static const char *const PBR[] = {"reflectance", "color",      "rgb",          "space",
+                                      "texture",     "colorspace", "alpha",        "alpha_cutoff",
+                                      "tile",        "normal_map", "normal_scale", "metallic",
+                                      "roughness",   "metallic_roughness",         NULL};
     m->source = VR_MATSRC_LAMBERT_CONST;
     const vr_scn_opt *o;
-    if ((st = scn_options(t, 3, LAMBERT)) || (st = scn_texture(t, m))) return st;
+    if ((st = scn_options(t, 3, pbr ? PBR : LAMBERT)) || (pbr && (st = scn_pbr(t, m))) ||
+        (st = scn_texture(t, m)))
+      return st;
     const vr_scn_opt *colour = scn_get(t, "color") ? scn_get(t, "color") : scn_get(t, "rgb");
     if (colour && (o = scn_get(t, "reflectance")))
       return scn_fail(p, scn_later(o, colour), "give reflectance= or a colour, not both");
@@ -142,7 +150,7 @@ vr_status scn_material(vr_scn_stmt *t) {
     return scn_options(t, 3, NONE);
   }
   if (strncmp(src, "db:", 3))
-    return scn_fail(p, src, "unknown material source \"%s\" (db:NAME, lambert, black)", src);
+    return scn_fail(p, src, "unknown material source \"%s\" (db:NAME, lambert, pbr, black)", src);
   if (!src[3]) return scn_fail(p, src, "db: needs a material name");
   static const char *const DB[] = {"roughness", "thickness",   "model",   "state",
                                    "charge",    "temperature", "coating", "texture", NULL};

@@ -47,6 +47,7 @@ typedef struct vr_rmaterial {
   double alpha_cutoff, tile[2];
   const struct vr_texture *nmap; /* a tangent-space normal map, or NULL */
   double nscale;
+  const struct vr_texture *mrmap; /* a pbr material's metallic-roughness texture, or NULL */
   double state;            /* chromogenic state from the scene (or 0) */
   bool photochromic;
   struct vr_material *db;  /* the database material, if any */
@@ -99,6 +100,11 @@ bool vr_hit_texture(const vr_rscene *rs, const vr_hit *hit, double width, int nw
  * material has none or the hit no tangent frame.  It stays on the side of
  * the geometric normal the interpolated normal is on. */
 bool vr_hit_normal_map(const vr_rscene *rs, const vr_hit *hit, double width, double ns[3]);
+/* What a pbr material's textures make of it at the hit (base colour,
+ * metallic, roughness), for the path's wavelengths: false, pt untouched,
+ * for any other material.  width as for vr_hit_texture. */
+bool vr_hit_pbr(const vr_rscene *rs, const vr_hit *hit, double width, int nwl, const double *nm,
+                vr_bsdf_point *pt);
 /* Whether the surface is cut out at the hit (alpha); u: a uniform number
  * for VR_ALPHA_BLEND. */
 bool vr_hit_cut_out(const vr_rscene *rs, const vr_hit *hit, double u);

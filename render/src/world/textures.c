@@ -40,7 +40,8 @@ static const char *source_of(const vr_rscene *rs, size_t i, const char **sha, bo
 typedef struct load_job {
   const vr_scene_material *sm;
   const char *path, *sha;
-  bool spectral, normal; /* a spectral texture; a normal map (linear, its own bytes) */
+  bool spectral;
+  int kind;              /* 0: base colour, 1: normal map, 2: metallic-roughness (linear) */
   bool linear;           /* integer samples read as linear (colorspace=linear, normal maps) */
   vr_texture *t;
   vr_status st;
@@ -61,10 +62,12 @@ static void load_one(load_job *j) {
                          sm->db_name, j->path);
   else if (j->spectral)
     j->st = vr_texture_load_spectral(j->path, j->sha, &j->t, &j->err);
-  else if (j->normal && sm->normal_bytes)
+  else if (j->kind == 1 && sm->normal_bytes)
     j->st = vr_texture_load_rgb_memory(sm->normal_bytes, sm->normal_len, j->path, false, &j->t,
                                        &j->err);
-  else if (j->normal)
+  else if (j->kind == 2 && sm->mr_bytes)
+    j->st = vr_texture_load_rgb_memory(sm->mr_bytes, sm->mr_len, j->path, false, &j->t, &j->err);
+  else if (j->kind)
     j->st = vr_texture_load_rgb(j->path, false, &j->t, &j->err);
   else if (sm->texture_bytes)
     j->st = vr_texture_load_rgb_memory(sm->texture_bytes, sm->texture_len, j->path,
@@ -87,9 +90,10 @@ static void *load_worker(void *arg) {
 
 vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
   double t0 = now();
-  load_job *jobs = calloc(2 * rs->nmat + 1, sizeof *jobs);
-  size_t *job_of = calloc(2 * rs->nmat + 1, sizeof *job_of); /* [2i]: texture, [2i+1]: normal map */
-  rs->tex = calloc(2 * rs->nmat + 1, sizeof *rs->tex);
+  load_job *jobs = calloc(3 * rs->nmat + 1, sizeof *jobs);
+  /* [3i]: texture, [3i+1]: normal map, [3i+2]: metallic-roughness */
+  size_t *job_of = calloc(3 * rs->nmat + 1, sizeof *job_of);
+  rs->tex = calloc(3 * rs->nmat + 1, sizeof *rs->tex);
   if (!jobs || !job_of || !rs->tex) {
     free(jobs), free(job_of);
     return vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -101,25 +105,25 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
     const char *sha;
     bool spectral;
     const char *path = source_of(rs, i, &sha, &spectral, &sm);
-    job_of[2 * i] = job_of[2 * i + 1] = (size_t)-1;
+    job_of[3 * i] = job_of[3 * i + 1] = job_of[3 * i + 2] = (size_t)-1;
     vr_rmaterial *rm = &rs->mat[i];
     rm->alpha = sm->alpha;
     rm->alpha_cutoff = sm->alpha_cutoff;
     rm->tile[0] = sm->tile[0], rm->tile[1] = sm->tile[1];
     rm->nscale = sm->normal_scale;
-    for (int kind = 0; kind < 2; kind++) {
-      const char *p = kind ? sm->normal_map : path;
+    for (int kind = 0; kind < 3; kind++) {
+      const char *p = kind == 2 ? sm->mr_map : kind ? sm->normal_map : path;
       if (!p) continue;
       size_t k = 0;
-      bool spec = !kind && spectral, normal = kind == 1, linear = normal || sm->texture_linear;
+      bool spec = !kind && spectral, linear = kind || sm->texture_linear;
       /* The same file decoded the same way (kind, colour space) is shared. */
-      while (k < n && (strcmp(jobs[k].path, p) || jobs[k].normal != normal ||
+      while (k < n && (strcmp(jobs[k].path, p) || jobs[k].kind != kind ||
                        jobs[k].spectral != spec || jobs[k].linear != linear))
         k++;
       if (k == n)
         jobs[n++] = (load_job){.sm = sm, .path = p, .sha = kind ? NULL : sha, .spectral = spec,
-                               .normal = normal, .linear = linear};
-      job_of[2 * i + (size_t)kind] = k;
+                               .kind = kind, .linear = linear};
+      job_of[3 * i + (size_t)kind] = k;
     }
   }
   /* Decoded in parallel (the RGB-to-spectrum table is built once, by
@@ -149,8 +153,9 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
   }
   if (!st)
     for (size_t i = 0; i < rs->nmat; i++) {
-      if (job_of[2 * i] != (size_t)-1) rs->mat[i].tex = jobs[job_of[2 * i]].t;
-      if (job_of[2 * i + 1] != (size_t)-1) rs->mat[i].nmap = jobs[job_of[2 * i + 1]].t;
+      if (job_of[3 * i] != (size_t)-1) rs->mat[i].tex = jobs[job_of[3 * i]].t;
+      if (job_of[3 * i + 1] != (size_t)-1) rs->mat[i].nmap = jobs[job_of[3 * i + 1]].t;
+      if (job_of[3 * i + 2] != (size_t)-1) rs->mat[i].mrmap = jobs[job_of[3 * i + 2]].t;
     }
   free(jobs);
   free(job_of);
@@ -173,6 +178,34 @@ bool vr_hit_texture(const vr_rscene *rs, const vr_hit *hit, double width, int nw
   tex_uv(m, hit, &u, &v);
   double tile = m->tile[0] > m->tile[1] ? m->tile[0] : m->tile[1];
   vr_texture_eval(m->tex, u, v, width * hit->uv_rate * tile, nwl, nm, f);
+  return true;
+}
+
+bool vr_hit_pbr(const vr_rscene *rs, const vr_hit *hit, double width, int nwl, const double *nm,
+                vr_bsdf_point *pt) {
+  const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
+  if (!vr_bsdf_is_pbr(m->bsdf)) return false;
+  *pt = vr_bsdf_point_plain();
+  if (!m->tex && !m->mrmap) return true;
+  double u, v;
+  tex_uv(m, hit, &u, &v);
+  double tile = m->tile[0] > m->tile[1] ? m->tile[0] : m->tile[1];
+  double w = width * hit->uv_rate * tile;
+  if (m->tex) {
+    vr_texture_eval(m->tex, u, v, w, nwl, nm, pt->base);
+    double sum = 0;
+    for (int k = 0; k < nwl; k++) sum += pt->base[k];
+    pt->has_base = true;
+    pt->base_mean = nwl > 0 ? sum / nwl : 0;
+  }
+  if (m->mrmap) {
+    /* glTF: roughness in green, metallic in blue, times the factors. */
+    double rgb[3];
+    vr_texture_rgb(m->mrmap, u, v, w, rgb);
+    const vr_scene_material *sm = &rs->s->materials[rs->obj[hit->object].material];
+    pt->roughness = rgb[1] * sm->pbr_roughness;
+    pt->metallic = rgb[2] * sm->metallic;
+  }
   return true;
 }
 
