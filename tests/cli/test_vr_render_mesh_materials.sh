@@ -15,6 +15,11 @@
 #     said to be defined nowhere (not Assimp's 0.6 passed off as theirs);
 #   - Khronos's Box.gltf (CC BY 4.0) without material= takes its
 #     baseColorFactor (0.8, 0, 0);
+#   - Assimp's float-color.ply (MeshLab, vertex colours, no materials)
+#     without material= renders its vertex colours, said once, the same
+#     image on 8 sub-domains (the colours live in the cache's cells);
+#     Assimp's cube.ply (no colours, no materials) is refused: the PLY
+#     reader's white stand-in is not passed off as the file's;
 #   - units=mm up=y turn the file's millimetres, y up, into the scene's
 #     metres, z up (the printed bounds, the scene's and the mesh line's own
 #     with its triangle count, are the Cornell box's);
@@ -143,4 +148,24 @@ printf 'void plastic red\n0\n0\n5 .7 .1 .1 0 0\n' > room.rad
 sed 's/cornell_box.obj units=mm up=y/room.rad material=wall/' frame.scn > bad8.scn
 refuse render-mesh-format-unknown "$bin" bad8.scn -o bad8
 check "the list names obj, gltf and fbx" grep -q "obj .*fbx.*gltf" "$tmp/refused.err"
+
+cp "$VR_SOURCE_DIR"/tests/data/models/assimp_ply/*.ply "$tmp/"
+cat > ply.scn <<SCN
+material white lambert reflectance=1
+mesh float-color.ply
+camera pinhole from=100,66,300 to=100,66,0 up=0,1,0 fov=60 resolution=24x24
+light point position=100,66,1000 intensity=1e7cd
+render integrator=path spp=2
+SCN
+"$bin" ply.scn -o ply --outputs exr 2> ply.err
+check "a PLY file's vertex colours render" test $? -eq 0
+check "said once" test "$(grep -c "mesh 'float-color.ply' has no materials of its own: its vertex colours as spectra" ply.err)" -eq 1
+"$bin" ply.scn -o ply8 --subdomains 8 --outputs exr 2> /dev/null
+check "the same image on 8 sub-domains" "$cmp" ply.exr ply8.exr 1e-9
+sed 's/^mesh float-color.ply$/mesh float-color.ply material=white/' ply.scn > plyw.scn
+"$bin" plyw.scn -o plyw --outputs exr 2> /dev/null
+check "material= on the line leaves the colours out (the image differs)" \
+  bash -c "! '$cmp' ply.exr plyw.exr 1e-2 > /dev/null 2>&1"
+sed 's/^mesh float-color.ply$/mesh cube.ply/' ply.scn > bad9.scn
+refuse render-mesh-no-materials "$bin" bad9.scn -o bad9
 finish

@@ -30,7 +30,7 @@ static void check(const char *path) {
     for (int c = 0; c < m->ncells; c++) {
       vr_cell_layout L;
       if (!vr_cell_layout_of(m->cells[c].nverts, m->cells[c].ntris, m->cells[c].nspheres,
-                             m->cells[c].flags & VR_CELL_NORMALS, &L) ||
+                             m->cells[c].flags, &L) ||
           L.total != m->cells[c].payload_bytes)
         __builtin_trap();
     }

@@ -28,7 +28,12 @@
  *     constant tangent-space normal (sin 40°, 0, cos 40°) on a rect lit
  *     along its geometric normal makes every pixel cos 40° = 0.76604 of
  *     the rect without a map (within 0.1 %); a map of (0, 0, 1), and the
- *     tilted map at normal_scale=0, leave the image as it is (1e-4). */
+ *     tilted map at normal_scale=0, leave the image as it is (1e-4);
+ *   - vertex colours of a real PLY file (Assimp's test model
+ *     float-color.ply, written by MeshLab's VCGLIB: one triangle whose
+ *     three vertices are blue, (0, 0, 1)) render as sRGB blue under D65:
+ *     within Delta E00 1 of IEC 61966-2-1's blue, the white being the same
+ *     triangle as a white reflector. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -43,6 +48,7 @@
 #include "render_test_util.h"
 #include "vr/colour.h"
 #include "vr/image.h"
+#include "vr/models.h"
 
 static char dir[] = "/tmp/vr-texture-test-XXXXXX";
 
@@ -278,6 +284,43 @@ static void test_alpha(void **state) {
   assert_true(through("", "", 4) < 1e-9);
 }
 
+/* The mean XYZ of a view straight down on the PLY triangle's inside. */
+static void ply_view(const char *mesh_options, double xyz[3]) {
+  char scn[1024];
+  snprintf(scn, sizeof scn,
+           "material white lambert reflectance=1\n"
+           "mesh %s/models/assimp_ply/float-color.ply %s\n"
+           "camera pinhole from=100,66,300 to=100,66,0 up=0,1,0 fov=4 resolution=16x16\n"
+           "light point position=100,66,2000 intensity=1e8cd\n"
+           "render integrator=path spp=16 depth=2\n",
+           VR_TEST_DATA, mesh_options);
+  vr_scene *sc = parse_text(scn, "ply.scn");
+  vr_error e = {0};
+  if (vr_scene_load_models(sc, &e)) fail_msg("vr_scene_load_models: %s", e.message);
+  vr_render_result *r = render_scene_with(sc, NULL, 1, 2, false, false);
+  vr_scene_destroy(sc);
+  xyz[0] = xyz[1] = xyz[2] = 0;
+  for (int i = 0; i < 16 * 16; i++)
+    for (int c = 0; c < 3; c++) xyz[c] += r->xyz[3 * i + c] / (16 * 16);
+  vr_render_result_destroy(r);
+}
+
+static void test_vertex_colours(void **state) {
+  (void)state;
+  double blue[3], white[3];
+  ply_view("", blue);
+  ply_view("material=white", white);
+  double lin[3] = {0, 0, 1}, xyz[3], d65[3], one[3] = {1, 1, 1}, want[3], got[3];
+  vr_srgb_linear_to_xyz(lin, xyz);
+  vr_srgb_linear_to_xyz(one, d65);
+  lab_of(xyz, d65, want);
+  lab_of(blue, white, got);
+  double de = vr_delta_e2000(want, got);
+  printf("# PLY vertex colours (blue) under D65: Delta E00 %.3f (Lab %.2f %.2f %.2f, want %.2f %.2f %.2f)\n",
+         de, got[0], got[1], got[2], want[0], want[1], want[2]);
+  assert_true(de < 1.0);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_white_reference),
@@ -285,6 +328,7 @@ int main(void) {
       cmocka_unit_test(test_mip_footprint),
       cmocka_unit_test(test_alpha),
       cmocka_unit_test(test_normal_map),
+      cmocka_unit_test(test_vertex_colours),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

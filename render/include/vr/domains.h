@@ -66,6 +66,9 @@ typedef struct vr_hit {
                         the triangle (texture footprints); 0 when the uv are degenerate */
   double dpdu[3], dpdv[3]; /* the surface's derivatives along u and v (normal maps' tangent
                               frame); zero when the uv are degenerate, and on spheres */
+  bool has_rgb;      /* the cell keeps vertex colours (some PLY file's own) */
+  double rgb[3];     /* then: the triangle's, linear, interpolated (white for a triangle
+                        of an object without any) */
 } vr_hit;
 
 typedef struct vr_domains_options {

@@ -29,6 +29,9 @@ typedef struct vr_geometry {
                                         photochromic state map: rect -> [0,1]^2 over the rectangle
                                         (u along the width, v along the height); box -> per-face
                                         [0,1]^2; mesh -> its first UV set or 0 */
+  uint8_t *tri_rgb;                  /* 9 per triangle: 8-bit sRGB colour codes at each corner
+                                        (a mesh's vertex colours, 255 where an object has
+                                        none), or NULL when no object uses any */
   float *vnormals;                   /* per-vertex shading normals (3 per vertex, unit, world
                                         space), or NULL when no object has any (all flat).  A
                                         vertex without one (rect, box, mesh without normals) holds

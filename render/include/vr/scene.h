@@ -130,6 +130,9 @@ typedef struct vr_scene_material {
    * texture's blue and green channels (linear) when mr_map names one. */
   bool pbr;
   double metallic, pbr_roughness;
+  /* A model's vertex colours (8-bit sRGB, a PLY file's own) multiply the
+   * reflectance per point (the objects say vertex_colours too). */
+  bool vertex_colours;
   char *mr_map;
   unsigned char *mr_bytes;
   size_t mr_len;
@@ -194,6 +197,8 @@ typedef struct vr_scene_object {
   vr_quantity emission;           /* emissive surface: cd/m2 or W/(m2 sr); value 0 if none */
   vr_spectrum_ref emission_spectrum;
   int texels[2];                  /* photochromic state map resolution, default 16 x 16 */
+  bool vertex_colours;            /* mesh: its file's vertex colours are its material's
+                                     reflectance (a PLY file's own colours, see vr/models.h) */
   bool outside;                   /* outside=yes: an exterior surface (ground, neighbouring
                                      buildings): light it reflects to a sensor is the
                                      externally reflected component */

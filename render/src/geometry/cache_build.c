@@ -11,7 +11,6 @@
 #include "geometry/cache_build.h"
 #include "geometry/cache_tables.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -23,6 +22,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "geometry/cache_dirs.h"
 #include "geometry/cache_key.h"
 #include "geometry/cache_split.h"
 #include "geometry/mesh_cache.h"
@@ -89,22 +89,6 @@ static vr_status io_fail(vr_mesh_builder *B, const char *what, const char *path)
                       strerror(errno));
 }
 
-/* Removes the files of a flat folder, then the folder. */
-static void remove_flat(const char *dir) {
-  DIR *d = opendir(dir);
-  if (d) {
-    struct dirent *e;
-    char p[PATHMAX];
-    while ((e = readdir(d)))
-      if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-        snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
-        unlink(p);
-      }
-    closedir(d);
-  }
-  rmdir(dir);
-}
-
 /* ---- pass 1: objects to the spill file, the sample, the tables ---- */
 
 static bool wr(vr_mesh_builder *B, const void *p, size_t n) {
@@ -153,10 +137,12 @@ static void sample_add(vr_mesh_builder *B, const double lo[3], const double hi[3
 /* One chunk (objects [first, last) of g) into the spill file, the sample
  * and the tables. */
 static vr_status take_chunk(vr_mesh_builder *B, const vr_geometry *g, size_t first, size_t last) {
-  vr_build_chunk_head h = {g->nverts, g->ntris, g->nspheres, g->vnormals ? VR_CELL_NORMALS : 0u, 0};
+  uint32_t flags = (g->vnormals ? VR_CELL_NORMALS : 0u) | (g->tri_rgb ? VR_CELL_COLOURS : 0u);
+  vr_build_chunk_head h = {g->nverts, g->ntris, g->nspheres, flags, 0};
   bool ok = wr(B, &h, sizeof h) && wr(B, g->verts, g->nverts * 12) &&
             (!g->vnormals || wr(B, g->vnormals, g->nverts * 12)) && wr(B, g->tris, g->ntris * 12) &&
             wr(B, g->tri_object, g->ntris * 4) && wr(B, g->tri_uv, g->ntris * 24) &&
+            (!g->tri_rgb || wr(B, g->tri_rgb, g->ntris * 9)) &&
             wr(B, g->spheres, g->nspheres * 32) && wr(B, g->sphere_object, g->nspheres * 4);
   if (!ok) return io_fail(B, "write", B->tmp);
   double lo[3], hi[3];
@@ -288,6 +274,7 @@ static int cells_of(const vr_mesh_builder *B, const double lo[3], const double h
 typedef struct vr_build_chunk {
   vr_build_chunk_head h;
   float *verts, *normals, *uv;
+  uint8_t *rgb;
   uint32_t *tris, *objects, *sphere_objects;
   double *spheres;
 } vr_build_chunk;
@@ -296,6 +283,7 @@ static void chunk_free(vr_build_chunk *k) {
   free(k->verts);
   free(k->normals);
   free(k->uv);
+  free(k->rgb);
   free(k->tris);
   free(k->objects);
   free(k->sphere_objects);
@@ -318,14 +306,16 @@ static vr_status chunk_read(vr_mesh_builder *B, FILE *f, const char *path, vr_bu
   k->tris = malloc(nt * 12 + 1);
   k->objects = malloc(nt * 4 + 1);
   k->uv = malloc(nt * 24 + 1);
+  k->rgb = (h->flags & VR_CELL_COLOURS) ? malloc(nt * 9 + 1) : NULL;
   k->spheres = malloc(ns * 32 + 1);
   k->sphere_objects = malloc(ns * 4 + 1);
   if (!k->verts || ((h->flags & VR_CELL_NORMALS) && !k->normals) || !k->tris || !k->objects ||
-      !k->uv || !k->spheres || !k->sphere_objects)
+      !k->uv || ((h->flags & VR_CELL_COLOURS) && !k->rgb) || !k->spheres || !k->sphere_objects)
     return nomem(B);
   bool ok = got == sizeof k->h && rd(f, k->verts, nv * 12) &&
             (!k->normals || rd(f, k->normals, nv * 12)) && rd(f, k->tris, nt * 12) &&
-            rd(f, k->objects, nt * 4) && rd(f, k->uv, nt * 24) && rd(f, k->spheres, ns * 32) &&
+            rd(f, k->objects, nt * 4) && rd(f, k->uv, nt * 24) &&
+            (!k->rgb || rd(f, k->rgb, nt * 9)) && rd(f, k->spheres, ns * 32) &&
             rd(f, k->sphere_objects, ns * 4);
   if (!ok) return vr_error_set(B->err, VR_E_IO, "geometry cache: %s: cut short", path);
   return VR_OK;
@@ -388,6 +378,7 @@ static vr_status deal(vr_mesh_builder *B, const vr_build_chunk *k, uint32_t *mar
     }
   }
   bool normals = (h->flags & VR_CELL_NORMALS) != 0;
+  uint32_t colours = h->flags & VR_CELL_COLOURS;
   for (int c = 0; !st && c < S; c++) {
     size_t a = count[c], z = count[c + 1];
     if (a == z) continue;
@@ -410,7 +401,7 @@ static vr_status deal(vr_mesh_builder *B, const vr_build_chunk *k, uint32_t *mar
         }
       }
     }
-    vr_build_chunk_head ph = {nnew, ntri, nsph, normals ? VR_CELL_NORMALS : 0u, 0};
+    vr_build_chunk_head ph = {nnew, ntri, nsph, (normals ? VR_CELL_NORMALS : 0u) | colours, 0};
     bool ok = part_put(p, &ph, sizeof ph);
     /* New vertices in their local order: walk the triangles again. */
     uint32_t written = 0;
@@ -450,6 +441,8 @@ static vr_status deal(vr_mesh_builder *B, const vr_build_chunk *k, uint32_t *mar
       if (sorted[i] < h->ntris) ok = part_put(p, &k->objects[sorted[i]], 4) && part_object(p, k->objects[sorted[i]]);
     for (size_t i = a; ok && i < z; i++)
       if (sorted[i] < h->ntris) ok = part_put(p, k->uv + 6 * (size_t)sorted[i], 24);
+    for (size_t i = a; ok && colours && i < z; i++)
+      if (sorted[i] < h->ntris) ok = part_put(p, k->rgb + 9 * (size_t)sorted[i], 9);
     for (size_t i = a; ok && i < z; i++)
       if (sorted[i] >= h->ntris) ok = part_put(p, k->spheres + 4 * (size_t)(sorted[i] - h->ntris), 32);
     for (size_t i = a; ok && i < z; i++)
@@ -465,6 +458,7 @@ static vr_status deal(vr_mesh_builder *B, const vr_build_chunk *k, uint32_t *mar
     p->ntris += ntri;
     p->nspheres += nsph;
     if (normals) p->flags |= VR_CELL_NORMALS;
+    p->flags |= colours;
     if (p->len >= B->flush_at) st = flush_part(B, c);
   }
   free(pc);
@@ -553,8 +547,7 @@ static vr_status assemble(vr_mesh_builder *B, int c, vr_cell_meta *meta) {
   if (!meta->objects) return nomem(B);
   if (u) memcpy(meta->objects, p->objects, u * sizeof *meta->objects);
   vr_cell_layout L;
-  bool normals = p->flags & VR_CELL_NORMALS;
-  if (!vr_cell_layout_of(p->nverts, p->ntris, p->nspheres, normals, &L))
+  if (!vr_cell_layout_of(p->nverts, p->ntris, p->nspheres, p->flags, &L))
     return vr_error_set(B->err, VR_E_RANGE,
                         "geometry cache: sub-domain %d holds more than 2^32 vertices or "
                         "triangles; use more sub-domains",
@@ -578,13 +571,18 @@ static vr_status assemble(vr_mesh_builder *B, int c, vr_cell_meta *meta) {
     bool ok = got == sizeof h && rd(f, pay + L.verts + 12 * vb, nv * 12) &&
               (!(h.flags & VR_CELL_NORMALS) || rd(f, pay + L.normals + 12 * vb, nv * 12)) &&
               rd(f, tri, nt * 12) && rd(f, pay + L.objects + 4 * tb, nt * 4) &&
-              rd(f, pay + L.uv + 24 * tb, nt * 24) && rd(f, pay + L.spheres + 32 * sb, ns * 32) &&
+              rd(f, pay + L.uv + 24 * tb, nt * 24) &&
+              (!(h.flags & VR_CELL_COLOURS) || rd(f, pay + L.colours + 9 * tb, nt * 9)) &&
+              rd(f, pay + L.spheres + 32 * sb, ns * 32) &&
               rd(f, pay + L.sphere_objects + 4 * sb, ns * 4);
     if (!ok) {
       st = vr_error_set(B->err, VR_E_IO, "geometry cache: %s: cut short", path);
       break;
     }
     for (size_t i = 0; i < 3 * nt; i++) tri[i] += (uint32_t)vb;
+    /* A chunk without colours in a cell with some: white (a factor of 1). */
+    if ((p->flags & VR_CELL_COLOURS) && !(h.flags & VR_CELL_COLOURS))
+      memset(pay + L.colours + 9 * tb, 255, nt * 9);
     vb += nv;
     tb += nt;
     sb += ns;
@@ -614,38 +612,13 @@ static void builder_free(vr_mesh_builder *B) {
   vr_cache_cells_free(&B->cells); /* last: the parts are counted by it */
 }
 
-/* Folders an interrupted build left beside dir (dir.tmp-PID, dir.old-PID):
- * the caller holds the cache's lock, so no other build is under way and
- * they are all stale. */
-static void remove_leftovers(const char *dir) {
-  char parent[DIRMAX], prefix[DIRMAX + 8];
-  snprintf(parent, sizeof parent, "%s", dir);
-  char *slash = strrchr(parent, '/');
-  const char *base = slash ? slash + 1 : parent;
-  snprintf(prefix, sizeof prefix, "%s.", base);
-  if (slash) *slash = '\0';
-  DIR *d = opendir(slash ? parent : ".");
-  if (!d) return;
-  struct dirent *e;
-  size_t np = strlen(prefix);
-  while ((e = readdir(d))) {
-    if (strncmp(e->d_name, prefix, np) || (strncmp(e->d_name + np, "tmp-", 4) &&
-                                           strncmp(e->d_name + np, "old-", 4)))
-      continue;
-    char p[DIRMAX + 300];
-    snprintf(p, sizeof p, "%s/%s", slash ? parent : ".", e->d_name);
-    remove_flat(p);
-  }
-  closedir(d);
-}
-
 vr_status vr_cache_build_run(const vr_cache_build *b, vr_cache_manifest **out, vr_error *err) {
   *out = NULL;
   vr_mesh_builder B = {.b = b, .err = err};
   if (strlen(b->dir) >= DIRMAX)
     return vr_error_set(err, VR_E_ARG, "geometry cache: folder name longer than %d bytes", DIRMAX);
   snprintf(B.tmp, sizeof B.tmp, "%s.tmp-%ld", b->dir, (long)getpid());
-  remove_leftovers(b->dir);
+  vr_cache_remove_leftovers(b->dir);
   if (mkdir(B.tmp, 0755) != 0) return io_fail(&B, "create", B.tmp);
   double t0 = now();
   vr_cache_manifest *m = calloc(1, sizeof *m);
@@ -683,18 +656,18 @@ vr_status vr_cache_build_run(const vr_cache_build *b, vr_cache_manifest **out, v
     /* The new folder takes the old one's place; the old one goes. */
     char old[PATHMAX];
     snprintf(old, sizeof old, "%s.old-%ld", b->dir, (long)getpid());
-    remove_flat(old);
+    vr_cache_remove_flat(old);
     bool had = rename(b->dir, old) == 0;
     if (rename(B.tmp, b->dir) != 0) {
       st = io_fail(&B, "rename to", b->dir);
       if (had) rename(old, b->dir);
     } else if (had) {
-      remove_flat(old);
+      vr_cache_remove_flat(old);
     }
   }
   builder_free(&B);
   if (st) {
-    remove_flat(B.tmp);
+    vr_cache_remove_flat(B.tmp);
     vr_cache_manifest_free(m);
     return st;
   }

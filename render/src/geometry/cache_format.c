@@ -333,7 +333,8 @@ vr_status vr_cache_manifest_read(const char *path, vr_cache_manifest **out, vr_e
     e->nobjects = get_u32(&r);
     e->objects = get_array(&r, e->nobjects, sizeof *e->objects);
     vr_cell_layout L;
-    if (!vr_cell_layout_of(e->nverts, e->ntris, e->nspheres, e->flags & VR_CELL_NORMALS, &L) ||
+    if ((e->flags & ~(VR_CELL_NORMALS | VR_CELL_COLOURS)) ||
+        !vr_cell_layout_of(e->nverts, e->ntris, e->nspheres, e->flags, &L) ||
         L.total != e->payload_bytes)
       r.bad = true;
   }
@@ -352,7 +353,7 @@ vr_status vr_cache_manifest_read(const char *path, vr_cache_manifest **out, vr_e
 
 static size_t up(size_t v) { return (v + ALIGN - 1) / ALIGN * ALIGN; }
 
-bool vr_cell_layout_of(uint64_t nverts, uint64_t ntris, uint64_t nspheres, bool normals,
+bool vr_cell_layout_of(uint64_t nverts, uint64_t ntris, uint64_t nspheres, uint32_t flags,
                        vr_cell_layout *L) {
   /* Limits that keep every size below far from overflow. */
   if (nverts >= UINT32_MAX || ntris >= UINT32_MAX || nspheres >= UINT32_MAX) return false;
@@ -360,13 +361,15 @@ bool vr_cell_layout_of(uint64_t nverts, uint64_t ntris, uint64_t nspheres, bool 
   L->verts = at;
   at = up(at + (size_t)nverts * 12 + 16);
   L->normals = at;
-  if (normals) at = up(at + (size_t)nverts * 12);
+  if (flags & VR_CELL_NORMALS) at = up(at + (size_t)nverts * 12);
   L->tris = at;
   at = up(at + (size_t)ntris * 12);
   L->objects = at;
   at = up(at + (size_t)ntris * 4);
   L->uv = at;
   at = up(at + (size_t)ntris * 24);
+  L->colours = at;
+  if (flags & VR_CELL_COLOURS) at = up(at + (size_t)ntris * 9);
   L->spheres = at;
   at = up(at + (size_t)nspheres * 32);
   L->sphere_objects = at;

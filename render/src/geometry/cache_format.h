@@ -19,9 +19,10 @@
 #include "vr/scene_tables.h"
 
 /* Bumped whenever the layout, the build or the key's contents change. */
-#define VR_CACHE_VERSION 4u
+#define VR_CACHE_VERSION 5u
 #define VR_CELL_HEADER 128
 #define VR_CELL_NORMALS 1u
+#define VR_CELL_COLOURS 2u /* the cell keeps vertex colours (tri_rgb) */
 
 /* A node of the kd-tree of cells: axis -1 for a leaf. */
 typedef struct vr_kd_node {
@@ -34,7 +35,7 @@ typedef struct vr_cell_meta {
   double lo[3], hi[3];     /* the box its primitives were assigned by (clipped to the scene) */
   double glo[3], ghi[3];   /* the bounds of its primitives within that box (empty: lo > hi) */
   uint64_t nverts, ntris, nspheres;
-  uint32_t flags;          /* VR_CELL_NORMALS */
+  uint32_t flags;          /* VR_CELL_NORMALS, VR_CELL_COLOURS */
   uint64_t payload_bytes, payload_hash;
   uint64_t embree_bytes;   /* what Embree keeps for its BVH, measured when the cache was built */
   uint64_t embree_peak;    /* the most Embree held while building it */
@@ -64,11 +65,12 @@ typedef struct vr_cell_layout {
   size_t tris;     /* uint32[3 ntris], cell-local vertex indices */
   size_t objects;  /* uint32[ntris], scene object of each triangle */
   size_t uv;       /* float[6 ntris], object-local (u, v) at each corner */
+  size_t colours;  /* uint8[9 ntris] when VR_CELL_COLOURS: 8-bit sRGB codes at each corner */
   size_t spheres;  /* double[4 nspheres]: centre, radius */
   size_t sphere_objects; /* uint32[nspheres] */
   size_t total;
 } vr_cell_layout;
-bool vr_cell_layout_of(uint64_t nverts, uint64_t ntris, uint64_t nspheres, bool normals,
+bool vr_cell_layout_of(uint64_t nverts, uint64_t ntris, uint64_t nspheres, uint32_t flags,
                        vr_cell_layout *L);
 
 /* Writes a cell file whole or not at all; *hash gets the payload's XXH64. */

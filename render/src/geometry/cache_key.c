@@ -84,6 +84,7 @@ void vr_cache_key_geometry(const vr_geometry *g, int S, uint8_t key[32]) {
   add(&c, g->tris, g->ntris * 3 * sizeof *g->tris);
   add(&c, g->tri_object, g->ntris * sizeof *g->tri_object);
   if (g->tri_uv) add(&c, g->tri_uv, g->ntris * 6 * sizeof *g->tri_uv);
+  if (g->tri_rgb) add(&c, g->tri_rgb, g->ntris * 9);
   add(&c, g->spheres, g->nspheres * 4 * sizeof *g->spheres);
   add(&c, g->sphere_object, g->nspheres * sizeof *g->sphere_object);
   char hex[65];

@@ -5,10 +5,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "vr/colour.h"
 
 void vr_cell_view_of(const void *payload, const vr_cell_meta *meta, vr_cell_view *v) {
   vr_cell_layout L;
-  vr_cell_layout_of(meta->nverts, meta->ntris, meta->nspheres, meta->flags & VR_CELL_NORMALS, &L);
+  vr_cell_layout_of(meta->nverts, meta->ntris, meta->nspheres, meta->flags, &L);
   const unsigned char *p = payload;
   v->nverts = meta->nverts;
   v->ntris = meta->ntris;
@@ -18,6 +19,7 @@ void vr_cell_view_of(const void *payload, const vr_cell_meta *meta, vr_cell_view
   v->tris = (const uint32_t *)(p + L.tris);
   v->objects = (const uint32_t *)(p + L.objects);
   v->uv = (const float *)(p + L.uv);
+  v->colours = (meta->flags & VR_CELL_COLOURS) ? p + L.colours : NULL;
   v->spheres = (const double *)(p + L.spheres);
   v->sphere_objects = (const uint32_t *)(p + L.sphere_objects);
 }
@@ -146,6 +148,14 @@ bool vr_cell_intersect(RTCScene scene, const vr_cell_view *v, const double org[3
     } else {
       memcpy(hit->ns, hit->ng, sizeof hit->ns);
     }
+    hit->has_rgb = v->colours != NULL;
+    if (v->colours) {
+      /* Decoded at the corners, interpolated linearly. */
+      const uint8_t *c = v->colours + 9 * (size_t)t;
+      for (int a = 0; a < 3; a++)
+        hit->rgb[a] = w * vr_srgb_decode(c[a] / 255.0) + u * vr_srgb_decode(c[3 + a] / 255.0) +
+                      w2 * vr_srgb_decode(c[6 + a] / 255.0);
+    }
     const float *q = v->uv + 6 * (size_t)t;
     hit->uv[0] = w * q[0] + u * q[2] + w2 * q[4];
     hit->uv[1] = w * q[1] + u * q[3] + w2 * q[5];
@@ -167,6 +177,7 @@ bool vr_cell_intersect(RTCScene scene, const vr_cell_view *v, const double org[3
     uint32_t s = rh.hit.primID;
     const double *sc = v->spheres + 4 * (size_t)s;
     hit->sphere = true;
+    hit->has_rgb = false;
     hit->prim = s;
     hit->object = v->sphere_objects[s];
     for (int a = 0; a < 3; a++) hit->ng[a] = hit->p[a] - sc[a];

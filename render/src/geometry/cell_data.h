@@ -23,6 +23,7 @@ typedef struct vr_cell_view {
   const uint32_t *tris;    /* 3 per triangle */
   const uint32_t *objects; /* per triangle */
   const float *uv;         /* 6 per triangle */
+  const uint8_t *colours;  /* 9 per triangle (8-bit sRGB at each corner), or NULL */
   const double *spheres;   /* 4 per sphere */
   const uint32_t *sphere_objects;
 } vr_cell_view;

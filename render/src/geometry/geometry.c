@@ -128,6 +128,11 @@ static vr_status reserve_tris(vr_mesh_builder *b, size_t extra) {
   float *uv = realloc(g->tri_uv, 6 * cap * sizeof *uv);
   if (!uv) return nomem(b);
   g->tri_uv = uv;
+  if (g->tri_rgb) {
+    uint8_t *rgb = realloc(g->tri_rgb, 9 * cap);
+    if (!rgb) return nomem(b);
+    g->tri_rgb = rgb;
+  }
   double *cdf = realloc(g->tri_cdf, cap * sizeof *cdf);
   if (!cdf) return nomem(b);
   g->tri_cdf = cdf;
@@ -150,7 +155,7 @@ static uint32_t add_vertex(vr_mesh_builder *b, const double p[3], const double n
 /* Appends a triangle (room reserved).  flip swaps the last two corners, for
  * transforms that mirror. */
 static void add_tri(vr_mesh_builder *b, uint32_t object, uint32_t i0, uint32_t i1, uint32_t i2,
-                    const float uv[6], bool flip, double area) {
+                    const float uv[6], const uint8_t rgb[9], bool flip, double area) {
   vr_geometry *g = b->g;
   size_t t = g->ntris++;
   uint32_t c[3] = {i0, flip ? i2 : i1, flip ? i1 : i2};
@@ -161,6 +166,8 @@ static void add_tri(vr_mesh_builder *b, uint32_t object, uint32_t i0, uint32_t i
   for (int k = 0; k < 3; k++) {
     g->tri_uv[6 * t + 2 * k] = uv ? uv[2 * order[k]] : 0.0f;
     g->tri_uv[6 * t + 2 * k + 1] = uv ? uv[2 * order[k] + 1] : 0.0f;
+    if (g->tri_rgb)
+      for (int a = 0; a < 3; a++) g->tri_rgb[9 * t + 3 * k + a] = rgb ? rgb[3 * order[k] + a] : 255;
   }
   g->tri_cdf[t] = (t > b->obj_begin ? g->tri_cdf[t - 1] : 0.0) + area;
 }
@@ -190,9 +197,9 @@ static vr_status add_quad(vr_mesh_builder *b, uint32_t object, const vr_scene_ob
   }
   static const float uv0[6] = {0, 0, 1, 0, 1, 1}, uv1[6] = {0, 0, 1, 1, 0, 1};
   const float *v = b->g->verts;
-  add_tri(b, object, idx[0], idx[1], idx[2], uv0, flip,
+  add_tri(b, object, idx[0], idx[1], idx[2], uv0, NULL, flip,
           0.5 * tri_area2(v, idx[0], idx[1], idx[2], NULL));
-  add_tri(b, object, idx[0], idx[2], idx[3], uv1, flip,
+  add_tri(b, object, idx[0], idx[2], idx[3], uv1, NULL, flip,
           0.5 * tri_area2(v, idx[0], idx[2], idx[3], NULL));
   return VR_OK;
 }
@@ -353,6 +360,16 @@ static vr_status build_mesh_data(vr_mesh_builder *b, uint32_t object, const vr_s
     return st;
   }
   vr_geometry *g = b->g;
+  /* Vertex colours: the per-corner table made when the first object uses
+   * them, white for the triangles before it. */
+  bool colours = o->vertex_colours && md->rgb;
+  if (colours && !g->tri_rgb) {
+    if (!(g->tri_rgb = malloc(9 * (b->tcap ? b->tcap : 1)))) {
+      free(remap), free(order);
+      return nomem(b);
+    }
+    memset(g->tri_rgb, 255, 9 * g->ntris);
+  }
   size_t base = g->nverts;
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (size_t j = 0; j < nv; j++) {
@@ -397,7 +414,10 @@ static vr_status build_mesh_data(vr_mesh_builder *b, uint32_t object, const vr_s
         uv[2 * k] = (float)md->uv[2 * md->tris[3 * t + (size_t)k]];
         uv[2 * k + 1] = (float)md->uv[2 * md->tris[3 * t + (size_t)k] + 1];
       }
-    add_tri(b, object, c[0], c[1], c[2], uv, flip, area);
+    uint8_t rgb[9];
+    if (colours)
+      for (int k = 0; k < 3; k++) memcpy(rgb + 3 * k, md->rgb + 3 * (size_t)md->tris[3 * t + (size_t)k], 3);
+    add_tri(b, object, c[0], c[1], c[2], uv, colours ? rgb : NULL, flip, area);
     kept++;
   }
   free(remap);
@@ -485,6 +505,7 @@ void vr_geometry_destroy(vr_geometry *g) {
   free(g->tris);
   free(g->tri_object);
   free(g->tri_uv);
+  free(g->tri_rgb);
   free(g->vnormals);
   free(g->spheres);
   free(g->sphere_object);

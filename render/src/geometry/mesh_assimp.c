@@ -4,6 +4,7 @@
  * the renderer) nor to drop degenerate triangles (geometry.c counts those,
  * so the user hears about them). */
 #include "geometry/mesh_assimp.h"
+#include "vr/colour.h"
 #include "vr/scene.h"
 
 #include <math.h>
@@ -25,6 +26,7 @@ void vr_mesh_data_free(vr_mesh_data *m) {
   free(m->pos);
   free(m->nrm);
   free(m->uv);
+  free(m->rgb);
   free(m->tris);
   free(m->tri_material);
   memset(m, 0, sizeof *m);
@@ -37,10 +39,17 @@ static bool file_opens(const char *path) {
   return true;
 }
 
+/* glTF (.gltf, .glb): its vertex colours are linear. */
+static bool is_gltf(const char *path) {
+  size_t n = strlen(path);
+  return (n > 5 && !strcasecmp(path + n - 5, ".gltf")) || (n > 4 && !strcasecmp(path + n - 4, ".glb"));
+}
+
 static vr_status copy_scene(const struct aiScene *sc, const char *path, vr_mesh_data *out,
                             vr_error *err) {
+  bool linear_colours = is_gltf(path);
   size_t nverts = 0, ntris = 0;
-  bool any_nrm = false, any_uv = false;
+  bool any_nrm = false, any_uv = false, any_rgb = false;
   for (unsigned i = 0; i < sc->mNumMeshes; i++) {
     const struct aiMesh *m = sc->mMeshes[i];
     size_t tri = 0;
@@ -50,6 +59,7 @@ static vr_status copy_scene(const struct aiScene *sc, const char *path, vr_mesh_
     ntris += tri;
     any_nrm |= m->mNormals != NULL;
     any_uv |= m->mTextureCoords[0] != NULL;
+    any_rgb |= m->mColors[0] != NULL;
   }
   if (ntris == 0) return vr_error_set(err, VR_E_PARSE, "mesh '%s': no triangles", path);
   if (nverts >= UINT32_MAX || ntris >= UINT32_MAX / 3)
@@ -58,9 +68,12 @@ static vr_status copy_scene(const struct aiScene *sc, const char *path, vr_mesh_
   out->pos = malloc(3 * nverts * sizeof *out->pos);
   out->nrm = any_nrm ? calloc(3 * nverts, sizeof *out->nrm) : NULL;
   out->uv = any_uv ? calloc(2 * nverts, sizeof *out->uv) : NULL;
+  out->rgb = any_rgb ? malloc(3 * nverts) : NULL;
+  if (out->rgb) memset(out->rgb, 255, 3 * nverts);
   out->tris = malloc(3 * ntris * sizeof *out->tris);
   out->tri_material = malloc(ntris * sizeof *out->tri_material);
-  if (!out->pos || !out->tris || !out->tri_material || (any_nrm && !out->nrm) || (any_uv && !out->uv)) {
+  if (!out->pos || !out->tris || !out->tri_material || (any_nrm && !out->nrm) || (any_uv && !out->uv) ||
+      (any_rgb && !out->rgb)) {
     vr_mesh_data_free(out);
     return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
   }
@@ -82,6 +95,17 @@ static vr_status copy_scene(const struct aiScene *sc, const char *path, vr_mesh_
       if (m->mTextureCoords[0]) {
         out->uv[2 * (v + k) + 0] = m->mTextureCoords[0][k].x;
         out->uv[2 * (v + k) + 1] = m->mTextureCoords[0][k].y;
+      }
+      if (m->mColors[0]) {
+        /* Assimp gives 8-bit colours as code / 255 (PLY's are sRGB-encoded
+         * by convention: MeshLab, Blender); glTF's COLOR_0 is linear by its
+         * specification, so encoded here.  Clamped, NaN as 0. */
+        const float c[3] = {m->mColors[0][k].r, m->mColors[0][k].g, m->mColors[0][k].b};
+        for (int a = 0; a < 3; a++) {
+          double x = c[a] > 0 ? (c[a] < 1 ? c[a] : 1) : 0;
+          if (linear_colours) x = vr_srgb_encode(x);
+          out->rgb[3 * (v + k) + (size_t)a] = (uint8_t)lrint(x * 255);
+        }
       }
     }
     for (unsigned f = 0; f < m->mNumFaces; f++) {
@@ -286,6 +310,11 @@ static bool names_have(const char *names, const char *name) {
   return strstr(names, key) != NULL;
 }
 
+static bool is_ply(const char *path) {
+  size_t n = strlen(path);
+  return n > 4 && !strcasecmp(path + n - 4, ".ply");
+}
+
 static bool is_obj(const char *path) {
   size_t n = strlen(path);
   return n > 4 && !strcasecmp(path + n - 4, ".obj");
@@ -339,16 +368,19 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
     aiReleaseImport(sc);
     return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
   }
-  bool obj = is_obj(path);
+  bool obj = is_obj(path), ply = is_ply(path);
   char *defined = obj ? mtl_names(path) : NULL;
   for (unsigned i = 0; i < sc->mNumMaterials; i++) {
     const struct aiMaterial *am = sc->mMaterials[i];
     struct aiString name, tex;
-    if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) == AI_SUCCESS)
+    bool named = aiGetMaterialString(am, AI_MATKEY_NAME, &name) == AI_SUCCESS;
+    if (named)
       snprintf(m[i].name, sizeof m[i].name, "%.127s", name.data);
     else
       snprintf(m[i].name, sizeof m[i].name, "material%u", i);
-    m[i].invented = !strcmp(m[i].name, AI_DEFAULT_MATERIAL_NAME);
+    /* Assimp's stand-ins: its DefaultMaterial, and the unnamed white one
+     * its PLY reader makes for a file without a material element. */
+    m[i].invented = !strcmp(m[i].name, AI_DEFAULT_MATERIAL_NAME) || (ply && !named);
     m[i].undefined = !m[i].invented && obj && !names_have(defined, m[i].name);
     struct aiColor4D c;
     /* glTF's base colour first (Assimp gives it as the diffuse colour too,
@@ -419,7 +451,10 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
     const struct aiMesh *me = sc->mMeshes[i];
     size_t tri = 0;
     for (unsigned f = 0; f < me->mNumFaces; f++) tri += me->mFaces[f].mNumIndices == 3;
-    if (me->mMaterialIndex < sc->mNumMaterials) m[me->mMaterialIndex].triangles += tri;
+    if (me->mMaterialIndex < sc->mNumMaterials) {
+      m[me->mMaterialIndex].triangles += tri;
+      if (tri && me->mColors[0]) m[me->mMaterialIndex].vertex_colours = true;
+    }
   }
   free(defined);
   *n = sc->mNumMaterials;

@@ -17,6 +17,8 @@ typedef struct vr_mesh_data {
   double *nrm;     /* 3 per vertex, NULL if no mesh of the file has normals;
                       (0,0,0) on the vertices of a mesh without them */
   double *uv;      /* 2 per vertex (first UV set), NULL if no mesh has one; 0 where absent */
+  uint8_t *rgb;    /* 3 per vertex: the first colour set as 8-bit codes (a PLY file's
+                      red, green, blue), NULL if no mesh has one; 255 where absent */
   size_t ntris;
   uint32_t *tris;  /* 3 per triangle, indices into the vertices */
   uint32_t *tri_material; /* per triangle: the index of its material in the file
@@ -60,6 +62,7 @@ typedef struct vr_mesh_material {
   int alpha;           /* vr_alpha_mode: glTF alphaMode (OPAQUE, MASK, BLEND) */
   double alpha_cutoff; /* glTF alphaCutoff (default 0.5) */
   size_t triangles;    /* triangles that use it */
+  bool vertex_colours; /* some mesh of it has a colour per vertex (a PLY file's) */
 } vr_mesh_material;
 
 /* Fills *out (zeroed first).  Errors carry no location, the caller adds it:

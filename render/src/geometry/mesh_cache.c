@@ -21,7 +21,7 @@ struct vr_mesh_cache {
 
 size_t vr_mesh_data_bytes(const vr_mesh_data *m) {
   size_t v = 3 + (m->nrm ? 3 : 0) + (m->uv ? 2 : 0);
-  return m->nverts * v * sizeof(double) + m->ntris * 3 * sizeof(uint32_t);
+  return m->nverts * (v * sizeof(double) + (m->rgb ? 3 : 0)) + m->ntris * 3 * sizeof(uint32_t);
 }
 
 vr_mesh_cache *vr_mesh_cache_create(size_t max_bytes) {

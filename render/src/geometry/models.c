@@ -194,14 +194,26 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   }
   char note[1600];
   if (mm->texture[0]) return textured(s, ob, mm, m, err);
+  /* Vertex colours multiply the material's colour (glTF's COLOR_0 its
+   * base colour; a PLY file's stand alone: Assimp's stand-in is white). */
+  m->vertex_colours = mm->vertex_colours;
+  const char *vc = mm->vertex_colours ? " times its vertex colours" : "";
+  if (mm->invented && mm->vertex_colours) {
+    m->reflectance = 1;
+    snprintf(note, sizeof note,
+             "mesh '%s' has no materials of its own: its vertex colours as spectra, material '%s' "
+             "(%zu triangles)",
+             base(ob->mesh_path), name, mm->triangles);
+    return add_note(s, note, err);
+  }
   if (!mm->has_colour) {
     m->reflectance = 0.5;
     snprintf(note, sizeof note,
              "mesh '%s': material '%s' (%zu triangles) is mapped to nothing and has no colour%s: "
-             "grey 0.5 (map it with material.%s=NAME)",
+             "grey 0.5%s (map it with material.%s=NAME)",
              base(ob->mesh_path), mm->name, mm->triangles,
              mm->undefined ? " (no newmtl of the .mtl files its mtllib lines name defines it)" : "",
-             mm->name);
+             vc, mm->name);
     return add_note(s, note, err);
   }
   double rgb[3];
@@ -219,9 +231,9 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   if (st) return st;
   snprintf(note, sizeof note,
            "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its colour "
-           "(linear %.3g, %.3g, %.3g%s) as a spectrum, material '%s'%s",
+           "(linear %.3g, %.3g, %.3g%s)%s as a spectrum, material '%s'%s",
            base(ob->mesh_path), mm->name, mm->triangles, rgb[0], rgb[1], rgb[2],
-           clipped ? ", clipped to [0, 1]" : "", name, extra);
+           clipped ? ", clipped to [0, 1]" : "", vc, name, extra);
   return add_note(s, note, err);
 }
 
@@ -234,7 +246,8 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
   vr_status st = vr_mesh_materials(ob->mesh_path, &mm, &nm, &e);
   if (st) return vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "%s", e.message);
   size_t used = 0;
-  for (size_t k = 0; k < nm; k++) used += mm[k].triangles > 0 && !mm[k].invented;
+  for (size_t k = 0; k < nm; k++)
+    used += mm[k].triangles > 0 && (!mm[k].invented || mm[k].vertex_colours);
   if (!used && ob->material < 0) {
     vr_mesh_materials_free(mm, nm);
     return vr_error_at(err, VR_E_PARSE, s->path, ob->loc.line, ob->loc.col,
@@ -279,6 +292,7 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
     *c = *ob;
     c->mesh_material = (int)k;
     c->material = mat;
+    c->vertex_colours = s->materials[mat].vertex_colours;
     c->name = c->emission_spectrum = NULL;
     c->mesh_path = strdup(ob->mesh_path);
     char label[512];

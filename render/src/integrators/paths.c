@@ -234,14 +234,14 @@ vr_surface vr_path_surface(const vr_rscene *rs, const vr_payload *p, const vr_hi
   vr_surface se = {m->bsdf, vr_hit_state(rs, hit), vr_vec3_of(hit->ns), vr_vec3_of(wo),
                    p->nwl, p->wl, vr_vec3_of(hit->ns), false, {0}, vr_bsdf_point_plain(), false,
                    vr_vec3_of(hit->ng)};
-  if (!m->tex && !m->nmap && !m->mrmap) return se;
+  if (!m->tex && !m->nmap && !m->mrmap && !m->vcol) return se;
   /* The footprint on the surface: the cone's width, stretched by the
    * incidence (at most 20 times, near grazing). */
   double width = (double)p->cone_w + hit->t * (double)p->cone_a, nsn[3];
   width /= fmax(fabs(vr_dot3(wo, hit->ng)), 0.05);
   if (vr_bsdf_is_pbr(m->bsdf))
     vr_hit_pbr(rs, hit, width, p->nwl, p->wl, &se.pt);
-  else if (m->tex)
+  else
     se.tinted = vr_hit_texture(rs, hit, width, p->nwl, p->wl, se.tint);
   if (m->nmap && vr_hit_normal_map(rs, hit, width, nsn)) se.n = se.ns = vr_vec3_of(nsn), se.bent = true;
   return se;

@@ -48,6 +48,7 @@ typedef struct vr_rmaterial {
   const struct vr_texture *nmap; /* a tangent-space normal map, or NULL */
   double nscale;
   const struct vr_texture *mrmap; /* a pbr material's metallic-roughness texture, or NULL */
+  bool vcol;               /* the hit's vertex colours multiply the reflectance */
   double state;            /* chromogenic state from the scene (or 0) */
   bool photochromic;
   struct vr_material *db;  /* the database material, if any */
@@ -77,6 +78,7 @@ typedef struct vr_rscene {
   size_t ntex;
   struct vr_texture **tex;  /* every texture the materials use, loaded once each */
   size_t tex_bytes;         /* their memory */
+  const struct vr_rgb_table *rgb_table; /* colours to spectra, when vertex colours are used */
   double tex_seconds;       /* and their loading time */
 } vr_rscene;
 

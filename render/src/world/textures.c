@@ -11,6 +11,7 @@
 
 #include "textures/texture.h"
 #include "vr/matdb.h"
+#include "vr/rgb_table.h"
 #include "vr/vec3.h"
 #include "world/resolve.h"
 
@@ -111,6 +112,15 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
     rm->alpha_cutoff = sm->alpha_cutoff;
     rm->tile[0] = sm->tile[0], rm->tile[1] = sm->tile[1];
     rm->nscale = sm->normal_scale;
+    rm->vcol = sm->vertex_colours;
+    if (rm->vcol && !rs->rgb_table) {
+      vr_error e = {0};
+      if (!(rs->rgb_table = vr_rgb_table_get(&e))) {
+        free(jobs), free(job_of);
+        if (err) *err = e;
+        return e.status ? e.status : VR_E_NOMEM;
+      }
+    }
     for (int kind = 0; kind < 3; kind++) {
       const char *p = kind == 2 ? sm->mr_map : kind ? sm->normal_map : path;
       if (!p) continue;
@@ -170,10 +180,20 @@ static void tex_uv(const vr_rmaterial *m, const vr_hit *hit, double *u, double *
   *v = (hit->sphere ? 1 - hit->uv[1] : hit->uv[1]) * m->tile[1];
 }
 
+/* The hit's vertex colours as a reflectance factor (1 without them). */
+static bool vertex_colour(const vr_rscene *rs, const vr_rmaterial *m, const vr_hit *hit, int nwl,
+                          const double *nm, double *f) {
+  if (!m->vcol || !hit->has_rgb) return false;
+  float in[3] = {(float)hit->rgb[0], (float)hit->rgb[1], (float)hit->rgb[2]}, c[3];
+  vr_rgb_table_lookup(rs->rgb_table, in, c);
+  for (int k = 0; k < nwl; k++) f[k] = vr_rgb_coef_eval(c, nm[k]);
+  return true;
+}
+
 bool vr_hit_texture(const vr_rscene *rs, const vr_hit *hit, double width, int nwl,
                     const double *nm, double *f) {
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
-  if (!m->tex) return false;
+  if (!m->tex) return vertex_colour(rs, m, hit, nwl, nm, f);
   double u, v;
   tex_uv(m, hit, &u, &v);
   double tile = m->tile[0] > m->tile[1] ? m->tile[0] : m->tile[1];
