@@ -20,6 +20,8 @@
 #     image on 8 sub-domains (the colours live in the cache's cells);
 #     Assimp's cube.ply (no colours, no materials) is refused: the PLY
 #     reader's white stand-in is not passed off as the file's;
+#   - Crytek Sponza's chain material (verbatim MTL, its map_d mask) cuts
+#     its quad out; without the mask's file the line is refused;
 #   - units=mm up=y turn the file's millimetres, y up, into the scene's
 #     metres, z up (the printed bounds, the scene's and the mesh line's own
 #     with its triangle count, are the Cornell box's);
@@ -168,4 +170,19 @@ check "material= on the line leaves the colours out (the image differs)" \
   bash -c "! '$cmp' ply.exr plyw.exr 1e-2 > /dev/null 2>&1"
 sed 's/^mesh float-color.ply$/mesh cube.ply/' ply.scn > bad9.scn
 refuse render-mesh-no-materials "$bin" bad9.scn -o bad9
+
+# Crytek Sponza's chain material cuts its quad out by its map_d; without
+# the mask's file the line is refused, naming it.
+mkdir chain && cp -r "$VR_SOURCE_DIR"/tests/data/models/sponza_chain/* chain/
+cat > chain/chain.scn <<SCN
+mesh chain.obj
+camera pinhole from=0,-5,0 to=0,0,0 up=0,0,1 fov=4 resolution=8x32
+light point position=0,-5,0 intensity=100cd
+render integrator=path spp=1
+SCN
+"$bin" chain/chain.scn -o chain/c --outputs exr 2> chain.err
+check "Sponza's chain renders, cut out by its map_d" \
+  grep -q "material 'chain' .*cut out where its map_d is below 0.5" chain.err
+rm chain/textures/chain_texture_mask.png
+refuse render-map-d-missing "$bin" chain/chain.scn -o chain/d
 finish

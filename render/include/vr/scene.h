@@ -123,6 +123,12 @@ typedef struct vr_scene_material {
   unsigned char *normal_bytes;
   size_t normal_len;
   double normal_scale;
+  /* An opacity map (a model's MTL map_d): its alpha, or its grey where it
+   * has none, cuts the surface out in place of the texture's alpha (with
+   * alpha and alpha_cutoff); a file or an embedded image's bytes. */
+  char *alpha_map;
+  unsigned char *alpha_map_bytes;
+  size_t alpha_map_len;
   /* glTF 2.0 metallic-roughness (the pbr source, a model's glTF
    * materials): the base colour is the reflectance above (times the
    * texture), metallic in [0, 1] and the perceptual roughness r in [0, 1]

@@ -354,7 +354,7 @@ static void trimmed(const char *name, char out[256]) {
 }
 
 void vr_mesh_materials_free(vr_mesh_material *m, size_t n) {
-  for (size_t i = 0; m && i < n; i++) free(m[i].texture_bytes), free(m[i].normal_bytes), free(m[i].mr_bytes);
+  for (size_t i = 0; m && i < n; i++) free(m[i].texture_bytes), free(m[i].normal_bytes), free(m[i].mr_bytes), free(m[i].opacity_bytes);
   free(m);
 }
 
@@ -434,6 +434,15 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
               AI_SUCCESS && sc_n >= 0 && sc_n <= 10)
         m[i].normal_scale = sc_n;
       if (!embedded(sc, m[i].normal, &m[i].normal_bytes, &m[i].normal_len)) {
+        vr_mesh_materials_free(m, sc->mNumMaterials);
+        aiReleaseImport(sc);
+        return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
+      }
+    }
+    if (aiGetMaterialTexture(am, aiTextureType_OPACITY, 0, &tex, NULL, NULL, NULL, NULL, NULL,
+                             NULL) == AI_SUCCESS) {
+      trimmed(tex.data, m[i].opacity);
+      if (!embedded(sc, m[i].opacity, &m[i].opacity_bytes, &m[i].opacity_len)) {
         vr_mesh_materials_free(m, sc->mNumMaterials);
         aiReleaseImport(sc);
         return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);

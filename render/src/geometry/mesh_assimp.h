@@ -59,6 +59,9 @@ typedef struct vr_mesh_material {
   double clearcoat, transmission;
   unsigned char *mr_bytes;
   size_t mr_len;
+  char opacity[256];   /* its opacity map (MTL map_d), or "" */
+  unsigned char *opacity_bytes; /* an embedded one's bytes, else NULL */
+  size_t opacity_len;
   int alpha;           /* vr_alpha_mode: glTF alphaMode (OPAQUE, MASK, BLEND) */
   double alpha_cutoff; /* glTF alphaCutoff (default 0.5) */
   size_t triangles;    /* triangles that use it */

@@ -138,7 +138,7 @@ static vr_status textured(vr_scene *s, const vr_scene_object *ob, const vr_mesh_
                           vr_scene_material *m, vr_error *err) {
   vr_status st = factor(s, ob, mm, m, err);
   if (st) return st;
-  m->alpha = mm->alpha;
+  m->alpha = m->alpha_map ? VR_ALPHA_MASK : mm->alpha;
   m->alpha_cutoff = mm->alpha_cutoff;
   if ((st = locate(s, ob, mm, "texture", mm->texture, mm->texture_bytes, mm->texture_len,
                     &m->texture, &m->texture_bytes, &m->texture_len, err)))
@@ -151,7 +151,7 @@ static vr_status textured(vr_scene *s, const vr_scene_object *ob, const vr_mesh_
            "as spectra%s, material '%s'%s",
            base(ob->mesh_path), mm->name, mm->triangles, mm->texture,
            m->reflectance_spectrum ? " times its colour" : "",
-           mm->alpha == VR_ALPHA_MASK ? ", cut out by its alpha" : mm->alpha == VR_ALPHA_BLEND ? ", see-through by its alpha" : "",
+           m->alpha_map ? ", cut out where its map_d is below 0.5" : mm->alpha == VR_ALPHA_MASK ? ", cut out by its alpha" : mm->alpha == VR_ALPHA_BLEND ? ", see-through by its alpha" : "",
            m->normal_map ? ", with its normal map" : "", m->name, extra);
   return add_note(s, note, err);
 }
@@ -192,6 +192,13 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
     if (st) return st;
     m->normal_scale = mm->normal_scale;
   }
+  if (mm->opacity[0]) {
+    vr_status st = locate(s, ob, mm, "opacity map (map_d)", mm->opacity, mm->opacity_bytes,
+                          mm->opacity_len, &m->alpha_map, &m->alpha_map_bytes, &m->alpha_map_len,
+                          err);
+    if (st) return st;
+    m->alpha = VR_ALPHA_MASK;
+  }
   char note[1600];
   if (mm->texture[0]) return textured(s, ob, mm, m, err);
   /* Vertex colours multiply the material's colour (glTF's COLOR_0 its
@@ -231,9 +238,10 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   if (st) return st;
   snprintf(note, sizeof note,
            "mesh '%s': material '%s' (%zu triangles) is mapped to nothing: its colour "
-           "(linear %.3g, %.3g, %.3g%s)%s as a spectrum, material '%s'%s",
+           "(linear %.3g, %.3g, %.3g%s)%s as a spectrum%s, material '%s'%s",
            base(ob->mesh_path), mm->name, mm->triangles, rgb[0], rgb[1], rgb[2],
-           clipped ? ", clipped to [0, 1]" : "", vc, name, extra);
+           clipped ? ", clipped to [0, 1]" : "", vc,
+           m->alpha_map ? ", cut out where its map_d is below 0.5" : "", name, extra);
   return add_note(s, note, err);
 }
 

@@ -87,7 +87,7 @@ void bdpt_f(const vr_bdpt_vertex *v, const double wi[3], int nwl, const double *
  * through (blend) point lets a ray through with probability 1 - alpha
  * drawn from a hash of the hit and the direction. */
 static bool cut_out(const vr_rscene *rs, const vr_hit *h, const double dir[3]) {
-  if (!rs->mat[rs->obj[h->object].material].tex) return false;
+  if (!vr_rmaterial_cuts(&rs->mat[rs->obj[h->object].material])) return false;
   uint64_t a, b, c;
   memcpy(&a, &h->t, 8), memcpy(&b, &dir[0], 8), memcpy(&c, &dir[1], 8);
   uint64_t z = vr_mix64(a ^ vr_mix64(b ^ vr_mix64(c ^ h->prim)));

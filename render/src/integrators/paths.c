@@ -261,7 +261,7 @@ void vr_cone_advance(vr_payload *p, double t, unsigned lobe) {
 
 bool vr_path_pass_through(vr_pass *c, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit) {
   const vr_rscene *rs = c->rs;
-  if (!rs->mat[rs->obj[hit->object].material].tex) return false;
+  if (!vr_rmaterial_cuts(&rs->mat[rs->obj[hit->object].material])) return false;
   vr_payload p;
   memcpy(&p, r->payload, sizeof p);
   vr_rng_key key = {rs->seed, p.stream, p.sample, alpha_key(&p, false)};
@@ -345,7 +345,7 @@ bool vr_path_shadow_hit(void *ctx, vr_flow_worker *w, vr_ray *r, const vr_hit *h
   const vr_rscene *rs = c->rs;
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   vr_payload *p = (vr_payload *)r->payload;
-  if (m->tex && m->alpha != VR_ALPHA_OFF) {
+  if (vr_rmaterial_cuts(m)) {
     vr_rng_key key = {rs->seed, p->stream, p->sample, alpha_key(p, true)};
     bool through = vr_hit_cut_out(rs, hit, vr_rng(&key, VR_DIM_ALPHA));
     if (p->holes < 255) p->holes++;

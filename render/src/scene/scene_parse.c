@@ -27,6 +27,8 @@ void vr_scene_destroy(vr_scene *s) {
     free(s->materials[i].normal_bytes);
     free(s->materials[i].mr_map);
     free(s->materials[i].mr_bytes);
+    free(s->materials[i].alpha_map);
+    free(s->materials[i].alpha_map_bytes);
   }
   for (size_t i = 0; i < s->nobjects; i++) {
     free(s->objects[i].name);

@@ -49,6 +49,7 @@ typedef struct vr_rmaterial {
   double nscale;
   const struct vr_texture *mrmap; /* a pbr material's metallic-roughness texture, or NULL */
   bool vcol;               /* the hit's vertex colours multiply the reflectance */
+  const struct vr_texture *amap; /* an opacity map cutting it out (MTL map_d), or NULL */
   double state;            /* chromogenic state from the scene (or 0) */
   bool photochromic;
   struct vr_material *db;  /* the database material, if any */
@@ -107,6 +108,11 @@ bool vr_hit_normal_map(const vr_rscene *rs, const vr_hit *hit, double width, dou
  * for any other material.  width as for vr_hit_texture. */
 bool vr_hit_pbr(const vr_rscene *rs, const vr_hit *hit, double width, int nwl, const double *nm,
                 vr_bsdf_point *pt);
+/* Whether the material can be cut out (an alpha mode and a texture or an
+ * opacity map to read it from). */
+static inline bool vr_rmaterial_cuts(const vr_rmaterial *m) {
+  return (m->tex || m->amap) && m->alpha != VR_ALPHA_OFF;
+}
 /* Whether the surface is cut out at the hit (alpha); u: a uniform number
  * for VR_ALPHA_BLEND. */
 bool vr_hit_cut_out(const vr_rscene *rs, const vr_hit *hit, double u);

@@ -42,7 +42,8 @@ typedef struct load_job {
   const vr_scene_material *sm;
   const char *path, *sha;
   bool spectral;
-  int kind;              /* 0: base colour, 1: normal map, 2: metallic-roughness (linear) */
+  int kind;              /* 0: base colour, 1: normal map, 2: metallic-roughness, 3: opacity
+                            (the last three linear) */
   bool linear;           /* integer samples read as linear (colorspace=linear, normal maps) */
   vr_texture *t;
   vr_status st;
@@ -68,6 +69,9 @@ static void load_one(load_job *j) {
                                        &j->err);
   else if (j->kind == 2 && sm->mr_bytes)
     j->st = vr_texture_load_rgb_memory(sm->mr_bytes, sm->mr_len, j->path, false, &j->t, &j->err);
+  else if (j->kind == 3 && sm->alpha_map_bytes)
+    j->st = vr_texture_load_rgb_memory(sm->alpha_map_bytes, sm->alpha_map_len, j->path, false,
+                                       &j->t, &j->err);
   else if (j->kind)
     j->st = vr_texture_load_rgb(j->path, false, &j->t, &j->err);
   else if (sm->texture_bytes)
@@ -91,10 +95,10 @@ static void *load_worker(void *arg) {
 
 vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
   double t0 = now();
-  load_job *jobs = calloc(3 * rs->nmat + 1, sizeof *jobs);
-  /* [3i]: texture, [3i+1]: normal map, [3i+2]: metallic-roughness */
-  size_t *job_of = calloc(3 * rs->nmat + 1, sizeof *job_of);
-  rs->tex = calloc(3 * rs->nmat + 1, sizeof *rs->tex);
+  load_job *jobs = calloc(4 * rs->nmat + 1, sizeof *jobs);
+  /* [4i]: texture, [4i+1]: normal map, [4i+2]: metallic-roughness, [4i+3]: opacity */
+  size_t *job_of = calloc(4 * rs->nmat + 1, sizeof *job_of);
+  rs->tex = calloc(4 * rs->nmat + 1, sizeof *rs->tex);
   if (!jobs || !job_of || !rs->tex) {
     free(jobs), free(job_of);
     return vr_error_set(err, VR_E_NOMEM, "out of memory");
@@ -106,7 +110,7 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
     const char *sha;
     bool spectral;
     const char *path = source_of(rs, i, &sha, &spectral, &sm);
-    job_of[3 * i] = job_of[3 * i + 1] = job_of[3 * i + 2] = (size_t)-1;
+    job_of[4 * i] = job_of[4 * i + 1] = job_of[4 * i + 2] = job_of[4 * i + 3] = (size_t)-1;
     vr_rmaterial *rm = &rs->mat[i];
     rm->alpha = sm->alpha;
     rm->alpha_cutoff = sm->alpha_cutoff;
@@ -121,8 +125,8 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
         return e.status ? e.status : VR_E_NOMEM;
       }
     }
-    for (int kind = 0; kind < 3; kind++) {
-      const char *p = kind == 2 ? sm->mr_map : kind ? sm->normal_map : path;
+    for (int kind = 0; kind < 4; kind++) {
+      const char *p = kind == 3 ? sm->alpha_map : kind == 2 ? sm->mr_map : kind ? sm->normal_map : path;
       if (!p) continue;
       size_t k = 0;
       bool spec = !kind && spectral, linear = kind || sm->texture_linear;
@@ -133,7 +137,7 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
       if (k == n)
         jobs[n++] = (load_job){.sm = sm, .path = p, .sha = kind ? NULL : sha, .spectral = spec,
                                .kind = kind, .linear = linear};
-      job_of[3 * i + (size_t)kind] = k;
+      job_of[4 * i + (size_t)kind] = k;
     }
   }
   /* Decoded in parallel (the RGB-to-spectrum table is built once, by
@@ -163,9 +167,10 @@ vr_status vr_rscene_textures(vr_rscene *rs, int threads, vr_error *err) {
   }
   if (!st)
     for (size_t i = 0; i < rs->nmat; i++) {
-      if (job_of[3 * i] != (size_t)-1) rs->mat[i].tex = jobs[job_of[3 * i]].t;
-      if (job_of[3 * i + 1] != (size_t)-1) rs->mat[i].nmap = jobs[job_of[3 * i + 1]].t;
-      if (job_of[3 * i + 2] != (size_t)-1) rs->mat[i].mrmap = jobs[job_of[3 * i + 2]].t;
+      if (job_of[4 * i] != (size_t)-1) rs->mat[i].tex = jobs[job_of[4 * i]].t;
+      if (job_of[4 * i + 1] != (size_t)-1) rs->mat[i].nmap = jobs[job_of[4 * i + 1]].t;
+      if (job_of[4 * i + 2] != (size_t)-1) rs->mat[i].mrmap = jobs[job_of[4 * i + 2]].t;
+      if (job_of[4 * i + 3] != (size_t)-1) rs->mat[i].amap = jobs[job_of[4 * i + 3]].t;
     }
   free(jobs);
   free(job_of);
@@ -264,9 +269,19 @@ bool vr_hit_normal_map(const vr_rscene *rs, const vr_hit *hit, double width, dou
 
 bool vr_hit_cut_out(const vr_rscene *rs, const vr_hit *hit, double r) {
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
-  if (!m->tex || m->alpha == VR_ALPHA_OFF) return false;
+  if (!vr_rmaterial_cuts(m)) return false;
   double u, v;
   tex_uv(m, hit, &u, &v);
-  double a = vr_texture_alpha(m->tex, u, v);
+  double a;
+  if (m->amap && vr_texture_has_alpha(m->amap)) {
+    a = vr_texture_alpha(m->amap, u, v);
+  } else if (m->amap) {
+    /* A grey opacity map: its value (the full-size level, as alpha). */
+    double rgb[3];
+    vr_texture_rgb(m->amap, u, v, 0, rgb);
+    a = rgb[0];
+  } else {
+    a = vr_texture_alpha(m->tex, u, v);
+  }
   return m->alpha == VR_ALPHA_MASK ? a < m->alpha_cutoff : r >= a;
 }
