@@ -43,7 +43,12 @@ static vr_status settings(const vr_scn_stmt *t, vr_scene_settings *g, long long 
 static bool at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr_hit *hit,
                        const vr_surface *se, const double wo[3]) {
   (void)w;
-  if (p->target != VR_TARGET_PIXEL) return false;
+  /* One visible point a pixel: where a pbr surface's path went on by its
+   * specular part after leaving its point, the next diffuse vertices are
+   * path traced (next-event estimation and sampling), not a second point
+   * over the first. */
+  if (p->target != VR_TARGET_PIXEL || (p->flags & VR_PF_VISIBLE_SET)) return false;
+  p->flags |= VR_PF_VISIBLE_SET;
   double bw[VR_MAX_WL]; /* the sample's weight too: a pixel filter's negative lobes */
   /* ... and a texture's factor: what the point reflects of the photons. */
   for (int k = 0; k < p->nwl; k++) bw[k] = p->beta[k] * p->weight * (se->tinted ? se->tint[k] : 1.0);

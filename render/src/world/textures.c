@@ -211,16 +211,24 @@ bool vr_hit_pbr(const vr_rscene *rs, const vr_hit *hit, double width, int nwl, c
   const vr_rmaterial *m = &rs->mat[rs->obj[hit->object].material];
   if (!vr_bsdf_is_pbr(m->bsdf)) return false;
   *pt = vr_bsdf_point_plain();
-  if (!m->tex && !m->mrmap) return true;
+  if (!m->tex && !m->mrmap && !(m->vcol && hit->has_rgb)) return true;
   double u, v;
   tex_uv(m, hit, &u, &v);
   double tile = m->tile[0] > m->tile[1] ? m->tile[0] : m->tile[1];
   double w = width * hit->uv_rate * tile;
   if (m->tex) {
     vr_texture_eval(m->tex, u, v, w, nwl, nm, pt->base);
+    pt->has_base = true;
+  }
+  /* glTF's COLOR_0 multiplies the base colour (and its texture). */
+  double vc[VR_BSDF_MAX_WAVELENGTHS];
+  if (vertex_colour(rs, m, hit, nwl, nm, vc)) {
+    for (int k = 0; k < nwl; k++) pt->base[k] = pt->has_base ? pt->base[k] * vc[k] : vc[k];
+    pt->has_base = true;
+  }
+  if (pt->has_base) {
     double sum = 0;
     for (int k = 0; k < nwl; k++) sum += pt->base[k];
-    pt->has_base = true;
     pt->base_mean = nwl > 0 ? sum / nwl : 0;
   }
   if (m->mrmap) {
