@@ -52,6 +52,7 @@ static vr_args_outcome usage_error(vr_args *a, const char *fmt, const char *what
 vr_args_outcome vr_args_parse(vr_args *a, const char *tool, const char *usage, const char *about,
                               const vr_option *opts, size_t nopts, int argc, char **argv) {
   memset(a, 0, sizeof *a);
+  vr_stdout_check_at_exit(tool);
   a->tool = tool;
   a->options = opts;
   a->noptions = nopts;

@@ -296,27 +296,6 @@ static int check_command_line(ctx *c, const struct command *k) {
   return version_option(c, &c->version);
 }
 
-/* PATH-wal, PATH-shm and PATH-journal of the database are the database
- * too, whether or not they exist at this moment (SQLite makes them while
- * the database is open). */
-static vr_status not_a_journal(const char *out, const char *db_path, vr_error *err) {
-  static const char *const suffix[] = {"-wal", "-shm", "-journal"};
-  struct stat so, sd;
-  if (stat(db_path, &sd) != 0) return VR_OK;
-  for (int i = 0; i < 3; i++) {
-    size_t n = strlen(out), m = strlen(suffix[i]);
-    if (n <= m || strcmp(out + n - m, suffix[i])) continue;
-    char stem[4096];
-    snprintf(stem, sizeof stem, "%.*s", (int)(n - m), out);
-    if (stat(stem, &so) == 0 && so.st_dev == sd.st_dev && so.st_ino == sd.st_ino)
-      return vr_error_set(err, VR_E_ARG,
-                          "-o %s: is the material database's journal of this run (%s%s); refusing "
-                          "to overwrite it, choose another output path",
-                          out, db_path, suffix[i]);
-  }
-  return VR_OK;
-}
-
 int main(int argc, char **argv) {
   vr_args a;
   vr_args_outcome o = vr_args_parse(&a, "vr-matdb", USAGE, ABOUT, OPTIONS, NOPT, argc, argv);
@@ -346,7 +325,7 @@ int main(int argc, char **argv) {
   vr_out_guard_database(&guard, db_path);
   if (!strcmp(cmd, "import")) vr_out_guard_input(&guard, a.operands[1], "the imported file");
   const char *out = vr_args_get(&a, "output");
-  if (out && (vr_out_guard_check(&guard, out, "-o", &c.err) || not_a_journal(out, db_path, &c.err))) {
+  if (out && vr_out_guard_check(&guard, out, "-o", &c.err)) {
     rc = fail(&c);
     vr_args_free(&a);
     return rc;

@@ -221,6 +221,25 @@ static void outputs_never_replace_inputs(void **state) {
   assert_int_equal(vr_out_guard_check(&g, db, "-o", &err), VR_E_ARG);
   assert_non_null(strstr(err.message, "the material database"));
   assert_int_equal(vr_out_guard_check(&g, wal, "-o", &err), VR_E_ARG);
+  /* The journal names that do not exist now are the database's too, by
+   * any path to it (SQLite makes and deletes them). */
+  char shm[200], journal_rel[200];
+  snprintf(shm, sizeof shm, "%s-shm", db);
+  assert_int_equal(access(shm, F_OK), -1);
+  assert_int_equal(vr_out_guard_check(&g, shm, "-o", &err), VR_E_ARG);
+  assert_non_null(strstr(err.message, "journal of this run"));
+  snprintf(journal_rel, sizeof journal_rel, "%s/../%s/%s-journal", dir, strrchr(dir, '/') + 1,
+           strrchr(db, '/') + 1);
+  assert_int_equal(vr_out_guard_check(&g, journal_rel, "-o", &err), VR_E_ARG);
+  /* A database this run will make: its journal names by place and name. */
+  char newdb[200], newwal[200];
+  snprintf(newdb, sizeof newdb, "%s/new.db", dir);
+  snprintf(newwal, sizeof newwal, "%s/./new.db-wal", dir);
+  vr_out_guard g2;
+  vr_out_guard_init(&g2);
+  vr_out_guard_database(&g2, newdb);
+  assert_int_equal(vr_out_guard_check(&g2, newwal, "-o", &err), VR_E_ARG);
+  assert_int_equal(vr_out_guard_check(&g2, fresh, "-o", &err), VR_OK);
   assert_int_equal(vr_out_guard_check(&g, fresh, "--report", &err), VR_OK);
   assert_int_equal(vr_out_guard_check(&g, "-", "-o", &err), VR_OK);
   assert_int_equal(vr_out_guard_check(&g, "", "--db", &err), VR_E_ARG);

@@ -40,10 +40,16 @@ typedef enum vr_args_outcome {
 } vr_args_outcome;
 
 /* usage: the synopsis lines after the tool name ("fit DATA [options]");
- * about: a paragraph printed under it by --help. */
+ * about: a paragraph printed under it by --help.  It also arranges for
+ * standard output to be checked at exit (vr_stdout_check_at_exit). */
 vr_args_outcome vr_args_parse(vr_args *a, const char *tool, const char *usage, const char *about,
                               const vr_option *opts, size_t nopts, int argc, char **argv);
 void vr_args_free(vr_args *a);
+/* At exit, standard output is flushed and checked: when a write to it
+ * failed, "TOOL: cannot write standard output: REASON" goes to stderr and
+ * the process ends with status 1 whatever main returned (once per
+ * process; vr_args_parse calls it). */
+void vr_stdout_check_at_exit(const char *tool);
 
 const char *vr_args_get(const vr_args *a, const char *name); /* NULL if absent */
 bool vr_args_flag(const vr_args *a, const char *name);

@@ -21,6 +21,11 @@ extern "C" {
 
 typedef struct vr_out_guard {
   int n;
+  /* The material database (vr_out_guard_database), by device and inode,
+   * so that its journal names are refused whether or not they exist. */
+  int has_db;
+  unsigned long long db_dev, db_ino;
+  char db_path[512];
   struct {
     unsigned long long dev, ino;
     char role[48];     /* "the measurement", "the material database", ... */
@@ -36,7 +41,11 @@ void vr_out_guard_init(vr_out_guard *g);
 void vr_out_guard_input(vr_out_guard *g, const char *path, const char *role);
 
 /* Records the material database: the file itself and its SQLite companions
- * (PATH-wal, PATH-shm, PATH-journal) when they exist. */
+ * (PATH-wal, PATH-shm, PATH-journal), these by name whether or not they
+ * exist at the moment (SQLite makes and deletes them while the database is
+ * open, so an output there would be deleted or corrupt the database): an
+ * output whose name is the database's (through any link or relative path)
+ * followed by one of the three suffixes is refused. */
 void vr_out_guard_database(vr_out_guard *g, const char *db_path);
 
 /* VR_E_ARG when `path` (given by `option`, e.g. "--report") is empty, is a
