@@ -175,6 +175,9 @@ ln -s thermal_oxide.csv "$own/link.csv"
 sums() { sha256sum "$own/thermal_oxide.csv" "$own/thermal_oxide.model" "$own/Si_Aspnes.yml" "$VR_MATDB"; }
 sums > "$tmp/sums.before"
 refuse ellipso-report-over-data "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$own/thermal_oxide.csv"
+# The database's journal names are the database's, whether or not they
+# exist at the moment (SQLite makes and deletes them): issue 35, class 2.
+refuse ellipso-report-over-journal "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$VR_MATDB-shm"
 check "... refused before the data are read" test -z "$(grep 'points (' "$tmp/refused.err")"
 refuse ellipso-report-over-data-link "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$own/link.csv"
 refuse ellipso-report-over-model "$bin" fit "$own/thermal_oxide.csv" --model "$own/thermal_oxide.model" --report "$own/thermal_oxide.model"
