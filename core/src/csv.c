@@ -1,5 +1,6 @@
 /* Delimited-text reader with positions: see vr/csv.h. */
 #include "vr/csv.h"
+#include "vr/file.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -105,6 +106,11 @@ vr_status vr_csv_parse(const char *text, size_t len, const char *name, vr_csv **
   }
   memcpy(csv->buf, text, len);
   csv->buf[len] = '\0';
+  vr_status enc = vr_text_check_encoding(text, len, name ? name : "<input>", err);
+  if (enc) {
+    vr_csv_destroy(csv);
+    return enc;
+  }
   if (memchr(csv->buf, '\0', len)) {
     vr_csv_destroy(csv);
     return vr_error_at(err, VR_E_PARSE, name, 0, 0, "binary data (NUL byte) in a text file");
@@ -147,6 +153,8 @@ vr_status vr_csv_parse(const char *text, size_t len, const char *name, vr_csv **
 
 vr_status vr_csv_read(const char *path, vr_csv **out, vr_error *err) {
   *out = NULL;
+  vr_status rs = vr_file_check_regular(path, err);
+  if (rs) return rs;
   FILE *f = fopen(path, "rb");
   if (!f) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
   char *text = NULL;
@@ -165,6 +173,12 @@ vr_status vr_csv_read(const char *path, vr_csv **out, vr_error *err) {
     size_t n = fread(text + len, 1, 65536, f);
     len += n;
     if (n < 65536) break;
+    if (len > VR_TEXT_MAX_BYTES) {
+      free(text);
+      fclose(f);
+      return vr_error_at(err, VR_E_RANGE, path, 0, 0,
+                         "larger than %zu MiB: not a table this tool reads", VR_TEXT_MAX_BYTES >> 20);
+    }
   }
   int bad = ferror(f);
   fclose(f);

@@ -19,6 +19,7 @@
  * same zones (its test vector is checked in tests/fit/test_ellipso_files.c).
  * Real files: tests/data/ellipsometry/real/README.md. */
 #define _GNU_SOURCE /* strcasestr */
+#include "vr/file.h"
 #include "ellipso_read.h"
 #include "vr/csv.h"
 
@@ -59,6 +60,8 @@ vr_status vr_ellipso_parse_accurion(const char *text, size_t len, const char *na
                                     const vr_ellipso_read_options *o, vr_ellipso_data *d,
                                     vr_error *err) {
   d->format = "Accurion EP4 table";
+  vr_status enc = vr_text_check_encoding(text, len, name, err);
+  if (enc) return enc;
   if (memchr(text, '\0', len))
     return vr_error_at(err, VR_E_PARSE, name, 0, 0, "binary data (NUL byte) in a text file");
   char *buf = malloc(len + 1);

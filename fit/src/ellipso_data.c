@@ -1,5 +1,6 @@
 /* Ellipsometry data: the table of readers that picks one by its sniff,
  * units, Δ convention, domain checks shared by all formats. */
+#include "vr/file.h"
 #include "ellipso_read.h"
 #include "vr/dispersion.h"
 #include "vr/spectrum.h"
@@ -132,6 +133,8 @@ vr_status vr_ellipso_read(const char *path, const char *unit, vr_ellipso_data *o
 vr_status vr_ellipso_read_with(const char *path, const vr_ellipso_read_options *o,
                                vr_ellipso_data *out, vr_error *err) {
   memset(out, 0, sizeof *out);
+  vr_status rs = vr_file_check_regular(path, err);
+  if (rs) return rs;
   FILE *f = fopen(path, "rb");
   if (!f) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
   size_t cap = 1 << 16, n = 0;
@@ -139,6 +142,13 @@ vr_status vr_ellipso_read_with(const char *path, const vr_ellipso_read_options *
   while (buf) {
     n += fread(buf + n, 1, cap - n, f);
     if (n < cap) break;
+    if (n > VR_TEXT_MAX_BYTES) {
+      free(buf);
+      fclose(f);
+      return vr_error_at(err, VR_E_RANGE, path, 0, 0,
+                         "larger than %zu MiB: not a measurement this tool reads",
+                         VR_TEXT_MAX_BYTES >> 20);
+    }
     char *b = realloc(buf, cap *= 2);
     if (!b) free(buf);
     buf = b;

@@ -18,6 +18,7 @@
  * sample; refellips' loader gives the same Ψ, Δ to its test's 1e-3), the
  * depolarisation 100 (1 - P) percent, and N, C, S kept.  A kinetic file is
  * one record per time: the caller chooses which (options.record). */
+#include "vr/file.h"
 #include "ellipso_read.h"
 #include "vr/csv.h"
 
@@ -97,6 +98,8 @@ static vr_status point(reader *r, vr_ellipso_data *d, double nm, double aoi, con
 vr_status vr_ellipso_parse_filmsense(const char *text, size_t len, const char *name,
                                      const vr_ellipso_read_options *o, vr_ellipso_data *d,
                                      vr_error *err) {
+  vr_status enc = vr_text_check_encoding(text, len, name, err);
+  if (enc) return enc;
   if (memchr(text, '\0', len))
     return vr_error_at(err, VR_E_PARSE, name, 0, 0, "binary data (NUL byte) in a text file");
   char *buf = malloc(len + 1), **tok = malloc(MAXF * sizeof *tok);

@@ -8,6 +8,7 @@
  * line, Accurion EP4), and Sentech SpectraRay exports ("; WAVELENGTH a1 a1
  * a2 a2 ..." then rows "λ Ψ(a1) Δ(a1) Ψ(a2) Δ(a2) ...").  Formats as
  * documented in tests/data/ellipsometry/WOOLLAM_FORMAT.md from real files. */
+#include "vr/file.h"
 #include "ellipso_read.h"
 #include "vr/csv.h"
 
@@ -92,6 +93,7 @@ static vr_status push(vr_ellipso_data *d, size_t *cap, vr_ellipso_point **p, vr_
 }
 
 static char *copy_text(const char *text, size_t len, vr_error *err) {
+  if (vr_text_check_encoding(text, len, "the file", err)) return NULL;
   if (memchr(text, '\0', len)) {
     vr_error_set(err, VR_E_PARSE, "binary data (NUL byte) in a text file");
     return NULL;

@@ -1,6 +1,7 @@
 /* Model files for vr-ellipso: the line grammar documented in
  * vr/ellipso_model.h and docs/vr-ellipso.md, turned into a vr_sample_model
  * with its parameter list.  Every complaint names the file and the line. */
+#include "vr/file.h"
 #include "model_internal.h"
 #include "vr/csv.h"
 #include "vr/matdb.h"
@@ -510,6 +511,8 @@ vr_status vr_model_parse(const char *text, size_t len, const char *name, const c
 }
 
 vr_status vr_model_read(const char *path, vr_matdb *db, vr_sample_model **out, vr_error *err) {
+  vr_status rs = vr_file_check_regular(path, err);
+  if (rs) return rs;
   FILE *f = fopen(path, "rb");
   if (!f) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
   char buf[1 << 16];

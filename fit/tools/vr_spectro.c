@@ -1,6 +1,7 @@
 /* vr-spectro: spectrophotometry of glass to n, k, pane tables, glazing
  * figures and tint-state models.  This file holds the option table, the
  * dispatch and what the commands share. */
+#include "vr/file.h"
 #include "spectro_cli.h"
 
 #include <complex.h>
@@ -296,6 +297,8 @@ vr_status spectro_pane_source(const vr_args *a, const char *item, vr_matdb **db,
   double d_nm;
   vr_status st = spectro_thickness(a, &d_nm, err);
   if (st) return st;
+  struct stat sb;
+  if (stat(item, &sb) == 0 && !S_ISREG(sb.st_mode)) return vr_file_check_regular(item, err);
   if (is_file(item)) {
     if ((st = vr_spectro_read(item, out, err))) return st;
     if (!isnan(d_nm)) (*out)->thickness_nm = d_nm;

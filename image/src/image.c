@@ -2,6 +2,7 @@
  * telling its format by its first bytes (never by its name, so that a text
  * file called .png gets a clear message instead of a codec's), choosing the
  * writer by extension, and writing every output atomically. */
+#include "vr/file.h"
 #include "vr/image.h"
 
 #include <ctype.h>
@@ -111,6 +112,9 @@ static vr_status read_whole_file(const char *path, unsigned char **buf, size_t *
                                  vr_error *err) {
   *buf = NULL;
   *len = 0;
+  /* Before opening: a named pipe would block the open until a writer came. */
+  vr_status rs = vr_file_check_regular(path, err);
+  if (rs) return rs;
   FILE *fp = fopen(path, "rb");
   if (!fp) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
   struct stat st;

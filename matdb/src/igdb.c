@@ -3,6 +3,7 @@
  * rows of wavelength (micrometres unless the units line says otherwise), T,
  * front R, back R at normal incidence.  Text in Windows-1252 (as IGDB
  * writes it) is converted to UTF-8. */
+#include "vr/file.h"
 #include "import.h"
 #include "utf8.h"
 #include "vr/csv.h"
@@ -120,6 +121,8 @@ static vr_status header_line(vr_material *m, const char *file, long line, char *
 
 vr_status vr_igdb_parse(const char *text, size_t len, const char *file, vr_material *m,
                         vr_error *err) {
+  vr_status enc = vr_text_check_encoding(text, len, file, err);
+  if (enc) return enc;
   if (memchr(text, '\0', len))
     return vr_error_at(err, VR_E_PARSE, file, 0, 0, "binary data (NUL byte) in a text file");
   /* IGDB and LBNL Optics write Windows-1252 ("Glass(R)" as 0xAE, accents

@@ -1,5 +1,6 @@
 /* CSV tables as materials, and the file-level import entry point that picks
  * an importer and records provenance. */
+#include "vr/file.h"
 #include "import.h"
 #include "rii.h"
 #include "vr/sha256.h"
@@ -43,6 +44,9 @@ static void stem(const char *path, char *out, size_t size) {
 }
 
 static vr_status read_all(const char *path, char **text, size_t *len, vr_error *err) {
+  /* A regular file of bounded size (a link to /dev/zero would never end). */
+  vr_status rs = vr_file_check_regular(path, err);
+  if (rs) return rs;
   FILE *f = fopen(path, "rb");
   if (!f) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
   size_t cap = 65536, n = 0;
@@ -50,6 +54,12 @@ static vr_status read_all(const char *path, char **text, size_t *len, vr_error *
   while (buf) {
     n += fread(buf + n, 1, cap - n, f);
     if (n < cap) break;
+    if (n > VR_TEXT_MAX_BYTES) {
+      free(buf);
+      fclose(f);
+      return vr_error_at(err, VR_E_RANGE, path, 0, 0, "larger than %zu MiB: not a material file",
+                         VR_TEXT_MAX_BYTES >> 20);
+    }
     char *b = realloc(buf, cap *= 2);
     if (!b) {
       free(buf);
@@ -64,6 +74,10 @@ static vr_status read_all(const char *path, char **text, size_t *len, vr_error *
   if (bad) {
     free(buf);
     return vr_error_at(err, VR_E_IO, path, 0, 0, "read error");
+  }
+  if ((rs = vr_text_check_encoding(buf, n, path, err))) {
+    free(buf);
+    return rs;
   }
   *text = buf;
   *len = n;

@@ -365,6 +365,10 @@ vr_status vr_scene_read(const char *path, vr_scene **out, vr_error *err) {
   size_t n;
   vr_status st = vr_read_file(path, 64u << 20, &text, &n, err);
   if (st) return st;
+  if ((st = vr_text_check_encoding(text, n, path, err))) {
+    free(text);
+    return st;
+  }
   st = vr_scene_parse(text, n, path, out, err);
   free(text);
   return st;
