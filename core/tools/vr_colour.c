@@ -7,6 +7,7 @@
 #include "vr/json.h"
 #include "vr/spectrum.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -16,8 +17,58 @@ static const vr_option OPTIONS[] = {
     {"emitter", 'e', NULL, "the spectra are radiances in W/(sr m² nm): print absolute XYZ (cd/m²)"},
     {"json", 'j', NULL, "print JSON instead of a table"},
     {"list-illuminants", 0, NULL, "list the built-in illuminant names and exit"},
+    {"extend", 0, NULL, "a spectrum that stops inside 400-700 nm is extended by its end values"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
+
+/* What the colorimetry needs of a spectrum, checked for every spectrum
+ * before anything is printed:
+ *   - two wavelengths at least (one row is no spectrum);
+ *   - the range 400-700 nm, where the CIE 1931 observer's y-bar holds
+ *     99.6 % of its integral: beyond the data, end values are held (CIE
+ *     015:2018, 7.2.2), which is said; a spectrum that stops inside that
+ *     range is refused unless --extend, and one that does not reach 380-780
+ *     nm at all is refused always (there is nothing to extend);
+ *   - a reflectance within [-0.05, 1.5] (noise below 0, fluorescence above
+ *     1; beyond, a unit error such as percent);
+ *   - a colour that is finite (values of 1e308 overflow XYZ). */
+static bool check_spectrum(const char *file, const char *name, const vr_spectrum *s, bool emitter,
+                           bool extend, vr_error *err) {
+  if (s->n < 2)
+    return vr_error_set(err, VR_E_RANGE,
+                        "%s: spectrum '%s' has one wavelength (%g nm): a colour needs the visible "
+                        "range, 400-700 nm at least",
+                        file, name, s->nm[0]),
+           false;
+  double lo = s->nm[0], hi = s->nm[s->n - 1];
+  if (hi < 380 || lo > 780)
+    return vr_error_set(err, VR_E_RANGE,
+                        "%s: spectrum '%s' covers %g-%g nm, outside the visible range (380-780 "
+                        "nm): it has no colour",
+                        file, name, lo, hi),
+           false;
+  if ((lo > 400 || hi < 700) && !extend)
+    return vr_error_set(err, VR_E_RANGE,
+                        "%s: spectrum '%s' covers %g-%g nm, not the 400-700 nm a colour needs: "
+                        "give --extend to hold its end values beyond (CIE 015:2018, 7.2.2)",
+                        file, name, lo, hi),
+           false;
+  for (size_t k = 0; k < s->n; k++) {
+    double v = s->value[k];
+    if (!emitter && (v < -0.05 || v > 1.5))
+      return vr_error_set(err, VR_E_RANGE,
+                          "%s: spectrum '%s' has reflectance %g at %g nm: a reflectance lies in "
+                          "[0, 1] (up to 1.5 for fluorescence, down to -0.05 for noise)%s",
+                          file, name, v, s->nm[k], v > 1.5 && v <= 100 ? "; in percent? divide by 100" : ""),
+             false;
+    if (emitter && v < 0)
+      return vr_error_set(err, VR_E_RANGE,
+                          "%s: spectrum '%s' has radiance %g at %g nm: a radiance is not negative",
+                          file, name, v, s->nm[k]),
+             false;
+  }
+  return true;
+}
 
 int main(int argc, char **argv) {
   vr_args a;
@@ -58,6 +109,27 @@ int main(int argc, char **argv) {
   if (obs_text && vr_observer_parse(obs_text, &obs, &err)) goto fail;
   if (!(illum = vr_illuminant(illum_name, &err))) goto fail;
   if (vr_spectrum_table_read(a.operands[0], &t, &err)) goto fail;
+  bool extend = vr_args_flag(&a, "extend");
+  size_t held = 0;
+  for (size_t i = 0; i < t.count; i++) {
+    if (!check_spectrum(a.operands[0], t.names[i], t.spectra[i], emitter, extend, &err)) goto fail;
+    const vr_spectrum *s = t.spectra[i];
+    held += s->nm[0] > 380 || s->nm[s->n - 1] < 780;
+    double xyz[3];
+    if (emitter) vr_xyz_emitter(s, obs, xyz);
+    else vr_xyz_reflectance(s, illum, obs, xyz);
+    if (!isfinite(xyz[0]) || !isfinite(xyz[1]) || !isfinite(xyz[2])) {
+      vr_error_set(&err, VR_E_RANGE,
+                   "%s: spectrum '%s': its values are too large for a colour (XYZ overflows)",
+                   a.operands[0], t.names[i]);
+      goto fail;
+    }
+  }
+  if (held)
+    fprintf(stderr,
+            "vr-colour: %zu of %zu spectra stop inside 380-780 nm: their end values are held "
+            "beyond (CIE 015:2018, 7.2.2)\n",
+            held, t.count);
 
   double white[3], d65[3];
   vr_xyz_white(illum, obs, white);

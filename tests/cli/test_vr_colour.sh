@@ -42,4 +42,24 @@ check "no operand is a usage error (2)" test $rc -eq 2
 "$bin" --bogus x > /dev/null 2> "$tmp/err"; rc=$?
 check "unknown option is a usage error (2)" test $rc -eq 2
 
+# The colorimetry's domain (issue 35, class 4): refused before any output.
+printf 'nm,uv\n100,0.5\n200,0.5\n300,0.5\n' > "$tmp/uv.csv"
+refuse colour-outside-visible "$bin" "$tmp/uv.csv"
+refuse colour-outside-visible "$bin" --extend "$tmp/uv.csv"
+printf 'nm,thin\n400,0.5\n401,0.5\n' > "$tmp/thin.csv"
+refuse colour-short-range "$bin" "$tmp/thin.csv"
+"$bin" --extend "$tmp/thin.csv" > "$tmp/thin.out" 2> "$tmp/thin.err"
+check "--extend holds the ends and says so" bash -c "test $? -eq 0 && grep -q 'end values are held' '$tmp/thin.err'"
+printf 'nm,one\n550,0.5\n' > "$tmp/one.csv"
+refuse colour-one-row "$bin" "$tmp/one.csv"
+printf 'nm,neg,ok\n380,-0.2,0.5\n780,0.5,0.5\n' > "$tmp/neg.csv"
+refuse colour-reflectance-range "$bin" "$tmp/neg.csv"
+check "... nothing printed for the good column either" test ! -s "$tmp/refused.out"
+printf 'nm,pct\n380,45\n780,50\n' > "$tmp/pct.csv"
+refuse colour-reflectance-percent "$bin" "$tmp/pct.csv"
+printf 'nm,big\n380,1e308\n780,1e308\n' > "$tmp/big.csv"
+refuse colour-overflow "$bin" --emitter "$tmp/big.csv"
+"$bin" "$src/samples/spectra/colorchecker_babelcolor.csv" > /dev/null 2> "$tmp/cc.err"
+check "the ColorChecker (380-730 nm) is extended above 730 nm, and said once" \
+  grep -q "24 of 24 spectra stop inside 380-780 nm" "$tmp/cc.err"
 finish
