@@ -119,6 +119,13 @@ static vr_status from_csv(vr_csv *csv, vr_spectrum_table *out, vr_error *err) {
                        "field '%s': wavelength must be positive, got %g", wl_name, w);
       goto done;
     }
+    if (nm[r] < VR_WL_MIN_NM || nm[r] > VR_WL_MAX_NM) {
+      st = vr_error_at(err, VR_E_RANGE, path, vr_csv_line(csv, row), vr_csv_col_pos(csv, row, 0),
+                       "field '%s': %g is %g nm, outside 100 nm - 100 um: is the column in "
+                       "another unit (say it in the header: wavelength_um, wavelength (nm), eV)?",
+                       wl_name, w, nm[r]);
+      goto done;
+    }
     for (size_t c = 0; c < m; c++)
       if ((st = vr_csv_number(csv, row, c + 1, out->names[c], &vals[r * m + c], err))) goto done;
   }

@@ -65,6 +65,14 @@ static bool is_wavelength_header(const char *h) {
  * '=' after the word) is not a thickness line.  A value that is not a
  * positive finite number is refused, naming the line: a sign dropped
  * here would make a different pane. */
+vr_status vr_spectro_pane_plausible(double nm, const char *file, long line, vr_error *err) {
+  if (nm >= 1e4 && nm <= 2e8) return VR_OK;
+  return vr_error_at(err, VR_E_RANGE, file, line, 0,
+                     "a pane of %g mm is outside 0.01-200 mm: a unit slip (nm or um where mm is "
+                     "meant)? A film on glass is a layer of a stack, not a pane",
+                     nm * 1e-6);
+}
+
 static vr_status thickness_line(const char *c, const char *file, long line, double *nm,
                                 vr_error *err) {
   const char *t = c;
@@ -90,11 +98,25 @@ static vr_status thickness_line(const char *c, const char *file, long line, doub
                        "thickness '%s': a pane's thickness must be a positive number (mm, or "
                        "give nm or um)", shown);
   }
-  while (isspace((unsigned char)*end)) end++;
-  if (!strncasecmp(end, "nm", 2)) *nm = v;
-  else if (!strncasecmp(end, "um", 2) || !strncmp(end, "\xc2\xb5m", 3)) *nm = v * 1e3;
-  else *nm = v * 1e6; /* mm, the unit of glazing thickness */
-  return VR_OK;
+  while (*end == ' ' || *end == '\t') end++;
+  /* The unit: a word from the list, or none (mm, the unit of glazing
+   * thickness); any other word is refused, not read as mm. */
+  const char *u = end;
+  size_t ul = 0;
+  while (isalpha((unsigned char)u[ul]) || (unsigned char)u[ul] >= 0x80) ul++;
+  static const struct {
+    const char *name;
+    double nm;
+  } UNITS[] = {{"nm", 1}, {"um", 1e3}, {"\xc2\xb5m", 1e3}, {"mm", 1e6}, {"cm", 1e7}, {"m", 1e9}};
+  double scale = ul ? 0 : 1e6;
+  for (size_t k = 0; ul && k < sizeof UNITS / sizeof *UNITS; k++)
+    if (strlen(UNITS[k].name) == ul && !strncasecmp(u, UNITS[k].name, ul)) scale = UNITS[k].nm;
+  if (!(scale > 0))
+    return vr_error_at(err, VR_E_RANGE, file, line, 0,
+                       "thickness: unknown unit '%.*s' (nm, um, mm, cm or m; none is mm)", (int)ul,
+                       u);
+  *nm = v * scale;
+  return vr_spectro_pane_plausible(*nm, file, line, err);
 }
 
 static vr_spectro_curve *curve_for(vr_spectro_data *d, const char *state, double angle,
@@ -427,6 +449,13 @@ vr_status vr_spectro_parse_csv(const char *text, size_t len, const char *name,
     if (!(p.nm > 0)) {
       st = vr_error_at(err, VR_E_RANGE, name, p.line, vr_csv_col_pos(csv, r, (size_t)wT),
                        "field 'wavelength': %g is not a positive wavelength", w);
+      break;
+    }
+    if (p.nm < VR_WL_MIN_NM || p.nm > VR_WL_MAX_NM) {
+      st = vr_error_at(err, VR_E_RANGE, name, p.line, vr_csv_col_pos(csv, r, (size_t)wT),
+                       "field 'wavelength': %g is %g nm, outside 100 nm - 100 um: is the column in "
+                       "another unit (say it in the header: wavelength_um, wavelength (nm))?",
+                       w, p.nm);
       break;
     }
     /* In an export of column pairs, R must sit on T's wavelengths. */

@@ -185,6 +185,7 @@ vr_status spectro_thickness(const vr_args *a, double *nm, vr_error *err) {
   if (vr_parse_double(t, &mm) || !(mm > 0))
     return vr_error_set(err, VR_E_ARG, "--thickness '%s': expected a positive number of mm", t);
   *nm = mm * 1e6;
+  if (vr_spectro_pane_plausible(*nm, "--thickness", 0, err)) return VR_E_ARG;
   return VR_OK;
 }
 

@@ -88,6 +88,12 @@ typedef struct vr_spectrum_table {
  * increasing or decreasing order (eV files run backwards); duplicates and
  * non-monotonic rows are errors naming the line. */
 vr_status vr_spectrum_table_read(const char *path, vr_spectrum_table *out, vr_error *err);
+/* The wavelengths a table may hold, in nm: 100 nm (vacuum UV) to 100 um
+ * (far infrared).  A value outside, once converted by the header's unit,
+ * is refused naming its line and field (values in um under an "nm" header
+ * would otherwise make a material of 0.4-0.7 nm). */
+#define VR_WL_MIN_NM 100.0
+#define VR_WL_MAX_NM 1e5
 /* The same from text in memory; name is used in messages. */
 vr_status vr_spectrum_table_parse(const char *text, size_t len, const char *name,
                                   vr_spectrum_table *out, vr_error *err);

@@ -72,6 +72,10 @@ typedef struct vr_spectro_data {
 } vr_spectro_data;
 
 vr_status vr_spectro_read(const char *path, vr_spectro_data **out, vr_error *err);
+/* A pane's thickness (nm) that a glazing tool can stand behind: 0.01-200
+ * mm; VR_E_RANGE naming file and line (0: none) otherwise, with the likely
+ * unit slip. */
+vr_status vr_spectro_pane_plausible(double nm, const char *file, long line, vr_error *err);
 vr_status vr_spectro_parse_csv(const char *text, size_t len, const char *name,
                                vr_spectro_data **out, vr_error *err);
 /* An LBNL Optics file (IGDB .DAT, Optics 5 .LOF) already in memory. */

@@ -1,5 +1,6 @@
 /* Scene statements for what is seen: the camera, material aliases and the
  * shapes (sphere, rect, box, mesh) with their emission and transforms. */
+#include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -160,7 +161,21 @@ vr_status scn_material(vr_scn_stmt *t) {
       (st = scn_range(t, "state", 0, 1, false, false, &m->state)))
     return st;
   const vr_scn_opt *o, *state = scn_get(t, "state");
-  if ((o = scn_get(t, "thickness")) && (st = scn_positive_length(t, o, &m->thickness_m))) return st;
+  if ((o = scn_get(t, "thickness"))) {
+    /* A pane's thickness: its unit is required (a bare 3 would be 3 m of
+     * glass), and it must be a pane's: 0.01-200 mm. */
+    size_t n = strlen(o->val);
+    if (n && (isdigit((unsigned char)o->val[n - 1]) || o->val[n - 1] == '.'))
+      return scn_fail(p, o->word,
+                      "\"%s\": a pane's thickness needs its unit (thickness=%smm for millimetres; "
+                      "a bare number would be metres)",
+                      o->word, o->val);
+    if ((st = scn_positive_length(t, o, &m->thickness_m))) return st;
+    if (m->thickness_m < 1e-5 || m->thickness_m > 0.2)
+      return scn_fail(p, o->word,
+                      "\"%s\": a pane of %g mm is outside 0.01-200 mm (a unit slip?)", o->word,
+                      m->thickness_m * 1e3);
+  }
   static const char *const MODELS[] = {"thin", "interfaces", NULL};
   int model = -1;
   if ((st = scn_choice(t, "model", MODELS, &model))) return st;
