@@ -172,13 +172,13 @@ vr_status vr_csv_read(const char *path, vr_csv **out, vr_error *err) {
     }
     size_t n = fread(text + len, 1, 65536, f);
     len += n;
-    if (n < 65536) break;
     if (len > VR_TEXT_MAX_BYTES) {
       free(text);
       fclose(f);
       return vr_error_at(err, VR_E_RANGE, path, 0, 0,
                          "larger than %zu MiB: not a table this tool reads", VR_TEXT_MAX_BYTES >> 20);
     }
+    if (n < 65536) break;
   }
   int bad = ferror(f);
   fclose(f);

@@ -27,7 +27,7 @@ void vr_out_guard_database(vr_out_guard *g, const char *db_path) {
   vr_out_guard_input(g, db_path, "the material database");
   struct stat st;
   g->has_db = 1;
-  snprintf(g->db_path, sizeof g->db_path, "%.511s", db_path);
+  snprintf(g->db_path, sizeof g->db_path, "%s", db_path);
   if (stat(db_path, &st) == 0) {
     g->db_dev = (unsigned long long)st.st_dev;
     g->db_ino = (unsigned long long)st.st_ino;

@@ -99,6 +99,7 @@ static vr_status from_csv(vr_csv *csv, vr_spectrum_table *out, vr_error *err) {
     }
   }
   const char *wl_name = has_header ? vr_csv_field(csv, 0, 0) : "wavelength";
+  size_t inside = 0;
   for (size_t r = 0; r < n; r++) {
     size_t row = r + first;
     if (vr_csv_cols(csv, row) != ncols) {
@@ -119,15 +120,19 @@ static vr_status from_csv(vr_csv *csv, vr_spectrum_table *out, vr_error *err) {
                        "field '%s': wavelength must be positive, got %g", wl_name, w);
       goto done;
     }
-    if (nm[r] < VR_WL_MIN_NM || nm[r] > VR_WL_MAX_NM) {
-      st = vr_error_at(err, VR_E_RANGE, path, vr_csv_line(csv, row), vr_csv_col_pos(csv, row, 0),
-                       "field '%s': %g is %g nm, outside 100 nm - 100 um: is the column in "
-                       "another unit (say it in the header: wavelength_um, wavelength (nm), eV)?",
-                       wl_name, w, nm[r]);
-      goto done;
-    }
+    if (nm[r] >= VR_WL_MIN_NM && nm[r] <= VR_WL_MAX_NM) inside++;
     for (size_t c = 0; c < m; c++)
       if ((st = vr_csv_number(csv, row, c + 1, out->names[c], &vals[r * m + c], err))) goto done;
+  }
+  /* Tables may run past 100 nm - 100 um (metals' far infrared), but one
+   * with no wavelength inside is in another unit than its header says. */
+  if (n && !inside) {
+    st = vr_error_at(err, VR_E_RANGE, path, vr_csv_line(csv, first), vr_csv_col_pos(csv, first, 0),
+                     "field '%s': every wavelength (%g to %g nm as the header's unit reads them) "
+                     "is outside 100 nm - 100 um: is the column in another unit (say it in the "
+                     "header: wavelength_um, wavelength (nm), eV)?",
+                     wl_name, nm[0], nm[n - 1]);
+    goto done;
   }
   /* Order: all increasing, or all decreasing (then reversed). */
   int dir = n > 1 ? (nm[1] > nm[0] ? 1 : -1) : 1;

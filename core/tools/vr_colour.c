@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const vr_option OPTIONS[] = {
@@ -61,13 +62,44 @@ static bool check_spectrum(const char *file, const char *name, const vr_spectrum
                           "[0, 1] (up to 1.5 for fluorescence, down to -0.05 for noise)%s",
                           file, name, v, s->nm[k], v > 1.5 && v <= 100 ? "; in percent? divide by 100" : ""),
              false;
-    if (emitter && v < 0)
-      return vr_error_set(err, VR_E_RANGE,
-                          "%s: spectrum '%s' has radiance %g at %g nm: a radiance is not negative",
-                          file, name, v, s->nm[k]),
-             false;
+  }
+  if (emitter) {
+    /* Dark-subtracted spectroradiometer data dip slightly below 0 at the
+     * ends: 1 % of the peak is noise, more is not a radiance. */
+    double peak = 0;
+    for (size_t k = 0; k < s->n; k++) peak = fmax(peak, s->value[k]);
+    for (size_t k = 0; k < s->n; k++)
+      if (s->value[k] < -0.01 * peak || (peak <= 0 && s->value[k] < 0))
+        return vr_error_set(err, VR_E_RANGE,
+                            "%s: spectrum '%s' has radiance %g at %g nm: below -1 %% of its peak "
+                            "(%g), not noise about 0",
+                            file, name, s->value[k], s->nm[k], peak),
+               false;
   }
   return true;
+}
+
+/* An emission spectrum that stops inside 360-830 nm as the colorimetry
+ * reads it: zero beyond its data (held end values would add light that was
+ * not measured), reached within 1 nm of its ends. */
+static vr_spectrum *emission_extended(const vr_spectrum *s, vr_error *err) {
+  size_t n = s->n, k = 0;
+  double *nm = malloc((n + 4) * sizeof *nm), *v = malloc((n + 4) * sizeof *v);
+  vr_spectrum *out = NULL;
+  if (nm && v) {
+    double lo = s->nm[0], hi = s->nm[n - 1];
+    if (lo > 361) nm[k] = 360, v[k++] = 0;
+    if (lo > 360) nm[k] = lo - 1 > 360 ? lo - 1 : (lo + 360) / 2, v[k++] = 0;
+    for (size_t i = 0; i < n; i++) nm[k] = s->nm[i], v[k++] = s->value[i];
+    if (hi < 830) nm[k] = hi + 1 < 830 ? hi + 1 : (hi + 830) / 2, v[k++] = 0;
+    if (hi < 829) nm[k] = 830, v[k++] = 0;
+    out = vr_spectrum_create(k, nm, v, err);
+  } else {
+    vr_error_set(err, VR_E_NOMEM, "out of memory");
+  }
+  free(nm);
+  free(v);
+  return out;
 }
 
 int main(int argc, char **argv) {
@@ -115,6 +147,13 @@ int main(int argc, char **argv) {
     if (!check_spectrum(a.operands[0], t.names[i], t.spectra[i], emitter, extend, &err)) goto fail;
     const vr_spectrum *s = t.spectra[i];
     held += s->nm[0] > 380 || s->nm[s->n - 1] < 780;
+    if (emitter && (s->nm[0] > 360 || s->nm[s->n - 1] < 830)) {
+      vr_spectrum *z = emission_extended(s, &err);
+      if (!z) goto fail;
+      vr_spectrum_destroy(t.spectra[i]);
+      t.spectra[i] = z;
+      s = z;
+    }
     double xyz[3];
     if (emitter) vr_xyz_emitter(s, obs, xyz);
     else vr_xyz_reflectance(s, illum, obs, xyz);
@@ -127,8 +166,10 @@ int main(int argc, char **argv) {
   }
   if (held)
     fprintf(stderr,
-            "vr-colour: %zu of %zu spectra stop inside 380-780 nm: their end values are held "
-            "beyond (CIE 015:2018, 7.2.2)\n",
+            emitter ? "vr-colour: %zu of %zu emission spectra stop inside 380-780 nm: their "
+                      "emission is taken as zero beyond their data\n"
+                    : "vr-colour: %zu of %zu spectra stop inside 380-780 nm: their end values are "
+                      "held beyond (CIE 015:2018, 7.2.2)\n",
             held, t.count);
 
   double white[3], d65[3];

@@ -141,7 +141,6 @@ vr_status vr_ellipso_read_with(const char *path, const vr_ellipso_read_options *
   char *buf = malloc(cap);
   while (buf) {
     n += fread(buf + n, 1, cap - n, f);
-    if (n < cap) break;
     if (n > VR_TEXT_MAX_BYTES) {
       free(buf);
       fclose(f);
@@ -149,6 +148,7 @@ vr_status vr_ellipso_read_with(const char *path, const vr_ellipso_read_options *
                          "larger than %zu MiB: not a measurement this tool reads",
                          VR_TEXT_MAX_BYTES >> 20);
     }
+    if (n < cap) break;
     char *b = realloc(buf, cap *= 2);
     if (!b) free(buf);
     buf = b;

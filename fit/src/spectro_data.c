@@ -2,6 +2,7 @@
 #include "vr/spectro_data.h"
 #include "vr/material_io.h"
 
+#include <stdbool.h>
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
@@ -79,7 +80,18 @@ static vr_status thickness_line(const char *c, const char *file, long line, doub
   while ((t = strstr(t, "thickness")) != NULL) {
     const char *q = t + 9;
     while (*q == ' ' || *q == '\t') q++;
-    if (*q == ':' || *q == '=') {
+    /* The pane's: "thickness", or "pane/glass/sample/substrate thickness";
+     * another word before it ("coating thickness: 12 nm") is not. */
+    const char *w = t;
+    while (w > c && (w[-1] == ' ' || w[-1] == '\t')) w--;
+    const char *w0 = w;
+    while (w0 > c && isalpha((unsigned char)w0[-1])) w0--;
+    size_t wl = (size_t)(w - w0);
+    static const char *const OWNERS[] = {"pane", "glass", "sample", "substrate"};
+    bool pane = wl == 0;
+    for (size_t k = 0; !pane && k < 4; k++)
+      pane = wl == strlen(OWNERS[k]) && !strncasecmp(w0, OWNERS[k], wl);
+    if ((*q == ':' || *q == '=') && pane) {
       t = q + 1;
       break;
     }
@@ -98,16 +110,31 @@ static vr_status thickness_line(const char *c, const char *file, long line, doub
                        "thickness '%s': a pane's thickness must be a positive number (mm, or "
                        "give nm or um)", shown);
   }
-  while (*end == ' ' || *end == '\t') end++;
+  /* Blanks, a no-break space (spreadsheets) included. */
+  for (;;) {
+    if (*end == ' ' || *end == '\t') end++;
+    else if ((unsigned char)end[0] == 0xC2 && (unsigned char)end[1] == 0xA0) end += 2;
+    else break;
+  }
   /* The unit: a word from the list, or none (mm, the unit of glazing
-   * thickness); any other word is refused, not read as mm. */
+   * thickness); any other word is refused, not read as mm.  A word is
+   * letters and the micro signs (U+00B5, U+03BC). */
   const char *u = end;
   size_t ul = 0;
-  while (isalpha((unsigned char)u[ul]) || (unsigned char)u[ul] >= 0x80) ul++;
+  for (;;) {
+    unsigned char b0 = (unsigned char)u[ul], b1 = b0 ? (unsigned char)u[ul + 1] : 0;
+    if (isalpha(b0)) ul++;
+    else if ((b0 == 0xC2 && b1 == 0xB5) || (b0 == 0xCE && b1 == 0xBC)) ul += 2;
+    else break;
+  }
   static const struct {
     const char *name;
     double nm;
-  } UNITS[] = {{"nm", 1}, {"um", 1e3}, {"\xc2\xb5m", 1e3}, {"mm", 1e6}, {"cm", 1e7}, {"m", 1e9}};
+  } UNITS[] = {{"nm", 1},           {"um", 1e3},          {"\xc2\xb5m", 1e3},
+               {"\xce\xbcm", 1e3},  {"micron", 1e3},      {"microns", 1e3},
+               {"mm", 1e6},         {"millimetre", 1e6},  {"millimetres", 1e6},
+               {"millimeter", 1e6}, {"millimeters", 1e6}, {"cm", 1e7},
+               {"m", 1e9}};
   double scale = ul ? 0 : 1e6;
   for (size_t k = 0; ul && k < sizeof UNITS / sizeof *UNITS; k++)
     if (strlen(UNITS[k].name) == ul && !strncasecmp(u, UNITS[k].name, ul)) scale = UNITS[k].nm;
@@ -440,7 +467,9 @@ vr_status vr_spectro_parse_csv(const char *text, size_t len, const char *name,
   d->has_Rb = cb >= 0;
   d->has_angle = ca >= 0;
   d->has_state = cs >= 0;
-  size_t rows = vr_csv_rows(csv);
+  size_t rows = vr_csv_rows(csv), inside = 0;
+  long outside_line = 0;
+  double outside_w = 0, outside_nm = 0;
   for (size_t r = 1; r < rows && !st; r++) {
     vr_spectro_point p = {.Rf = NAN, .Rb = NAN, .line = vr_csv_line(csv, r)};
     double w, angle = 0;
@@ -451,13 +480,8 @@ vr_status vr_spectro_parse_csv(const char *text, size_t len, const char *name,
                        "field 'wavelength': %g is not a positive wavelength", w);
       break;
     }
-    if (p.nm < VR_WL_MIN_NM || p.nm > VR_WL_MAX_NM) {
-      st = vr_error_at(err, VR_E_RANGE, name, p.line, vr_csv_col_pos(csv, r, (size_t)wT),
-                       "field 'wavelength': %g is %g nm, outside 100 nm - 100 um: is the column in "
-                       "another unit (say it in the header: wavelength_um, wavelength (nm))?",
-                       w, p.nm);
-      break;
-    }
+    if (p.nm >= VR_WL_MIN_NM && p.nm <= VR_WL_MAX_NM) inside++;
+    else if (!outside_line) outside_line = p.line, outside_w = w, outside_nm = p.nm;
     /* In an export of column pairs, R must sit on T's wavelengths. */
     const long wcol[2] = {wf, wb}, vcol[2] = {cf, cb};
     for (int q = 0; q < 2 && !st; q++) {
@@ -495,6 +519,14 @@ vr_status vr_spectro_parse_csv(const char *text, size_t len, const char *name,
     }
     st = append(d, state, angle, &p, rows, name, err);
   }
+  /* A measurement may run past 100 nm - 100 um, but one with no wavelength
+   * inside is in another unit than its header says. */
+  if (!st && !inside && outside_line)
+    st = vr_error_at(err, VR_E_RANGE, name, outside_line, 0,
+                     "field 'wavelength': %g is %g nm, and no wavelength of the file lies in 100 "
+                     "nm - 100 um: is the column in another unit (say it in the header: "
+                     "wavelength_um, wavelength (nm))?",
+                     outside_w, outside_nm);
   if (!st) st = finish(d, err);
 done:
   vr_csv_destroy(csv);

@@ -53,13 +53,13 @@ static vr_status read_all(const char *path, char **text, size_t *len, vr_error *
   char *buf = malloc(cap);
   while (buf) {
     n += fread(buf + n, 1, cap - n, f);
-    if (n < cap) break;
     if (n > VR_TEXT_MAX_BYTES) {
       free(buf);
       fclose(f);
       return vr_error_at(err, VR_E_RANGE, path, 0, 0, "larger than %zu MiB: not a material file",
                          VR_TEXT_MAX_BYTES >> 20);
     }
+    if (n < cap) break;
     char *b = realloc(buf, cap *= 2);
     if (!b) {
       free(buf);

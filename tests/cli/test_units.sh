@@ -24,6 +24,9 @@ refuse spectro-thickness-unit-unknown "$VR_SPECTRO" metrics lowe_fur.csv
 refuse spectro-thickness-option-range "$VR_SPECTRO" metrics "$lowe" --thickness 1e9
 "$VR_SPECTRO" metrics "$lowe" > ok.txt 2>&1
 check "the file as written (4 mm) is read" test $? -eq 0
+sed 's/^# thickness: 4 mm/# thickness: 4 mm\n# coating thickness: 12 nm\n# glass thickness: 4mm/' "$lowe" > lowe_coat.csv
+"$VR_SPECTRO" metrics lowe_coat.csv > coat.txt 2>&1
+check "another layer's thickness in a comment is not the pane's" test $? -eq 0
 printf 'wavelength_nm,r\n0.4,0.5\n0.5,0.5\n0.7,0.5\n' > um.csv
 refuse matdb-wavelength-implausible "$VR_MATDB_TOOL" import um.csv
 check "... and nothing was saved" bash -c '! "$1" list 2> /dev/null | grep -q "^um "' _ "$VR_MATDB_TOOL"

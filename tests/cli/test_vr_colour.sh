@@ -62,4 +62,10 @@ refuse colour-overflow "$bin" --emitter "$tmp/big.csv"
 "$bin" "$src/samples/spectra/colorchecker_babelcolor.csv" > /dev/null 2> "$tmp/cc.err"
 check "the ColorChecker (380-730 nm) is extended above 730 nm, and said once" \
   grep -q "24 of 24 spectra stop inside 380-780 nm" "$tmp/cc.err"
+printf 'nm,led\n400,0.001\n450,0.01\n500,0.002\n700,-0.00005\n' > "$tmp/led.csv"
+"$bin" --emitter "$tmp/led.csv" > /dev/null 2> "$tmp/led.err"
+check "an emission spectrum dipping 0.5 % of its peak below 0 is read, zero beyond its data" \
+  bash -c "test $? -eq 0 && grep -q 'emission is taken as zero' '$tmp/led.err'"
+printf 'nm,bad\n400,0.001\n450,0.01\n700,-0.001\n' > "$tmp/badled.csv"
+refuse colour-radiance-negative "$bin" --emitter "$tmp/badled.csv"
 finish

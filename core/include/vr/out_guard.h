@@ -25,7 +25,7 @@ typedef struct vr_out_guard {
    * so that its journal names are refused whether or not they exist. */
   int has_db;
   unsigned long long db_dev, db_ino;
-  char db_path[512];
+  char db_path[4096];
   struct {
     unsigned long long dev, ino;
     char role[48];     /* "the measurement", "the material database", ... */

@@ -167,9 +167,9 @@ vr_status scn_material(vr_scn_stmt *t) {
     size_t n = strlen(o->val);
     if (n && (isdigit((unsigned char)o->val[n - 1]) || o->val[n - 1] == '.'))
       return scn_fail(p, o->word,
-                      "\"%s\": a pane's thickness needs its unit (thickness=%smm for millimetres; "
-                      "a bare number would be metres)",
-                      o->word, o->val);
+                      "\"%s\": a pane's thickness needs its unit (thickness=%smm or "
+                      "thickness=%sm; a bare number would be metres)",
+                      o->word, o->val, o->val);
     if ((st = scn_positive_length(t, o, &m->thickness_m))) return st;
     if (m->thickness_m < 1e-5 || m->thickness_m > 0.2)
       return scn_fail(p, o->word,
