@@ -153,40 +153,11 @@ vr_status vr_csv_parse(const char *text, size_t len, const char *name, vr_csv **
 
 vr_status vr_csv_read(const char *path, vr_csv **out, vr_error *err) {
   *out = NULL;
-  vr_status rs = vr_file_check_regular(path, err);
-  if (rs) return rs;
-  FILE *f = fopen(path, "rb");
-  if (!f) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-  char *text = NULL;
-  size_t len = 0, cap = 0;
-  for (;;) {
-    if (len + 65536 + 1 > cap) {
-      cap = cap ? cap * 2 : 131072;
-      char *t = realloc(text, cap);
-      if (!t) {
-        free(text);
-        fclose(f);
-        return vr_error_set(err, VR_E_NOMEM, "%s: out of memory", path);
-      }
-      text = t;
-    }
-    size_t n = fread(text + len, 1, 65536, f);
-    len += n;
-    if (len > VR_TEXT_MAX_BYTES) {
-      free(text);
-      fclose(f);
-      return vr_error_at(err, VR_E_RANGE, path, 0, 0,
-                         "larger than %zu MiB: not a table this tool reads", VR_TEXT_MAX_BYTES >> 20);
-    }
-    if (n < 65536) break;
-  }
-  int bad = ferror(f);
-  fclose(f);
-  if (bad) {
-    free(text);
-    return vr_error_at(err, VR_E_IO, path, 0, 0, "read error");
-  }
-  vr_status st = vr_csv_parse(text ? text : "", len, path, out, err);
+  char *text;
+  size_t len;
+  vr_status st = vr_read_file(path, VR_TEXT_MAX_BYTES, &text, &len, err);
+  if (st) return st;
+  st = vr_csv_parse(text, len, path, out, err);
   free(text);
   return st;
 }

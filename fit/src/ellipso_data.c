@@ -133,31 +133,11 @@ vr_status vr_ellipso_read(const char *path, const char *unit, vr_ellipso_data *o
 vr_status vr_ellipso_read_with(const char *path, const vr_ellipso_read_options *o,
                                vr_ellipso_data *out, vr_error *err) {
   memset(out, 0, sizeof *out);
-  vr_status rs = vr_file_check_regular(path, err);
-  if (rs) return rs;
-  FILE *f = fopen(path, "rb");
-  if (!f) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-  size_t cap = 1 << 16, n = 0;
-  char *buf = malloc(cap);
-  while (buf) {
-    n += fread(buf + n, 1, cap - n, f);
-    if (n > VR_TEXT_MAX_BYTES) {
-      free(buf);
-      fclose(f);
-      return vr_error_at(err, VR_E_RANGE, path, 0, 0,
-                         "larger than %zu MiB: not a measurement this tool reads",
-                         VR_TEXT_MAX_BYTES >> 20);
-    }
-    if (n < cap) break;
-    char *b = realloc(buf, cap *= 2);
-    if (!b) free(buf);
-    buf = b;
-  }
-  int bad = ferror(f);
-  fclose(f);
-  if (!buf) return vr_error_set(err, VR_E_NOMEM, "%s: out of memory", path);
-  vr_status st = bad ? vr_error_at(err, VR_E_IO, path, 0, 0, "read error")
-                     : vr_ellipso_parse_with(buf, n, path, o, out, err);
+  char *buf;
+  size_t n;
+  vr_status st = vr_read_file(path, VR_TEXT_MAX_BYTES, &buf, &n, err);
+  if (st) return st;
+  st = vr_ellipso_parse_with(buf, n, path, o, out, err);
   free(buf);
   return st;
 }

@@ -43,45 +43,15 @@ static void stem(const char *path, char *out, size_t size) {
   out[n] = '\0';
 }
 
+/* A regular file of bounded size (a link to /dev/zero would never end), in
+ * a text encoding this reads. */
 static vr_status read_all(const char *path, char **text, size_t *len, vr_error *err) {
-  /* A regular file of bounded size (a link to /dev/zero would never end). */
-  vr_status rs = vr_file_check_regular(path, err);
-  if (rs) return rs;
-  FILE *f = fopen(path, "rb");
-  if (!f) return vr_error_at(err, VR_E_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-  size_t cap = 65536, n = 0;
-  char *buf = malloc(cap);
-  while (buf) {
-    n += fread(buf + n, 1, cap - n, f);
-    if (n > VR_TEXT_MAX_BYTES) {
-      free(buf);
-      fclose(f);
-      return vr_error_at(err, VR_E_RANGE, path, 0, 0, "larger than %zu MiB: not a material file",
-                         VR_TEXT_MAX_BYTES >> 20);
-    }
-    if (n < cap) break;
-    char *b = realloc(buf, cap *= 2);
-    if (!b) {
-      free(buf);
-      buf = NULL;
-    } else {
-      buf = b;
-    }
+  vr_status st = vr_read_file(path, VR_TEXT_MAX_BYTES, text, len, err);
+  if (!st && (st = vr_text_check_encoding(*text, *len, path, err))) {
+    free(*text);
+    *text = NULL;
   }
-  int bad = ferror(f);
-  fclose(f);
-  if (!buf) return vr_error_set(err, VR_E_NOMEM, "%s: out of memory", path);
-  if (bad) {
-    free(buf);
-    return vr_error_at(err, VR_E_IO, path, 0, 0, "read error");
-  }
-  if ((rs = vr_text_check_encoding(buf, n, path, err))) {
-    free(buf);
-    return rs;
-  }
-  *text = buf;
-  *len = n;
-  return VR_OK;
+  return st;
 }
 
 vr_status vr_import_file(const char *path, const char *name, const char *kind_override,

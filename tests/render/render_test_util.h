@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "vr/models.h"
 #include "vr/render.h"
 #include "vr/scene.h"
 
@@ -45,6 +46,18 @@ static inline vr_render_result *render_text_with(const char *text, int S, int P,
                                                  bool sensors_only) {
   vr_scene *s = parse_text(text, "test.scn");
   vr_render_result *r = render_scene_with(s, NULL, S, P, sensors_only, false);
+  vr_scene_destroy(s);
+  return r;
+}
+
+/* Parses text, reads the materials of its mesh lines' files
+ * (vr_scene_load_models, as vr-render does) and renders it on one
+ * sub-domain and two threads. */
+static inline vr_render_result *render_text_models(const char *text, const char *name) {
+  vr_scene *s = parse_text(text, name);
+  vr_error e = {0};
+  if (vr_scene_load_models(s, &e)) fail_msg("vr_scene_load_models: %s", e.message);
+  vr_render_result *r = render_scene_with(s, NULL, 1, 2, false, false);
   vr_scene_destroy(s);
   return r;
 }

@@ -13,7 +13,6 @@
 #include "vr_test.h"
 
 #include "render_test_util.h"
-#include "vr/models.h"
 
 #define L_CD 1000.0 /* emitter luminance, cd/m2 */
 #define SIDE 40.0
@@ -148,11 +147,7 @@ static void quad_xyz(const char *file, double xyz[3]) {
            "light point position=0,0,50 intensity=1e5cd\n"
            "render integrator=path spp=16 depth=2\n",
            VR_TEST_DATA, file);
-  vr_scene *sc = parse_text(scn, "quad.scn");
-  vr_error e = {0};
-  if (vr_scene_load_models(sc, &e)) fail_msg("vr_scene_load_models: %s", e.message);
-  vr_render_result *r = render_scene_with(sc, NULL, 1, 2, false, false);
-  vr_scene_destroy(sc);
+  vr_render_result *r = render_text_models(scn, "quad.scn");
   xyz[0] = xyz[1] = xyz[2] = 0;
   for (int i = 0; i < 144; i++)
     for (int c = 0; c < 3; c++) xyz[c] += r->xyz[3 * i + c] / 144;

@@ -58,7 +58,6 @@
 #include "render_test_util.h"
 #include "vr/colour.h"
 #include "vr/image.h"
-#include "vr/models.h"
 
 static char dir[] = "/tmp/vr-texture-test-XXXXXX";
 
@@ -304,11 +303,7 @@ static void ply_view(const char *mesh_options, double xyz[3]) {
            "light point position=100,66,2000 intensity=1e8cd\n"
            "render integrator=path spp=16 depth=2\n",
            VR_TEST_DATA, mesh_options);
-  vr_scene *sc = parse_text(scn, "ply.scn");
-  vr_error e = {0};
-  if (vr_scene_load_models(sc, &e)) fail_msg("vr_scene_load_models: %s", e.message);
-  vr_render_result *r = render_scene_with(sc, NULL, 1, 2, false, false);
-  vr_scene_destroy(sc);
+  vr_render_result *r = render_text_models(scn, "ply.scn");
   xyz[0] = xyz[1] = xyz[2] = 0;
   for (int i = 0; i < 16 * 16; i++)
     for (int c = 0; c < 3; c++) xyz[c] += r->xyz[3 * i + c] / (16 * 16);
@@ -344,11 +339,7 @@ static void test_map_d(void **state) {
            "camera pinhole from=0,-%g,0 to=0,0,0 up=0,0,1 fov=%.12g resolution=16x64\n"
            "render integrator=path spp=16 depth=2\n",
            VR_TEST_DATA, d, fov);
-  vr_scene *sc = parse_text(scn, "chain.scn");
-  vr_error e = {0};
-  if (vr_scene_load_models(sc, &e)) fail_msg("vr_scene_load_models: %s", e.message);
-  vr_render_result *r = render_scene_with(sc, NULL, 1, 2, false, false);
-  vr_scene_destroy(sc);
+  vr_render_result *r = render_text_models(scn, "chain.scn");
   double t = mean_y(r) / 100;
   vr_render_result_destroy(r);
   printf("# map_d (Sponza's chain mask): %.4f of the emitter through (0.516067)\n", t);

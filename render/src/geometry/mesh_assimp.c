@@ -39,15 +39,15 @@ static bool file_opens(const char *path) {
   return true;
 }
 
-/* glTF (.gltf, .glb): its vertex colours are linear. */
-static bool is_gltf(const char *path) {
-  size_t n = strlen(path);
-  return (n > 5 && !strcasecmp(path + n - 5, ".gltf")) || (n > 4 && !strcasecmp(path + n - 4, ".glb"));
+/* Whether path's name ends in ext (".obj"), any case. */
+static bool has_ext(const char *path, const char *ext) {
+  size_t n = strlen(path), e = strlen(ext);
+  return n > e && !strcasecmp(path + n - e, ext);
 }
 
 static vr_status copy_scene(const struct aiScene *sc, const char *path, vr_mesh_data *out,
                             vr_error *err) {
-  bool linear_colours = is_gltf(path);
+  bool linear_colours = has_ext(path, ".gltf") || has_ext(path, ".glb"); /* glTF's are linear */
   size_t nverts = 0, ntris = 0;
   bool any_nrm = false, any_uv = false, any_rgb = false;
   for (unsigned i = 0; i < sc->mNumMeshes; i++) {
@@ -310,16 +310,6 @@ static bool names_have(const char *names, const char *name) {
   return strstr(names, key) != NULL;
 }
 
-static bool is_ply(const char *path) {
-  size_t n = strlen(path);
-  return n > 4 && !strcasecmp(path + n - 4, ".ply");
-}
-
-static bool is_obj(const char *path) {
-  size_t n = strlen(path);
-  return n > 4 && !strcasecmp(path + n - 4, ".obj");
-}
-
 /* An embedded texture ("*N", or a name that matches an embedded texture's
  * file name): its compressed bytes (mHeight 0) copied into m.  Raw texel
  * arrays (mHeight > 0) are not a file: left to the caller's error (no
@@ -353,6 +343,22 @@ static void trimmed(const char *name, char out[256]) {
   snprintf(out, 256, "%.*s", len < 255 ? len : 255, name);
 }
 
+/* The material's texture of the first of types[0..n) it has: its file
+ * name, trimmed, into name ("" when none) and an embedded one's bytes.
+ * false when out of memory. */
+static bool texture_of(const struct aiScene *sc, const struct aiMaterial *am,
+                       const enum aiTextureType *types, int n, char name[256],
+                       unsigned char **bytes, size_t *len) {
+  struct aiString tex;
+  for (int k = 0; k < n; k++)
+    if (aiGetMaterialTexture(am, types[k], 0, &tex, NULL, NULL, NULL, NULL, NULL, NULL) ==
+        AI_SUCCESS) {
+      trimmed(tex.data, name);
+      return embedded(sc, name, bytes, len);
+    }
+  return true;
+}
+
 void vr_mesh_materials_free(vr_mesh_material *m, size_t n) {
   for (size_t i = 0; m && i < n; i++) free(m[i].texture_bytes), free(m[i].normal_bytes), free(m[i].mr_bytes), free(m[i].opacity_bytes);
   free(m);
@@ -368,11 +374,11 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
     aiReleaseImport(sc);
     return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
   }
-  bool obj = is_obj(path), ply = is_ply(path);
+  bool obj = has_ext(path, ".obj"), ply = has_ext(path, ".ply");
   char *defined = obj ? mtl_names(path) : NULL;
   for (unsigned i = 0; i < sc->mNumMaterials; i++) {
     const struct aiMaterial *am = sc->mMaterials[i];
-    struct aiString name, tex;
+    struct aiString name;
     bool named = aiGetMaterialString(am, AI_MATKEY_NAME, &name) == AI_SUCCESS;
     if (named)
       snprintf(m[i].name, sizeof m[i].name, "%.127s", name.data);
@@ -390,17 +396,6 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
       m[i].has_colour = true;
       m[i].rgb[0] = c.r, m[i].rgb[1] = c.g, m[i].rgb[2] = c.b;
     }
-    if (aiGetMaterialTexture(am, aiTextureType_BASE_COLOR, 0, &tex, NULL, NULL, NULL, NULL, NULL,
-                             NULL) == AI_SUCCESS ||
-        aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex, NULL, NULL, NULL, NULL, NULL,
-                             NULL) == AI_SUCCESS) {
-      trimmed(tex.data, m[i].texture);
-      if (!embedded(sc, m[i].texture, &m[i].texture_bytes, &m[i].texture_len)) {
-        vr_mesh_materials_free(m, sc->mNumMaterials);
-        aiReleaseImport(sc);
-        return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
-      }
-    }
     ai_real mf, rf, xf;
     m[i].clearcoat = aiGetMaterialFloatArray(am, AI_MATKEY_CLEARCOAT_FACTOR, &xf, NULL) == AI_SUCCESS ? xf : 0;
     m[i].transmission = aiGetMaterialFloatArray(am, AI_MATKEY_TRANSMISSION_FACTOR, &xf, NULL) == AI_SUCCESS ? xf : 0;
@@ -411,43 +406,26 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
      * later versions as the metalness and roughness textures; only glTF
      * files (which give a metallic factor) are asked, an unknown texture
      * of another format being anything. */
-    if (isfinite(m[i].metallic) &&
-        (aiGetMaterialTexture(am, aiTextureType_UNKNOWN, 0, &tex, NULL, NULL, NULL, NULL, NULL,
-                              NULL) == AI_SUCCESS ||
-         aiGetMaterialTexture(am, aiTextureType_METALNESS, 0, &tex, NULL, NULL, NULL, NULL, NULL,
-                              NULL) == AI_SUCCESS ||
-         aiGetMaterialTexture(am, aiTextureType_DIFFUSE_ROUGHNESS, 0, &tex, NULL, NULL, NULL,
-                              NULL, NULL, NULL) == AI_SUCCESS)) {
-      trimmed(tex.data, m[i].mr);
-      if (!embedded(sc, m[i].mr, &m[i].mr_bytes, &m[i].mr_len)) {
-        vr_mesh_materials_free(m, sc->mNumMaterials);
-        aiReleaseImport(sc);
-        return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
-      }
+    static const enum aiTextureType BASE[] = {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE},
+                                    MR[] = {aiTextureType_UNKNOWN, aiTextureType_METALNESS,
+                                            aiTextureType_DIFFUSE_ROUGHNESS},
+                                    NORMAL[] = {aiTextureType_NORMALS},
+                                    OPACITY[] = {aiTextureType_OPACITY};
+    if (!texture_of(sc, am, BASE, 2, m[i].texture, &m[i].texture_bytes, &m[i].texture_len) ||
+        (isfinite(m[i].metallic) &&
+         !texture_of(sc, am, MR, 3, m[i].mr, &m[i].mr_bytes, &m[i].mr_len)) ||
+        !texture_of(sc, am, NORMAL, 1, m[i].normal, &m[i].normal_bytes, &m[i].normal_len) ||
+        !texture_of(sc, am, OPACITY, 1, m[i].opacity, &m[i].opacity_bytes, &m[i].opacity_len)) {
+      vr_mesh_materials_free(m, sc->mNumMaterials);
+      aiReleaseImport(sc);
+      return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
     }
     m[i].normal_scale = 1;
-    if (aiGetMaterialTexture(am, aiTextureType_NORMALS, 0, &tex, NULL, NULL, NULL, NULL, NULL,
-                             NULL) == AI_SUCCESS) {
-      trimmed(tex.data, m[i].normal);
-      ai_real sc_n;
-      if (aiGetMaterialFloatArray(am, "$tex.scale", aiTextureType_NORMALS, 0, &sc_n, NULL) ==
-              AI_SUCCESS && sc_n >= 0 && sc_n <= 10)
-        m[i].normal_scale = sc_n;
-      if (!embedded(sc, m[i].normal, &m[i].normal_bytes, &m[i].normal_len)) {
-        vr_mesh_materials_free(m, sc->mNumMaterials);
-        aiReleaseImport(sc);
-        return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
-      }
-    }
-    if (aiGetMaterialTexture(am, aiTextureType_OPACITY, 0, &tex, NULL, NULL, NULL, NULL, NULL,
-                             NULL) == AI_SUCCESS) {
-      trimmed(tex.data, m[i].opacity);
-      if (!embedded(sc, m[i].opacity, &m[i].opacity_bytes, &m[i].opacity_len)) {
-        vr_mesh_materials_free(m, sc->mNumMaterials);
-        aiReleaseImport(sc);
-        return vr_error_set(err, VR_E_NOMEM, "mesh '%s': out of memory", path);
-      }
-    }
+    ai_real sc_n;
+    if (m[i].normal[0] &&
+        aiGetMaterialFloatArray(am, "$tex.scale", aiTextureType_NORMALS, 0, &sc_n, NULL) ==
+            AI_SUCCESS && sc_n >= 0 && sc_n <= 10)
+      m[i].normal_scale = sc_n;
     struct aiString mode;
     m[i].alpha_cutoff = 0.5;
     if (aiGetMaterialString(am, AI_MATKEY_GLTF_ALPHAMODE, &mode) == AI_SUCCESS)
