@@ -196,8 +196,12 @@ static vr_status fit_photo(work *w, vr_chromo_fit_result *r, vr_error *err) {
     two_temps |= fabs(w->st[i].T_K - w->st[0].T_K) > 0.01;
   }
   /* Start: K = b/a near the middle of the irradiances, a = 1e-3 m2/(W s). */
-  double emax = 0;
-  for (size_t i = 0; i < w->ns; i++) emax = fmax(emax, w->st[i].E);
+  double emax = 0, tmin = INFINITY, tmax = -INFINITY;
+  for (size_t i = 0; i < w->ns; i++) {
+    emax = fmax(emax, w->st[i].E);
+    tmin = fmin(tmin, w->st[i].T_K), tmax = fmax(tmax, w->st[i].T_K);
+  }
+  r->E_fit_max = emax, r->T_fit_min = tmin, r->T_fit_max = tmax;
   if (!(emax > 0))
     return vr_error_set(err, VR_E_ARG, "photochromic spectra need at least one state with E > 0");
   double a0 = any_time ? 1e-3 : 1.0;
@@ -318,6 +322,7 @@ vr_status vr_chromo_fit(size_t ns, const vr_chromo_state *states, const vr_spect
                         const vr_spectrum *const *Rf, const vr_spectrum *const *Rb,
                         double sigma_T, vr_chromo_fit_result *out, vr_error *err) {
   memset(out, 0, sizeof *out);
+  out->E_fit_max = out->T_fit_min = out->T_fit_max = NAN;
   if (ns < 3)
     return vr_error_set(err, VR_E_ARG, "a state model needs spectra at 3 or more states (got %zu)", ns);
   if (!(sigma_T > 0)) return vr_error_set(err, VR_E_ARG, "sigma_T must be positive");
@@ -435,6 +440,13 @@ vr_status vr_chromo_fit_material(const vr_chromo_fit_result *r, const char *name
     st = vr_material_add_parameter(m, p->name, p->value, p->stderr_, p->unit, err);
   }
   if (!st && !ec) st = vr_material_add_parameter(m, "T_ref", T_DEFAULT_K, NAN, "K", err);
+  /* The domain the states span: evaluations outside it are refused. */
+  if (!st && !ec && isfinite(r->E_fit_max))
+    st = vr_material_add_parameter(m, "E_fit_max", r->E_fit_max, NAN, "W/m2", err);
+  if (!st && !ec && isfinite(r->T_fit_min))
+    st = vr_material_add_parameter(m, "T_fit_min", r->T_fit_min, NAN, "K", err);
+  if (!st && !ec && isfinite(r->T_fit_max))
+    st = vr_material_add_parameter(m, "T_fit_max", r->T_fit_max, NAN, "K", err);
   if (!st)
     st = vr_material_set_text(&m->prov.model,
                               ec ? "OD linear in state, s = Q/Q_full (coloration efficiency)"

@@ -40,6 +40,7 @@ static const vr_option OPTIONS[] = {
     {"charge", 0, "MC_CM2", "metrics, state: electrochromic charge density (mC/cm2)"},
     {"uv", 0, "W_M2", "metrics, state: photochromic steady state under this UV irradiance"},
     {"temperature", 0, "T", "with --uv: glass temperature, e.g. 25C or 298K (default 25C)"},
+    {"extrapolate", 0, NULL, "with --uv: evaluate outside the UV and temperatures the model was fitted on"},
     {"force", 0, NULL, "fit: accept (exit 0) and --save a fit that does not describe the data"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
@@ -225,7 +226,13 @@ vr_status spectro_state_of(const vr_args *a, const vr_material *m, double *s, vr
         return vr_error_set(err, VR_E_RANGE, "--temperature '%s': use 25C or 298K", temp);
       T += add;
     }
-    return vr_chromo_steady_state(m, x, T, s, err);
+    unsigned flags = vr_args_flag(a, "extrapolate") ? VR_CHROMO_EXTRAPOLATE : 0;
+    vr_status r = vr_chromo_steady_state(m, x, T, flags, s, err);
+    if (r == VR_E_RANGE) vr_error_prefix(err, "--uv %s: ", uv); /* the option's value: exit 2 */
+    if (!r && flags && vr_chromo_check_domain(m, x, T, NULL))
+      fprintf(stderr, "vr-spectro: warning: --uv %g W/m2 at %.2f K is outside the range material "
+                      "%s was fitted on; extrapolated as asked\n", x, T, m->name);
+    return r;
   }
   return VR_OK;
 }
@@ -369,6 +376,7 @@ static bool foreign_option(const vr_args *a, const char *cmd) {
       {"charge", "metrics state", NULL},
       {"uv", "metrics state", NULL},
       {"temperature", "metrics state", NULL},
+      {"extrapolate", "metrics state", NULL},
   };
   for (size_t i = 0; i < sizeof TAKES / sizeof TAKES[0]; i++) {
     if (!vr_args_get(a, TAKES[i].opt)) continue;
@@ -387,6 +395,11 @@ static bool foreign_option(const vr_args *a, const char *cmd) {
   }
   if (vr_args_get(a, "temperature") && !vr_args_get(a, "uv")) {
     fprintf(stderr, "vr-spectro: --temperature: only with --uv (the photochromic steady state)\n");
+    return true;
+  }
+  if (vr_args_flag(a, "extrapolate") && !vr_args_get(a, "uv")) {
+    fprintf(stderr, "vr-spectro: --extrapolate: only with --uv (a charge outside the fitted "
+                    "range has no state: the model's state is at most 1)\n");
     return true;
   }
   return false;

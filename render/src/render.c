@@ -99,8 +99,11 @@ done:
 
 /* Each mesh line's triangles and bounds (the objects it became: one per
  * file material), to check a model's units and place the camera; the
- * first MESH_LINES_SAID lines, then how many more. */
+ * first MESH_LINES_SAID lines, then how many more.  A line without units=
+ * whose model spans more than MESH_UNITS_SUSPECT_M is warned about
+ * whatever its rank: a room modelled in millimetres read as metres. */
 enum { MESH_LINES_SAID = 12 };
+#define MESH_UNITS_SUSPECT_M 1000.0
 static void say_meshes(vr_run *r) {
   const vr_rscene *rs = r->rs;
   const vr_scene *s = rs->s;
@@ -112,10 +115,6 @@ static void say_meshes(vr_run *r) {
     /* The first object of its line only (the line's others follow it). */
     if (i > 0 && s->objects[i - 1].shape == VR_SHAPE_MESH && s->objects[i - 1].loc.line == o->loc.line)
       continue;
-    if (said == MESH_LINES_SAID) {
-      more++;
-      continue;
-    }
     uint64_t prims = 0;
     size_t nobj = 0;
     double box[6] = {0};
@@ -132,9 +131,19 @@ static void say_meshes(vr_run *r) {
       any = true;
     }
     const char *b = strrchr(o->mesh_path, '/');
+    b = b ? b + 1 : o->mesh_path;
+    double span = fmax(box[3] - box[0], fmax(box[4] - box[1], box[5] - box[2]));
+    if (any && !o->units_given && span > MESH_UNITS_SUSPECT_M)
+      vr_run_say(r, "warning: mesh '%s' (line %ld) spans %.4g m read as metres, as a line without "
+                 "units= is: if the model is in millimetres or centimetres, add units=mm or "
+                 "units=cm to that line", b, o->loc.line, span);
+    if (said == MESH_LINES_SAID) {
+      more++;
+      continue;
+    }
     vr_run_say(r, "scene: mesh '%s' (line %ld): %llu triangles in %zu object%s, bounds x %.4g to %.4g, "
                "y %.4g to %.4g, z %.4g to %.4g (m)",
-               b ? b + 1 : o->mesh_path, o->loc.line, (unsigned long long)prims, nobj,
+               b, o->loc.line, (unsigned long long)prims, nobj,
                nobj == 1 ? "" : "s", box[0], box[3], box[1], box[4], box[2], box[5]);
     said++;
   }
@@ -205,6 +214,9 @@ static vr_status passes(vr_run *r, const vr_integrator_ops *ig, vr_error *err) {
     if (st) return st;
     vr_run_say(r, "photochromic state: %.4f to %.4f over %zu texels", res->photochromic_state_min,
                res->photochromic_state_max, res->photochromic_texels);
+    if (res->photochromic_extrapolated)
+      vr_run_say(r, "warning: %zu texels outside the UV or temperature range the glass was "
+                 "fitted on, extrapolated as extrapolate=yes asked", res->photochromic_extrapolated);
   } else {
     vr_run_record(r, "uv", false, "no photochromic glass in the scene");
   }

@@ -295,6 +295,8 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
                a->control_sensor >= 0 ? scene->sensors[a->control_sensor].name : "");
       printf(", mean state %.3f; daylit hours by state:", res->mean_state);
       for (int k = 0; k < a->nstates; k++) printf(" %g: %.0f", a->states[k], res->state_hours[k]);
+      if (res->extrapolated_hours)
+        printf("; extrapolated beyond its fitted UV or temperature: %zu h", res->extrapolated_hours);
       printf("\n");
     }
     printf("annual   sDA%g/%g%% %.1f %% of points, ASE%g,%gh %.1f %% of points\n", a->da_lx,

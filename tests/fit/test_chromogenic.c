@@ -85,7 +85,7 @@ static void electrochromic_round_trip(void **state) {
   assert_int_equal(vr_material_eval(m, "eta", 632.8, false, &eta, NULL, &err), VR_OK);
   assert_rel(eta, 78.0, 0.05);
   assert_int_equal(vr_chromo_eval(m, 1.5, 632.8, &Tm, NULL, NULL, &err), VR_E_RANGE);
-  assert_int_equal(vr_chromo_steady_state(m, 10, 298, &s, &err), VR_E_ARG);
+  assert_int_equal(vr_chromo_steady_state(m, 10, 298, 0, &s, &err), VR_E_ARG);
   vr_material_destroy(m);
   vr_chromo_fit_free(&r);
   for (int i = 0; i < 5; i++) vr_spectrum_destroy(T[i]);
@@ -144,18 +144,32 @@ static void photochromic_round_trip(void **state) {
       vr_material *m;
       assert_int_equal(vr_chromo_fit_material(&r, "pc-test", 4.0, &m, &err), VR_OK);
       double s, a = r.params[0].value, b = r.params[1].value;
-      assert_int_equal(vr_chromo_steady_state(m, 30, 298.15, &s, &err), VR_OK);
+      assert_int_equal(vr_chromo_steady_state(m, 30, 298.15, 0, &s, &err), VR_OK);
       assert_near(s, a * 30 / (a * 30 + b), 1e-12);
       vr_chromo_state q = {.kind = VR_STATE_STEADY, .E = 30, .T_K = 298.15};
       assert_near(s, pc_state(&q), 0.02);
       /* Warmer glass fades faster, so it is paler in the same sun. */
       double s_hot;
-      assert_int_equal(vr_chromo_steady_state(m, 30, 318.15, &s_hot, &err), VR_OK);
+      assert_int_equal(vr_chromo_steady_state(m, 30, 308.15, 0, &s_hot, &err), VR_OK);
       assert_true(s_hot < s);
       /* Activation from bleached approaches the steady state. */
       double s_t;
-      assert_int_equal(vr_chromo_state_after(m, 30, 298.15, 0, 1e4, &s_t, &err), VR_OK);
+      assert_int_equal(vr_chromo_state_after(m, 30, 298.15, 0, 0, 1e4, &s_t, &err), VR_OK);
       assert_near(s_t, s, 1e-9);
+      /* The states span 0-40 W/m2 and 10-40 C (the tokens above): outside
+       * that the model is refused unless asked to extrapolate (issue 35),
+       * and then it is the same formula. */
+      double s_x;
+      assert_int_equal(vr_chromo_steady_state(m, 60, 298.15, 0, &s_x, &err), VR_E_RANGE);
+      assert_contains(err.message, "0 to 40 W/m2");
+      assert_int_equal(vr_chromo_steady_state(m, 40, 298.15, 0, &s_x, &err), VR_OK);
+      assert_int_equal(vr_chromo_steady_state(m, 30, 273.15 + 50, 0, &s_x, &err), VR_E_RANGE);
+      assert_contains(err.message, "283.15 to 313.15 K");
+      assert_int_equal(vr_chromo_steady_state(m, 30, 273.15, 0, &s_x, &err), VR_E_RANGE);
+      assert_int_equal(vr_chromo_state_after(m, 60, 298.15, 0, 0, 10, &s_x, &err), VR_E_RANGE);
+      assert_int_equal(vr_chromo_steady_state(m, 60, 298.15, VR_CHROMO_EXTRAPOLATE, &s_x, &err),
+                       VR_OK);
+      assert_near(s_x, a * 60 / (a * 60 + b), 1e-12);
       vr_material_destroy(m);
     }
     vr_chromo_fit_free(&r);
@@ -194,8 +208,14 @@ static void steady_only_gives_K(void **state) {
   vr_material *m;
   assert_int_equal(vr_chromo_fit_material(&r, "pc-k", 0, &m, &err), VR_OK);
   double s;
-  assert_int_equal(vr_chromo_state_after(m, 10, 298.15, 0, 10, &s, &err), VR_E_NOT_FOUND);
+  assert_int_equal(vr_chromo_state_after(m, 10, 298.15, 0, 0, 10, &s, &err), VR_E_NOT_FOUND);
   assert_contains(err.message, "time series");
+  /* Fitted at 25 C only: no activation energy, so 35 C is refused (issue
+   * 35), and 25.3 C is the same temperature within rounding. */
+  assert_int_equal(vr_chromo_steady_state(m, 10, 308.15, 0, &s, &err), VR_E_RANGE);
+  assert_contains(err.message, "activation energy");
+  assert_int_equal(vr_chromo_steady_state(m, 10, 298.45, 0, &s, &err), VR_OK);
+  assert_int_equal(vr_chromo_steady_state(m, 100, 298.15, 0, &s, &err), VR_E_RANGE);
   vr_material_destroy(m);
   vr_chromo_fit_free(&r);
   for (size_t i = 0; i < ns; i++) vr_spectrum_destroy(T[i]);

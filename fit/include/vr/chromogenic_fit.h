@@ -77,6 +77,10 @@ typedef struct vr_chromo_fit_result {
   double *Rf0, *dRf, *Rb0, *dRb; /* NULL when not measured */
   double *s;                    /* per spectrum: the state used or fitted */
   double q_full;                /* electrochromic with charges, else NAN */
+  /* Photochromic: the UV irradiances (W/m2, from 0) and temperatures (K)
+   * the states span; the model is stored with them and refuses to be
+   * evaluated outside unless told to extrapolate.  NAN otherwise. */
+  double E_fit_max, T_fit_min, T_fit_max;
   size_t nparams;               /* photochromic: a, b_ref, Ea, K_ref */
   vr_chromo_param params[4];
   double chi2_reduced;

@@ -17,7 +17,11 @@
  * b(T) = b_ref exp(-(Ea / R) (1/T - 1/T_ref)) (Arrhenius); parameters "a"
  * (m²/(W s)), "b_ref" (1/s), "Ea" (J/mol), "T_ref" (K); or, when only
  * steady states were measured, "K_ref" = b_ref / a (W/m²) without a, b_ref.
- * Steady state: s = a E / (a E + b(T)) = E / (E + K(T)). */
+ * Steady state: s = a E / (a E + b(T)) = E / (E + K(T)).
+ * Fitted domain (parameters written by vr-spectro's fit): "E_fit_max"
+ * (W/m², the largest UV irradiance of the states; 0 to it is the range),
+ * "T_fit_min", "T_fit_max" (K).  A model without them (older databases)
+ * has no stated domain. */
 #ifndef VR_CHROMOGENIC_H
 #define VR_CHROMOGENIC_H
 
@@ -45,16 +49,30 @@ vr_status vr_chromo_eval(const vr_material *m, double s, double nm, double *T, d
 vr_status vr_chromo_state_of_charge(const vr_material *m, double q_mC_cm2, double *s,
                                     vr_error *err);
 
+/* Flags of the photochromic evaluations: without VR_CHROMO_EXTRAPOLATE a
+ * UV irradiance above E_fit_max or a temperature more than
+ * VR_CHROMO_T_SLACK_K outside [T_fit_min, T_fit_max] is VR_E_RANGE, the
+ * message naming the material, the value and the fitted range.  (A model
+ * fitted at one temperature has no activation energy: any other
+ * temperature is an extrapolation.) */
+#define VR_CHROMO_EXTRAPOLATE 1u
+#define VR_CHROMO_T_SLACK_K 0.5 /* rounding of "25C" and the like */
+
+/* Whether (E_uv, T_K) lies in the fitted domain; VR_OK also for a model
+ * with no stated domain. */
+vr_status vr_chromo_check_domain(const vr_material *m, double E_uv, double T_K, vr_error *err);
+
 /* Photochromic steady state under UV irradiance E (W/m², >= 0) at T_K
- * (kelvin, > 0). */
-vr_status vr_chromo_steady_state(const vr_material *m, double E_uv, double T_K, double *s,
-                                 vr_error *err);
+ * (kelvin, > 0), inside the fitted domain unless flags say extrapolate. */
+vr_status vr_chromo_steady_state(const vr_material *m, double E_uv, double T_K, unsigned flags,
+                                 double *s, vr_error *err);
 
 /* Photochromic state after t seconds at constant E and T from state s0:
  * s(t) = s_ss + (s0 - s_ss) exp(-(a E + b) t).  Needs a and b_ref
- * (VR_E_NOT_FOUND when the material only knows K_ref). */
-vr_status vr_chromo_state_after(const vr_material *m, double E_uv, double T_K, double s0,
-                                double t_s, double *s, vr_error *err);
+ * (VR_E_NOT_FOUND when the material only knows K_ref); the domain and
+ * flags as above. */
+vr_status vr_chromo_state_after(const vr_material *m, double E_uv, double T_K, unsigned flags,
+                                double s0, double t_s, double *s, vr_error *err);
 
 #ifdef __cplusplus
 }

@@ -100,6 +100,9 @@ typedef struct vr_annual_result {
   double state_hours[VR_ANNUAL_MAX_STATES]; /* occupied daylit hours in each rendered state
                                                (electrochromic), or nearest to it (photochromic) */
   double mean_state;         /* over the occupied daylit hours */
+  size_t extrapolated_hours; /* photochromic hours whose UV (at some texel) or
+                                temperature lay outside the glass's fitted
+                                range: evaluated as extrapolate=yes asked */
   double seconds;            /* all renders and the year's sums */
   /* Hour by hour (occupied hours, in file order): the illuminance of every
    * point, occupied_hours x npoints, lx; the weather file's line; the

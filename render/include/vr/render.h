@@ -164,6 +164,8 @@ typedef struct vr_render_result {
   size_t photochromic_texels;
   double *photochromic_state; /* per texel, in object order then v then u */
   double photochromic_state_min, photochromic_state_max;
+  size_t photochromic_extrapolated; /* texels outside the fitted UV or temperature
+                                       range, evaluated as extrapolate=yes asked */
   /* Per texel (same order): the UV irradiance (300-400 nm, W/m2, both
    * faces) the state came from, and the part of it each Tregenza patch of
    * the sky and the ground glow gave (VR_SKY_PATCHES + 1 values a texel,

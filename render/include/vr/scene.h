@@ -103,6 +103,8 @@ typedef struct vr_scene_material {
   double state;          /* chromogenic tint state in [0,1]; NAN when not given */
   double charge_mC_cm2;  /* electrochromic charge instead of a state; NAN when not given */
   double temperature_K;  /* photochromic glass temperature; NAN -> 298.15 */
+  bool extrapolate;      /* photochromic: evaluate outside the fitted UV and
+                            temperature range (extrapolate=yes) */
   char *coating_db;      /* thin-film coating (layered material) name, NULL if none */
   /* A texture that multiplies the reflectance per point (lambert
    * texture=FILE, or a model's base colour map): a file (resolved against
@@ -205,6 +207,7 @@ typedef struct vr_scene_object {
   int texels[2];                  /* photochromic state map resolution, default 16 x 16 */
   bool vertex_colours;            /* mesh: its file's vertex colours are its material's
                                      reflectance (a PLY file's own colours, see vr/models.h) */
+  bool units_given;               /* mesh: units= was written (else its file is read in m) */
   bool outside;                   /* outside=yes: an exterior surface (ground, neighbouring
                                      buildings): light it reflects to a sensor is the
                                      externally reflected component */

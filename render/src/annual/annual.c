@@ -233,9 +233,10 @@ static double between(double a, double b, double f) {
 /* The photochromic glass's mean state this hour: every texel's UV, its
  * state from the last one's (prev, NAN: none) or the steady state. */
 static vr_status pc_state(const vr_annual_hour *h, const vr_uv_set *u, const vr_material *m, double T_K,
-                          double *texel_state, bool have_prev, double *state, double *uv,
-                          vr_error *err) {
+                          unsigned flags, double *texel_state, bool have_prev, double *state, double *uv,
+                          bool *outside, vr_error *err) {
   double sum_s = 0, sum_uv = 0;
+  *outside = false;
   for (size_t t = 0; t < u->ntexels; t++) {
     double E = 0;
     if (h->daylit) {
@@ -250,11 +251,12 @@ static vr_status pc_state(const vr_annual_hour *h, const vr_uv_set *u, const vr_
     vr_status st = VR_E_NOT_FOUND;
     if (have_prev) {
       vr_error e = {0};
-      st = vr_chromo_state_after(m, E, T_K, texel_state[t], 3600 * (h->r->end_h - h->r->start_h),
-                                 &s, &e);
+      st = vr_chromo_state_after(m, E, T_K, flags, texel_state[t],
+                                 3600 * (h->r->end_h - h->r->start_h), &s, &e);
       if (st && st != VR_E_NOT_FOUND) return *err = e, st;
     }
-    if (st && (st = vr_chromo_steady_state(m, E, T_K, &s, err))) return st;
+    if (st && (st = vr_chromo_steady_state(m, E, T_K, flags, &s, err))) return st;
+    if (flags && vr_chromo_check_domain(m, E, T_K, NULL)) *outside = true;
     texel_state[t] = s;
     sum_s += s, sum_uv += E;
   }
@@ -306,7 +308,7 @@ static vr_status read_hours(const vr_scene *s, const vr_weather *w, vr_annual_re
 
 /* The year's sums: each hour's state, illuminance and the metrics. */
 static vr_status year(const vr_annual_hour *hours, const vr_dc_set *dcs, const vr_uv_set *uv,
-                      const vr_material *pc, double T_K, const char *control,
+                      const vr_material *pc, double T_K, unsigned pc_flags, const char *control,
                       vr_annual_result *res, vr_error *err) {
   const vr_scene_annual *a = &res->spec;
   size_t np = res->npoints, nh = res->occupied_hours;
@@ -336,8 +338,13 @@ static vr_status year(const vr_annual_hour *hours, const vr_dc_set *dcs, const v
        * hour just before this one. */
       bool prev = hi > 0 && hours[hi - 1].r + 1 == h->r;
       double s, e;
-      if ((st = pc_state(h, uv, pc, T_K, texel_state, prev, &s, &e, err))) goto done;
+      bool outside;
+      if ((st = pc_state(h, uv, pc, T_K, pc_flags, texel_state, prev, &s, &e, &outside, err))) {
+        vr_error_prefix(err, "annual, weather record at line %ld: ", h->r->line);
+        goto done;
+      }
       res->hourly_state[hi] = s, res->hourly_uv[hi] = e;
+      res->extrapolated_hours += outside;
       int lo = 0;
       while (lo < ns - 2 && s > a->states[lo + 1]) lo++;
       double f = (s - a->states[lo]) / (a->states[lo + 1] - a->states[lo]);
@@ -455,9 +462,17 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
   const char *control =
       res->spec.control_sensor >= 0 ? s->sensors[res->spec.control_sensor].name : NULL;
   double T_K = NAN;
-  if (res->glass_name) T_K = s->materials[res->spec.glass].temperature_K;
+  unsigned pc_flags = 0;
+  if (res->glass_name) {
+    T_K = s->materials[res->spec.glass].temperature_K;
+    if (s->materials[res->spec.glass].extrapolate) pc_flags = VR_CHROMO_EXTRAPOLATE;
+  }
   if (isnan(T_K)) T_K = 298.15;
-  st = year(hours, dcs, &uv, pc, T_K, control, res, err);
+  st = year(hours, dcs, &uv, pc, T_K, pc_flags, control, res, err);
+  if (!st && res->extrapolated_hours)
+    say(o, "annual: warning: in %zu hours the glass's UV or temperature lay outside the range "
+           "it was fitted on; its state was extrapolated as extrapolate=yes asked",
+        res->extrapolated_hours);
   res->seconds = now_s() - t0;
 done:
   for (int k = 0; k < VR_ANNUAL_MAX_STATES; k++) annual_dc_free(&dcs[k]);

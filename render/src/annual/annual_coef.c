@@ -188,8 +188,12 @@ vr_status annual_uv(vr_annual_job *j, vr_uv_set *u, vr_error *err) {
   vr_annual_variant v;
   vr_status st = make_variant(j, NAN, &v, err);
   if (st) return st;
-  /* The UV pass has its own samples; the sensors here are not used. */
+  /* The UV pass has its own samples; the sensors here are not used.  Only
+   * the UV irradiances are kept: the states these unit skies and suns
+   * would give are never used, so the glass's fitted domain does not
+   * apply to them (year() checks each hour's UV). */
   v.s.settings.sensor_samples = 1;
+  if (j->s->annual.glass >= 0) v.mats[j->s->annual.glass].extrapolate = true;
   sky_of(j->s, &v.s.sky);
   vr_render_result *r = NULL;
   size_t *idx = NULL;

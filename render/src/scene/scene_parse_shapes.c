@@ -154,7 +154,8 @@ vr_status scn_material(vr_scn_stmt *t) {
     return scn_fail(p, src, "unknown material source \"%s\" (db:NAME, lambert, pbr, black)", src);
   if (!src[3]) return scn_fail(p, src, "db: needs a material name");
   static const char *const DB[] = {"roughness", "thickness",   "model",   "state",
-                                   "charge",    "temperature", "coating", "texture", NULL};
+                                   "charge",    "temperature", "coating", "texture",
+                                   "extrapolate", NULL};
   m->source = VR_MATSRC_DB;
   if (!(m->db_name = strdup(src + 3))) return scn_nomem(p);
   if ((st = scn_options(t, 3, DB)) || (st = scn_range(t, "roughness", 0, 1, false, false, &m->roughness)) ||
@@ -211,6 +212,10 @@ vr_status scn_material(vr_scn_stmt *t) {
     if (!(m->temperature_K > 0))
       return scn_fail(p, o->word, "\"%s\": a temperature in kelvin must be positive", o->word);
   }
+  static const char *const YESNO[] = {"no", "yes", NULL};
+  int ex = -1;
+  if ((st = scn_choice(t, "extrapolate", YESNO, &ex))) return st;
+  m->extrapolate = ex == 1;
   if ((o = scn_get(t, "texture"))) {
     if (strcmp(o->val, "none"))
       return scn_fail(p, o->word,
@@ -295,13 +300,14 @@ vr_status scn_portal(vr_scn_stmt *t) {
 
 /* units=mm|cm|m|in|ft (to metres) and up=y|z (y up turned to the
  * renderer's z up: +90 degrees about x, so +y goes to +z and +z to -y). */
-static vr_status mesh_frame(vr_scn_stmt *t, vr_xform *x) {
+static vr_status mesh_frame(vr_scn_stmt *t, vr_xform *x, bool *units_given) {
   static const char *const UNITS[] = {"m", "mm", "cm", "in", "ft", NULL};
   static const char *const SCALE[] = {"1", "0.001", "0.01", "0.0254", "0.3048"};
   static const char *const UP[] = {"z", "y", NULL};
   int unit = -1, up = -1;
   vr_status st;
   if ((st = scn_choice(t, "units", UNITS, &unit)) || (st = scn_choice(t, "up", UP, &up))) return st;
+  *units_given = unit >= 0;
   if (up == 1 && (st = scn_transform(t->p, scn_get(t, "up")->word, "rotate", "1,0,0,90", x))) return st;
   if (unit > 0 && (st = scn_transform(t->p, scn_get(t, "units")->word, "scale", SCALE[unit], x)))
     return st;
@@ -393,7 +399,7 @@ vr_status scn_object(vr_scn_stmt *t, vr_shape_kind kind) {
     ob->texels[0] = (int)n[0], ob->texels[1] = (int)n[1];
   }
   /* A mesh file's units and up axis come before the transforms written. */
-  if (kind == VR_SHAPE_MESH && (st = mesh_frame(t, &ob->xform))) return st;
+  if (kind == VR_SHAPE_MESH && (st = mesh_frame(t, &ob->xform, &ob->units_given))) return st;
   for (size_t i = 0; i < t->no; i++) {
     char key[16];
     if (!scn_is_transform(t->o[i].word, t->o[i].klen)) continue;

@@ -68,6 +68,7 @@ static vr_status resolve_materials(vr_rscene *rs, vr_matdb *db, vr_error *err) {
      * study's tint states): no UV pass moves it. */
     rm->photochromic = vr_bsdf_is_photochromic(rm->bsdf) && isnan(sm->state);
     rm->temperature_K = isnan(sm->temperature_K) ? 298.15 : sm->temperature_K;
+    rm->chromo_flags = sm->extrapolate ? VR_CHROMO_EXTRAPOLATE : 0;
   }
   return VR_OK;
 }

@@ -54,6 +54,7 @@ typedef struct vr_rmaterial {
   bool photochromic;
   struct vr_material *db;  /* the database material, if any */
   double temperature_K;
+  unsigned chromo_flags; /* VR_CHROMO_EXTRAPOLATE when the scene asks for it */
 } vr_rmaterial;
 
 typedef struct vr_rscene {
