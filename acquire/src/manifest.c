@@ -201,6 +201,10 @@ static vr_capture_region *new_region(parser *p, const char *name) {
 
 static vr_status region(parser *p, char **tok, size_t n) {
   if (n < 3) return FAIL(p, tok[0], VR_E_PARSE, "'region' needs a name and rect=... or label=...");
+  for (const char *c = tok[1]; *c; c++)
+    if (isspace((unsigned char)*c))
+      return FAIL(p, tok[1], VR_E_PARSE, "region \"%s\": a region's name is one word (it names "
+                  "the material saved, which a scene's db:NAME must be able to write)", tok[1]);
   for (size_t i = 0; i < p->c->nregions; i++)
     if (!strcmp(p->c->regions[i].name, tok[1]))
       return FAIL(p, tok[1], VR_E_PARSE, "region %s is defined twice (line %ld)", tok[1],
@@ -368,21 +372,42 @@ static vr_status parse_in(const char *text, size_t len, const char *path, char *
     memcpy(line, s, n);
     line[n] = '\0';
     s = e < end ? e + 1 : end;
-    char *hash = strchr(line, '#');
-    if (hash) *hash = '\0';
     p.text = line;
     char *tok[32];
     size_t nt = 0;
-    /* Tokens are pointers into line (for columns): split in place. */
-    for (char *q = line; *q;) {
+    /* Tokens are pointers into line (for columns): split in place.  A
+     * double-quoted part keeps its spaces and '#' ("my photo.png",
+     * reference="file:a b.csv"); the quotes are dropped.  '#' outside
+     * quotes starts a comment. */
+    for (char *q = line; *q && *q != '#' && !st;) {
       while (*q && isspace((unsigned char)*q)) *q++ = '\0';
-      if (!*q) break;
+      if (!*q || *q == '#') break;
       if (nt == 32) {
         st = vr_error_at(err, VR_E_PARSE, path, p.line, 0, "more than 32 words on a line");
         break;
       }
       tok[nt++] = q;
-      while (*q && !isspace((unsigned char)*q)) q++;
+      char *w = q;
+      bool quoted = false;
+      long open_col = 0;
+      while (*q && (quoted || (!isspace((unsigned char)*q) && *q != '#'))) {
+        if (*q == '"') {
+          if (!quoted) open_col = (long)(q - line) + 1;
+          quoted = !quoted;
+          q++;
+          continue;
+        }
+        *w++ = *q++;
+      }
+      if (quoted) {
+        st = vr_error_at(err, VR_E_PARSE, path, p.line, open_col,
+                         "a double quote opened here is not closed on this line");
+        break;
+      }
+      bool comment = *q == '#';
+      if (*q) q++;
+      *w = '\0';
+      if (comment) break;
     }
     if (!st && nt) st = statement(&p, tok, nt);
   }

@@ -248,10 +248,6 @@ int rg_cmd_calibrate(int argc, char **argv) {
     vr_args_free(&a);
     return 2;
   }
-  if (!rg_db_option_ok(&a)) {
-    vr_args_free(&a);
-    return 2;
-  }
   const char *photo = a.operands[0];
   vr_calibration_options opt;
   vr_calibration_options_default(&opt);
@@ -275,7 +271,8 @@ int rg_cmd_calibrate(int argc, char **argv) {
   /* The database now only if the light is in it; otherwise not before the
    * save, so that a failed run leaves no file behind. */
   if (!strncmp(light_arg, "db:", 3) &&
-      vr_matdb_open(vr_args_get(&a, "db"), name ? 0 : VR_MATDB_READONLY, &db, &err))
+      vr_matdb_open(vr_args_get(&a, "db"), name ? 0 : VR_MATDB_READONLY | VR_MATDB_MUST_EXIST, &db,
+                    &err))
     goto out;
   if (resolve_light(light_arg, db, &light, &err)) goto out;
   if (vr_image_read(photo, &img, &err)) goto out;

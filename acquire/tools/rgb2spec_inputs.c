@@ -76,15 +76,3 @@ void rg_guard_capture(vr_out_guard *g, const vr_capture *cap, bool photos) {
     guard_file_ref(g, cap, cap->regions[i].reference_name, "a reference spectrum");
 }
 
-bool rg_db_option_ok(const vr_args *a) {
-  const char *p = vr_args_get(a, "db");
-  if (!p || *p) return true;
-  vr_error e = {0};
-  vr_matdb *db = NULL;
-  if (vr_matdb_open(p, VR_MATDB_READONLY, &db, &e) == VR_OK) {
-    vr_matdb_close(db);
-    return true;
-  }
-  fprintf(stderr, "vr-rgb2spec: --db '': %s\n", e.message);
-  return false;
-}

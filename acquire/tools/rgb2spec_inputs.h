@@ -40,9 +40,4 @@ const char *rg_encoding_hint(const vr_capture *cap, const vr_capture_photo *p, c
  * manifest reader resolves them). */
 void rg_guard_capture(vr_out_guard *g, const vr_capture *cap, bool photos);
 
-/* --db '' names no database: false after printing the material database
- * library's refusal ("vr-rgb2spec: --db '': ..."); the caller exits 2
- * before reading anything.  true otherwise. */
-bool rg_db_option_ok(const vr_args *a);
-
 #endif

@@ -254,9 +254,11 @@ vr_status rg_write_report(const char *path, const rg_run *run, vr_error *err) {
     vr_plot_destroy(p);
   }
   fprintf(o, "</body></html>\n");
-  if (!ok) {
+  /* A plot that failed to be written (a full disk) is the write's error,
+   * which the commit reports with its reason; else the plot itself failed. */
+  if (!ok && !ferror(o) && fflush(o) == 0) {
     vr_atomic_file_abort(&f);
-    return vr_error_set(err, VR_E_IO, "%s: could not draw the plots", path);
+    return vr_error_set(err, VR_E_IO, "%s: could not draw the plots (out of memory)", path);
   }
   return vr_atomic_file_commit(&f, err);
 }

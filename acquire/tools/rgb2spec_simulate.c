@@ -54,7 +54,16 @@ int rg_cmd_simulate(vr_args *a) {
     fprintf(stderr, "vr-rgb2spec: %s\n", err.message);
     return 2;
   }
-  if (!rg_db_option_ok(a)) return 2;
+  /* Noise on linear values in [0, 1]; a seed is a whole number. */
+  if (!(sigma >= 0 && sigma < 1)) {
+    fprintf(stderr, "vr-rgb2spec: --noise %g: expected a standard deviation in [0, 1) of linear "
+                    "pixel values\n", sigma);
+    return 2;
+  }
+  if (!(seed >= 0 && seed <= 4294967295.0 && seed == floor(seed))) {
+    fprintf(stderr, "vr-rgb2spec: --seed %g: expected a whole number in [0, 4294967295]\n", seed);
+    return 2;
+  }
   vr_matdb *db = NULL;
   vr_capture *cap = NULL;
   vr_camera *cam = NULL;

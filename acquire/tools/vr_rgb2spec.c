@@ -198,10 +198,6 @@ static int read_options(recover_cmd *c, vr_error *err) {
   if (vr_args_get(a, "exr-compression") &&
       vr_exr_compression_parse(vr_args_get(a, "exr-compression"), &c->popt.compression, err))
     return 1;
-  if (c->texture && !*c->texture) {
-    fprintf(stderr, "vr-rgb2spec: --texture needs a material name\n");
-    return 2;
-  }
   if (c->texture && !c->pixels) {
     vr_error_set(err, VR_E_ARG, "--texture needs --per-pixel FILE.exr");
     return 1;
@@ -216,7 +212,6 @@ static int read_options(recover_cmd *c, vr_error *err) {
     vr_error_set(err, VR_E_NOMEM, "out of memory");
     return 1;
   }
-  if (!rg_db_option_ok(a)) return 2;
   c->report = vr_args_get(a, "report");
   return 0;
 }

@@ -366,9 +366,11 @@ vr_status vr_fit_write_report(const char *path, const vr_fit_view *v, vr_error *
        vr_plot_add(p, v->nwl, v->wl, v->k, 0xd62728, false, "k") && vr_plot_write_svg(p, f, 720, 320);
   vr_plot_destroy(p);
   fputs("\n</body></html>\n", f);
-  if (!ok) {
+  /* A plot that failed to be written (a full disk) is the write's error,
+   * which the commit reports with its reason; else the plot itself failed. */
+  if (!ok && !ferror(f) && fflush(f) == 0) {
     vr_atomic_file_abort(&af);
-    return vr_error_set(err, VR_E_IO, "%s: could not draw the plots", path);
+    return vr_error_set(err, VR_E_IO, "%s: could not draw the plots (out of memory)", path);
   }
   return vr_atomic_file_commit(&af, err);
 }

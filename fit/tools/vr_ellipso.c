@@ -8,6 +8,7 @@
 #include "vr/file.h"
 #include "vr/matdb.h"
 #include "vr/out_guard.h"
+#include "vr/spectrum.h"
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -64,21 +65,6 @@ static int fail(const vr_error *e) {
 
 static vr_status open_db(const vr_args *a, int flags, vr_matdb **db, vr_error *err) {
   return vr_matdb_open(vr_args_get(a, "db"), flags, db, err);
-}
-
-/* --db '' names no database: refused as the library refuses it, before
- * anything is read (a usage error, exit 2). */
-static int db_option_ok(const vr_args *a) {
-  const char *p = vr_args_get(a, "db");
-  if (!p || *p) return 1;
-  vr_error e = {0};
-  vr_matdb *db = NULL;
-  if (vr_matdb_open(p, VR_MATDB_READONLY, &db, &e) == VR_OK) {
-    vr_matdb_close(db);
-    return 1;
-  }
-  fprintf(stderr, "vr-ellipso: --db '': %s\n", e.message);
-  return 0;
 }
 
 /* The tabulated materials a model file reads (file:PATH, relative to the
@@ -150,10 +136,6 @@ static int cmd_fit(vr_args *a) {
     rc = 2;
     goto out;
   }
-  if (!db_option_ok(a)) {
-    rc = 2;
-    goto out;
-  }
   /* Outputs are checked before any work: the report must not replace a
    * file this run reads (its data, model, the model's tables, the
    * database). */
@@ -182,7 +164,10 @@ static int cmd_fit(vr_args *a) {
   vr_fit_options opt = vr_fit_default_options();
   opt.global_search = !vr_args_flag(a, "no-global");
   opt.fit_depolarisation = !vr_args_flag(a, "no-depolarisation");
-  if ((save || (model_path && vr_matdb_named_in(model_path))) && open_db(a, 0, &db, &err)) goto out;
+  /* Only a run that saves may create the --db it names. */
+  if ((save || (model_path && vr_matdb_named_in(model_path))) &&
+      open_db(a, save ? 0 : VR_MATDB_MUST_EXIST, &db, &err))
+    goto out;
   /* A save that cannot happen is said now, not after the fit. */
   if (save && vr_matdb_require_writable(db, &err)) goto out;
   if (model_path) {
@@ -239,6 +224,8 @@ out:
   return rc;
 }
 
+#define SIM_MAX_WAVELENGTHS 100000
+
 static int cmd_simulate(vr_args *a) {
   vr_error err = {0};
   const char *model_path = vr_args_get(a, "model"), *angles = vr_args_get(a, "angles"),
@@ -257,8 +244,22 @@ static int cmd_simulate(vr_args *a) {
     fprintf(stderr, "vr-ellipso: --angles '%s': expected numbers separated by commas\n", angles);
     return 2;
   }
+  for (size_t j = 0; j < na; j++)
+    if (!(ang[j] > 0 && ang[j] < 90)) {
+      fprintf(stderr, "vr-ellipso: --angles '%s': %g deg is not an angle of incidence in (0, 90)\n",
+              angles, ang[j]);
+      return 2;
+    }
   if (vr_parse_doubles(wbuf, w, 3, &nw) || nw != 3 || !(w[2] > 0) || !(w[1] >= w[0]) || !(w[0] > 0)) {
     fprintf(stderr, "vr-ellipso: --wavelengths '%s': expected FROM:TO:STEP in nm with STEP > 0\n", wls);
+    return 2;
+  }
+  /* An instrument's range and count: what a spectroscopic ellipsometer
+   * measures (190 nm - 25 um, a few thousand wavelengths), with room. */
+  if (w[0] < VR_WL_MIN_NM || w[1] > VR_WL_MAX_NM || (w[1] - w[0]) / w[2] + 1 > SIM_MAX_WAVELENGTHS) {
+    fprintf(stderr, "vr-ellipso: --wavelengths '%s': %.0f wavelengths from %g to %g nm; simulate "
+                    "takes at most %d in %g nm - %g um\n", wls, floor((w[1] - w[0]) / w[2]) + 1,
+            w[0], w[1], SIM_MAX_WAVELENGTHS, VR_WL_MIN_NM, VR_WL_MAX_NM / 1000);
     return 2;
   }
   if (noise && (vr_parse_doubles(noise, sig, 2, &ns) || ns != 2 || sig[0] < 0 || sig[1] < 0)) {
@@ -266,10 +267,13 @@ static int cmd_simulate(vr_args *a) {
     return 2;
   }
   if (vr_args_double(a, "seed", 1, &seed, &err)) return fail(&err);
-  if (!db_option_ok(a)) return 2;
+  if (!(seed >= 0 && seed <= 4294967295.0 && seed == floor(seed))) {
+    fprintf(stderr, "vr-ellipso: --seed %g: expected a whole number in [0, 4294967295]\n", seed);
+    return 2;
+  }
   vr_matdb *db = NULL;
   vr_sample_model *m = NULL;
-  if (vr_matdb_named_in(model_path) && open_db(a, 0, &db, &err)) return fail(&err);
+  if (vr_matdb_named_in(model_path) && open_db(a, VR_MATDB_MUST_EXIST, &db, &err)) return fail(&err);
   int rc = 1;
   if (vr_model_read(model_path, db, &m, &err)) goto out;
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);

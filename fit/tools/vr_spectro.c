@@ -175,7 +175,9 @@ static vr_status guard_outputs(const vr_args *a, vr_error *err) {
 
 vr_status spectro_db(const vr_args *a, vr_matdb **db, vr_error *err) {
   if (*db) return VR_OK;
-  return vr_matdb_open(vr_args_get(a, "db"), 0, db, err);
+  /* Only a run that saves may create the --db it names. */
+  int flags = vr_args_get(a, "save") ? 0 : VR_MATDB_MUST_EXIST;
+  return vr_matdb_open(vr_args_get(a, "db"), flags, db, err);
 }
 
 vr_status spectro_thickness(const vr_args *a, double *nm, vr_error *err) {

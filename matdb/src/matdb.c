@@ -50,8 +50,36 @@ static const char *SCHEMA_V1[] = {
  * is an empty file. */
 static const char **const MIGRATIONS[VR_MATDB_SCHEMA_VERSION] = {SCHEMA_V1};
 
+/* How long a writer waits for another's lock before giving up. */
+#define BUSY_TIMEOUT_MS 15000
+
+/* What a user can do about the last failure of h, or "". */
+static const char *sql_hint(sqlite3 *h, char *buf, size_t cap) {
+  if (!h) return "";
+  int code = sqlite3_extended_errcode(h) & 0xff, sys = sqlite3_system_errno(h);
+  if (code == SQLITE_BUSY || code == SQLITE_LOCKED) {
+    snprintf(buf, cap,
+             " (another process held the database for %d s: an import or save still running, "
+             "or an open sqlite3 shell in a transaction; let it finish or close it, then run "
+             "again; nothing was written)", BUSY_TIMEOUT_MS / 1000);
+    return buf;
+  }
+  if (code == SQLITE_FULL || sys == ENOSPC)
+    return " (the disk holding it is full: free some space and run again; nothing was written)";
+  if (sys == EDQUOT) return " (your disk quota is used up: free some space and run again; nothing was written)";
+  if (code == SQLITE_READONLY || sys == EROFS)
+    return " (the file or its file system is read-only; nothing was written)";
+  return "";
+}
+
+vr_status vr_matdb_sql_error(vr_matdb *db, vr_error *err, const char *what) {
+  char buf[256];
+  return vr_error_set(err, VR_E_DB, "%s: %s: %s%s", db->path, what, sqlite3_errmsg(db->db),
+                      sql_hint(db->db, buf, sizeof buf));
+}
+
 static vr_status sql_error(vr_matdb *db, vr_error *err, const char *what) {
-  return vr_error_set(err, VR_E_DB, "%s: %s: %s", db->path, what, sqlite3_errmsg(db->db));
+  return vr_matdb_sql_error(db, err, what);
 }
 
 static int exec(vr_matdb *db, const char *sql) { return sqlite3_exec(db->db, sql, NULL, NULL, NULL); }
@@ -168,7 +196,7 @@ static int identify(vr_matdb *db, identity *id) {
 static int open_handle(vr_matdb *db, const char *name, int oflags) {
   int rc = sqlite3_open_v2(name, &db->db, oflags | SQLITE_OPEN_NOMUTEX, NULL);
   if (db->db) {
-    sqlite3_busy_timeout(db->db, 15000);
+    sqlite3_busy_timeout(db->db, BUSY_TIMEOUT_MS);
     sqlite3_extended_result_codes(db->db, 1);
   }
   return rc;
@@ -220,9 +248,11 @@ static vr_status open_reader(vr_matdb *db, bool folder_writable, bool wal_mode, 
   *sqlite_rc = rc;
   if (base == SQLITE_NOTADB || base == SQLITE_CORRUPT)
     return refuse(db, err, "not a SQLite database (corrupted, or some other kind of file); left untouched");
+  char hint[256];
   if (rc != SQLITE_OK)
-    return vr_error_set(err, VR_E_DB, "%s: cannot read the file: %s", db->path,
-                        db->db ? sqlite3_errmsg(db->db) : "out of memory");
+    return vr_error_set(err, VR_E_DB, "%s: cannot read the file: %s%s", db->path,
+                        db->db ? sqlite3_errmsg(db->db) : "out of memory",
+                        sql_hint(db->db, hint, sizeof hint));
   return VR_OK;
 }
 
@@ -230,9 +260,11 @@ static vr_status open_reader(vr_matdb *db, bool folder_writable, bool wal_mode, 
  * brings the schema up to date.  Only called once the file is known to be
  * new, empty or a material database. */
 static vr_status open_writer(vr_matdb *db, vr_error *err) {
+  char hint[256];
   if (open_handle(db, db->path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE) != SQLITE_OK)
-    return vr_error_set(err, VR_E_DB, "%s: cannot open: %s", db->path,
-                        db->db ? sqlite3_errmsg(db->db) : "out of memory");
+    return vr_error_set(err, VR_E_DB, "%s: cannot open: %s%s", db->path,
+                        db->db ? sqlite3_errmsg(db->db) : "out of memory",
+                        sql_hint(db->db, hint, sizeof hint));
   identity id = {0};
   int rc = identify(db, &id);
   if ((rc & 0xff) == SQLITE_NOTADB || (rc & 0xff) == SQLITE_CORRUPT)
@@ -257,11 +289,16 @@ static int app_id_of(const unsigned char head[100]) {
 
 vr_status vr_matdb_open(const char *path, int flags, vr_matdb **out, vr_error *err) {
   *out = NULL;
+  bool explicit_path = path != NULL;
   if (!path) path = vr_matdb_default_path();
   if (!*path)
     return vr_error_set(err, VR_E_ARG,
                         "the material database path is empty: give --db a file name (without "
                         "--db: $VR_MATDB, else ./materials.db)");
+  if ((flags & VR_MATDB_MUST_EXIST) && explicit_path && access(path, F_OK) != 0 && errno == ENOENT)
+    return vr_error_set(err, VR_E_NOT_FOUND,
+                        "--db %s: no such material database (a mistyped path? 'vr-matdb --db %s "
+                        "init' creates one with the built-in library)", path, path);
   vr_matdb *db = calloc(1, sizeof *db);
   if (!db || !(db->path = strdup(path))) {
     free(db);
@@ -354,8 +391,12 @@ vr_status vr_matdb_open(const char *path, int flags, vr_matdb **out, vr_error *e
       st = vr_error_set(err, VR_E_DB, "%s: an empty SQLite file, not a material database (%s)", path,
                         db->ro_reason);
     else
-      st = vr_error_set(err, VR_E_DB, "%s: schema %d, this build reads %d: open it read-write once to "
-                        "migrate (%s)", path, id.version, VR_MATDB_SCHEMA_VERSION, db->ro_reason);
+      st = vr_error_set(err, VR_E_DB,
+                        "%s: schema %d, this build reads %d: it must be migrated, which writes it, "
+                        "and it cannot be written here (%s): make the file and its folder writable "
+                        "and run 'vr-matdb --db %s init' (it migrates), or copy it to a writable folder and give "
+                        "the copy as --db", path, id.version, VR_MATDB_SCHEMA_VERSION, db->ro_reason,
+                        path);
     goto finish;
   }
   if (db->ro_reason[0]) {

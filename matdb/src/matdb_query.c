@@ -9,7 +9,7 @@
 #include <string.h>
 
 static vr_status sql_error(vr_matdb *db, vr_error *err, const char *what) {
-  return vr_error_set(err, VR_E_DB, "%s: %s: %s", db->path, what, sqlite3_errmsg(db->db));
+  return vr_matdb_sql_error(db, err, what);
 }
 
 static const char *col_text(sqlite3_stmt *s, int i) { return (const char *)sqlite3_column_text(s, i); }

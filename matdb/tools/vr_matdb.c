@@ -337,6 +337,8 @@ int main(int argc, char **argv) {
   int flags = writes ? 0 : VR_MATDB_READONLY;
   struct stat sb;
   if (!writes && *db_path && (stat(db_path, &sb) != 0 || sb.st_size == 0)) flags = 0;
+  /* A reader never creates the database a --db names (a mistyped path). */
+  if (!writes) flags |= VR_MATDB_MUST_EXIST;
   if (vr_matdb_open(path, flags, &c.db, &c.err)) {
     rc = fail(&c);
     vr_args_free(&a);

@@ -168,6 +168,9 @@ static vr_status describe(vr_run *r, int S, double t0, vr_error *err) {
              rs->s->nobjects, (unsigned long long)rs->t->ntris,
              (unsigned long long)rs->t->nspheres, rs->L.n, rs->L.has_sky ? " + sky" : "", S,
              S == 1 ? "" : "s");
+  if (rs->L.n == 0 && rs->L.nemitters == 0 && !rs->L.has_sky)
+    vr_run_say(r, "warning: the scene has no light (no light line, no object with emission=, "
+               "no sky): every pixel and reading will be 0");
   /* Where the geometry is, to place a camera in a model of unknown units. */
   vr_run_say(r, "scene: bounds x %.4g to %.4g, y %.4g to %.4g, z %.4g to %.4g (m, %.4g x %.4g x %.4g)",
              rs->t->bmin[0], rs->t->bmax[0], rs->t->bmin[1], rs->t->bmax[1], rs->t->bmin[2],

@@ -28,9 +28,6 @@ int render_outputs_parse(const vr_args *a, unsigned *out) {
   const char *list = vr_args_get(a, "outputs");
   bool sensors_only = vr_args_flag(a, "sensors-only");
   if (!list) return 0;
-  if (!*list)
-    return render_usage_error("--outputs '': the list is empty (name one or more of exr, "
-                              "spectral, png, sensors)");
   for (const char *at = list;; at++) {
     size_t n = strcspn(at, ",");
     if (n == 0)

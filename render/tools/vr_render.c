@@ -20,6 +20,7 @@
 #include "vr/annual.h"
 #include "vr/args.h"
 #include "vr/comm.h"
+#include "vr/domains.h"
 #include "vr/file.h"
 #include "vr/sha256.h"
 #include "vr/film.h"
@@ -34,7 +35,7 @@
 static const vr_option OPTIONS[] = {
     {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv (those that apply, or those of --outputs) and .manifest.json (default PREFIX: the scene's name without .scn, here); checked before any work"},
     {"outputs", 0, "LIST", "which files to write: a comma-separated subset of exr, spectral, png, sensors (default: all that apply); the manifest is always written and lists them. Without png (and --falsecolour), OpenCV is never loaded"},
-    {"db", 'd', "FILE", "material database, read-only (default: $VR_MATDB, else ./materials.db; made if missing and needed)"},
+    {"db", 'd', "FILE", "material database, read-only; must exist (default: $VR_MATDB, else ./materials.db, made if missing and needed)"},
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
     {"memory-budget", 0, "SIZE", "add at most SIZE (e.g. 512M, 2G) to the process's memory: sub-domains, ray queues, maps and the film, with the resident memory watched (16 MiB allowed beyond); sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
     {"cache", 0, "DIR", "geometry cache folder (default: SCENE.vrcache beside the scene; a temporary one if that folder cannot be written)"},
@@ -218,21 +219,43 @@ static bool scene_needs_db(const vr_scene *s) {
   return s->sky.present && from_db(s->sky.spectrum);
 }
 
-/* Read-only when the file exists.  When it does not: created and seeded
+/* Read-only when the file exists.  When it does not: a scene that takes
+ * nothing from the database renders without one; else a --db FILE that is
+ * not there is refused (a mistyped path must not become a new database);
+ * the default one ($VR_MATDB, else ./materials.db) is created and seeded
  * with the built-in library if the scene needs it (as on any tool's first
- * use), else no database at all, so that a run leaves no stray file. */
-static vr_status open_db(const char *path, const vr_scene *s, ui *u, vr_matdb **db, vr_error *err) {
+ * use; *created says so, and a run that then fails removes it), else there
+ * is no database at all, so that a run leaves no stray file. */
+static vr_status open_db(const char *given, const vr_scene *s, ui *u, vr_matdb **db, bool *created,
+                         vr_error *err) {
   *db = NULL;
-  const char *p = path ? path : vr_matdb_default_path();
+  *created = false;
+  const char *p = given ? given : vr_matdb_default_path();
   if (access(p, F_OK) == 0) return vr_matdb_open(p, VR_MATDB_READONLY, db, err);
   if (!scene_needs_db(s)) return VR_OK;
+  if (given)
+    return vr_error_set(err, VR_E_NOT_FOUND,
+                        "--db %s: no such material database (a mistyped path? 'vr-matdb --db %s "
+                        "init' creates one with the built-in library)", p, p);
   vr_status st = vr_matdb_open(p, 0, db, err);
   if (!st) {
+    *created = true;
     char line[4200];
     snprintf(line, sizeof line, "created the material database %s with the built-in library", p);
     ui_log(u, line);
   }
   return st;
+}
+
+/* A database this run created, removed when the run failed: nothing of a
+ * failed run stays behind. */
+static void remove_created_db(const char *p) {
+  static const char *const SUFFIX[] = {"", "-wal", "-shm", "-journal"};
+  char buf[4200];
+  for (size_t i = 0; i < sizeof SUFFIX / sizeof SUFFIX[0]; i++) {
+    snprintf(buf, sizeof buf, "%s%s", p, SUFFIX[i]);
+    unlink(buf);
+  }
 }
 
 /* What a Perez sky made of its irradiances, and any limit of the model's
@@ -361,11 +384,12 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   vr_render_options opt;
   vr_render_options_default(&opt);
   long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-  long subdomains = 1, threads = cpus > 0 ? cpus : 1, spp = 0, photons = 0, batch = 256, credit = 0;
-  if (!int_option(a, "subdomains", 1, 1000000, &subdomains) ||
+  long subdomains = 1, spp = 0, photons = 0, batch = 256, credit = 0;
+  long threads = cpus > 0 ? (cpus < VR_MAX_THREADS ? cpus : VR_MAX_THREADS) : 1;
+  if (!int_option(a, "subdomains", 1, VR_MAX_SUBDOMAINS, &subdomains) ||
       !int_option(a, "send-batch", 1, 1 << 20, &batch) ||
       !int_option(a, "send-credit", 1, 1 << 24, &credit) ||
-      !int_option(a, "threads", 1, 4096, &threads) || !int_option(a, "spp", 1, 1L << 20, &spp) ||
+      !int_option(a, "threads", 1, VR_MAX_THREADS, &threads) || !int_option(a, "spp", 1, 1L << 20, &spp) ||
       !int_option(a, "photons", 1, 1000000000000L, &photons))
     return 2;
   size_t budget = 0;
@@ -400,7 +424,6 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
       return render_usage_error("--falsecolour '%s': expected LO,HI in cd/m2 with 0 < LO < HI", fc);
   }
   const char *given = vr_args_get(a, "output");
-  if (given && !*given) return render_usage_error("-o '': expected a prefix such as out/room");
   unsigned asked = 0, outputs = 0;
   if (render_outputs_parse(a, &asked)) return 2;
   bool json = vr_args_flag(a, "json");
@@ -433,7 +456,7 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   char run_id[VR_FILM_RUN_ID_MAX];
   vr_film_run_id(run_id);
   int rc = 1;
-  bool agreed = false;
+  bool agreed = false, db_created = false;
   const char *cache = vr_args_get(a, "cache");
   if (!(prefix = given ? strdup(given) : default_prefix(path))) {
     vr_error_set(&err, VR_E_NOMEM, "out of memory");
@@ -461,17 +484,13 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
     render_clean_stale(prefix, stats, ui_log, &u);
   }
   if (rank == 0) log_perez(&u, scene);
-  if (cache && !*cache) {
-    vr_error_set(&err, VR_E_ARG, "--cache '': expected a folder");
-    goto ready;
-  }
   if (!cache) {
     char why[4400];
     cache = cache_dir = default_cache(path, why, sizeof why);
     if (!cache) ui_log(&u, why);
   }
   opt.cache_dir = cache;
-  if (!open_db(vr_args_get(a, "db"), scene, &u, &db, &err))
+  if (!open_db(vr_args_get(a, "db"), scene, &u, &db, &db_created, &err))
     render_overrides_check_db(&ov, scene, db, &err);
 ready:
   /* Every rank ready, or every rank told why not. */
@@ -511,6 +530,10 @@ out:
   if (r) vr_render_result_destroy(r);
   render_outputs_free(&outs);
   vr_matdb_close(db);
+  if (rc && db_created) {
+    remove_created_db(db_path);
+    ui_log(&u, "removed the material database this failed run had created");
+  }
   vr_scene_destroy(scene);
   free(prefix);
   free(cache_dir);

@@ -173,8 +173,12 @@ check "the copies are in WAL and rollback mode (SQLite header byte 18: 2 and 1)"
   test "$(od -An -tu1 -j18 -N1 "$ro/wal/m.db" | tr -d ' ')" = 2 -a \
        "$(od -An -tu1 -j18 -N1 "$ro/rollback/m.db" | tr -d ' ')" = 1
 "$bin" --db "$ro/wal/m.db" export CLEAR_3 --csv -o "$tmp/clear_ref.csv"
+# An older schema (a material database's application id, user_version 0
+# and no tables yet): it must be migrated, which writes it.
+python3 -c 'import sqlite3, sys; c = sqlite3.connect(sys.argv[1]); c.execute("PRAGMA application_id = 1448232013"); c.close()' "$ro/wal/old.db"
 chmod 755 "$tmp"; chmod 777 "$tmp/ro_out"
 chmod 444 "$ro"/*/m.db; chmod 555 "$ro/wal" "$ro/rollback"
+chmod 444 "$ro/wal/old.db"
 asuser=()
 if unshare -U true 2> /dev/null; then asuser=(unshare -U)
 elif [ "$(id -u)" -eq 0 ]; then asuser=(skip)
@@ -233,7 +237,14 @@ EOF
     fi
     check "$mode, read-only: still nothing changed after the other tools" test "$(sha256sum "$d/m.db"; ls -a "$d")" = "$before"
   done
-  refuse matdb-create-readonly-folder "${asuser[@]}" "$bin" --db "$ro/wal/new.db" list
+  refuse matdb-create-readonly-folder "${asuser[@]}" "$bin" --db "$ro/wal/new.db" init
+  refuse matdb-migrate-readonly "${asuser[@]}" "$bin" --db "$ro/wal/old.db" list
+  # The advice works: a copy in a writable folder, migrated by init.
+  cp "$ro/wal/old.db" "$tmp/ro_out/old.db"; chmod 666 "$tmp/ro_out/old.db"
+  "${asuser[@]}" "$bin" --db "$tmp/ro_out/old.db" init > /dev/null 2>&1; rc=$?
+  "${asuser[@]}" "$bin" --db "$tmp/ro_out/old.db" list > /dev/null 2> "$tmp/old_err"
+  check "... and its advice works: a writable copy is migrated by init" \
+    bash -c '[ "$1" = 0 ] && grep -q "^78 materials" "$2"' _ "$rc" "$tmp/old_err"
 fi
 chmod 755 "$ro/wal" "$ro/rollback"
 

@@ -246,7 +246,7 @@ if [ ! -w "$tmp/ro" ]; then
 fi
 chmod 755 "$tmp/ro"
 "$bin" "$tmp/point.scn" --cache '' > /dev/null 2> "$tmp/err"; rc=$?
-check "--cache '' is refused" test $rc -eq 1
+check "--cache '' is refused as a usage error" bash -c '[ "$1" = 2 ] && grep -q "the value is empty" "$2"' _ "$rc" "$tmp/err"
 
 # A year of weather: the annual study writes its two tables and prints sDA
 # and ASE (the metrics themselves are tested in tests/render/test_annual.c).

@@ -105,6 +105,12 @@ static void arguments(void **state) {
   assert_int_equal(vr_args_double(&a, "angle", 0, &v, &err), VR_E_ARG);
   assert_string_equal(err.message, "option --angle: 'abc' is not a finite number");
   vr_args_free(&a);
+  /* An empty value is a usage error for every option (issue 35, class 6:
+   * --db '' had exited 1 in some tools after doing the work). */
+  char *argv6[] = {"t", "--db", "", NULL};
+  assert_int_equal(vr_args_parse(&a, "t", "FILE", "", OPTS, 3, 3, argv6), VR_ARGS_EXIT_USAGE);
+  char *argv7[] = {"t", "--angle=", NULL};
+  assert_int_equal(vr_args_parse(&a, "t", "FILE", "", OPTS, 3, 2, argv7), VR_ARGS_EXIT_USAGE);
 }
 
 static void sha256_fips_vectors(void **state) {

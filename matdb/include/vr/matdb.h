@@ -26,7 +26,14 @@ extern "C" {
 
 typedef struct vr_matdb vr_matdb;
 
-enum { VR_MATDB_READONLY = 1 };
+enum {
+  VR_MATDB_READONLY = 1,
+  /* For commands that only read: an explicit path (not NULL) that names no
+   * file is refused (VR_E_NOT_FOUND, with how to create one) instead of
+   * becoming a new database, so a mistyped --db leaves nothing behind.
+   * The default path (NULL) is still created on first use. */
+  VR_MATDB_MUST_EXIST = 2
+};
 
 /* path NULL: $VR_MATDB or "materials.db" ($VR_MATDB set but empty counts as
  * unset); path "" is refused (VR_E_ARG).  A missing or empty (0-byte, or

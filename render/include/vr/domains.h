@@ -50,6 +50,11 @@
 extern "C" {
 #endif
 
+/* The most sub-domains a geometry is cut into, and worker threads a
+ * process runs (the command line checks them before any work). */
+#define VR_MAX_SUBDOMAINS 4096
+#define VR_MAX_THREADS 1024
+
 typedef struct vr_domains vr_domains;
 
 typedef struct vr_hit {

@@ -312,8 +312,9 @@ vr_status vr_domains_open(const vr_scene *scene, const vr_domains_options *o, vr
                           vr_error *err) {
   *out = NULL;
   if (!scene || !o) return vr_error_set(err, VR_E_ARG, "vr_domains_open: NULL argument");
-  if (o->subdomains < 1 || o->subdomains > 4096)
-    return vr_error_set(err, VR_E_ARG, "sub-domains: S = %d, expected 1 to 4096", o->subdomains);
+  if (o->subdomains < 1 || o->subdomains > VR_MAX_SUBDOMAINS)
+    return vr_error_set(err, VR_E_ARG, "sub-domains: S = %d, expected 1 to %d", o->subdomains,
+                        VR_MAX_SUBDOMAINS);
   uint8_t key[32];
   vr_status st = vr_cache_key_scene(scene, o->subdomains, key, err);
   if (st) return st;
@@ -330,8 +331,8 @@ vr_status vr_domains_open(const vr_scene *scene, const vr_domains_options *o, vr
 
 vr_status vr_domains_build(const vr_geometry *g, int S, vr_domains **out, vr_error *err) {
   *out = NULL;
-  if (S < 1 || S > 4096)
-    return vr_error_set(err, VR_E_ARG, "sub-domains: S = %d, expected 1 to 4096", S);
+  if (S < 1 || S > VR_MAX_SUBDOMAINS)
+    return vr_error_set(err, VR_E_ARG, "sub-domains: S = %d, expected 1 to %d", S, VR_MAX_SUBDOMAINS);
   uint8_t key[32];
   vr_cache_key_geometry(g, S, key);
   vr_domains_options o;

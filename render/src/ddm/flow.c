@@ -455,8 +455,8 @@ static vr_status run(vr_domains *d, const vr_flow_ops *ops, void *ctx, long unit
                      const vr_flow_options *o, bool image_space, vr_flow_stats *stats,
                      vr_error *err) {
   int threads = o->threads;
-  if (threads < 1 || threads > 1024)
-    return vr_error_set(err, VR_E_ARG, "threads = %d, expected 1 to 1024", threads);
+  if (threads < 1 || threads > VR_MAX_THREADS)
+    return vr_error_set(err, VR_E_ARG, "threads = %d, expected 1 to %d", threads, VR_MAX_THREADS);
   flow f = {.d = d, .ops = ops, .ctx = ctx, .all_units = units, .image_space = image_space,
             .progress = o->progress, .pctx = o->pctx, .threads = threads, .batch = BATCH,
             .budget = o->memory_budget, .spill_dir = o->spill_dir, .held = o->held,

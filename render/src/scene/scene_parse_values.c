@@ -194,6 +194,25 @@ static const struct {
              {"W/sr", VR_UNIT_W_SR}, {"lx", VR_UNIT_LX},      {"W/m2", VR_UNIT_W_M2},
              {"cd/m2", VR_UNIT_CD_M2}, {"W/m2/sr", VR_UNIT_W_M2_SR}};
 
+/* The largest value a scene may give in each unit: 1000 times the
+ * brightest source of its kind, so that a unit slip (1e300 lm, a
+ * luminance given as a flux) is refused before any work instead of
+ * overflowing the film. */
+static const struct {
+  vr_light_unit unit;
+  double max;
+  const char *why;
+} LIMITS[] = {
+    {VR_UNIT_CD_M2, 1.6e12, "1000 times the sun's disk, 1.6e9 cd/m2"},
+    {VR_UNIT_W_M2_SR, 2e10, "1000 times the sun's disk, about 2e7 W/(m2 sr)"},
+    {VR_UNIT_LX, 1.3e8, "1000 times direct sunlight, 1.3e5 lx"},
+    {VR_UNIT_W_M2, 1.4e6, "1000 times the solar constant, 1361 W/m2"},
+    {VR_UNIT_LM, 2e9, "1000 times a 20 kW xenon arc lamp, about 2e6 lm"},
+    {VR_UNIT_W, 2e7, "1000 times a 20 kW lamp"},
+    {VR_UNIT_CD, 1e12, "1000 times a searchlight, about 1e9 cd"},
+    {VR_UNIT_W_SR, 1e10, "1000 times a searchlight's intensity"},
+};
+
 static const char *unit_name(vr_light_unit u) {
   for (size_t i = 0; i < sizeof UNITS / sizeof UNITS[0]; i++)
     if (UNITS[i].unit == u) return UNITS[i].name;
@@ -234,6 +253,11 @@ vr_status scn_quantity(const vr_scn_parser *p, const char *word, const char *v,
     if (!fits) return scn_fail(p, word, "\"%s\": %s is in %s, not %s", word, what, list, u);
   }
   if (x < 0) return scn_fail(p, word, "\"%s\": %s must not be negative", word, what);
+  for (size_t i = 0; i < sizeof LIMITS / sizeof LIMITS[0]; i++)
+    if (LIMITS[i].unit == unit && x > LIMITS[i].max)
+      return scn_fail(p, word, "\"%s\": %g %s is beyond any light source (at most %g %s, %s): "
+                      "a unit slip?", word, x, unit_name(unit), LIMITS[i].max, unit_name(unit),
+                      LIMITS[i].why);
   out->value = x;
   out->unit = unit;
   return VR_OK;
