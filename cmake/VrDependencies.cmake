@@ -74,16 +74,17 @@ if(NOT assimp_FOUND)
   vr_missing("Assimp" libassimp-dev)
 endif()
 
-# Open MPI (several machines).  Optional: without it vr-render runs in one
-# process (VR_MPI=OFF builds without it even when it is there).  The
-# project's own set-up installs it so that the MPI path is always tested.
+# Open MPI (several machines).  Required unless -DVR_MPI=OFF asks for the
+# one-process configuration (a build of its own, as scripts/test.sh's
+# no-MPI stage): a missing package never turns MPI off quietly, so a build
+# that was meant to run on several ranks is never tested without them.
 option(VR_MPI "Build vr-render with MPI (sub-domains on several ranks)" ON)
 if(VR_MPI)
   find_package(MPI QUIET COMPONENTS C)
   if(NOT MPI_C_FOUND)
-    message(WARNING "MPI not found: vr-render is built for one process only "
-                    "(apt-get install libopenmpi-dev openmpi-bin for several ranks)")
-    set(VR_MPI OFF)
+    message(FATAL_ERROR "MPI not found (apt-get install libopenmpi-dev openmpi-bin, as "
+                        "scripts/install-deps.sh does), or configure with -DVR_MPI=OFF for a "
+                        "vr-render that runs in one process only")
   endif()
 endif()
 

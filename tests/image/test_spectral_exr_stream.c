@@ -569,7 +569,16 @@ static vr_status fill_edges(void *user, int thread, int y0, int y1, float *spect
  * whole block) over 19 pixels (2 blocks and a tail of 3), 3 lines. */
 static void planar_conversion_matches_imath(void **state) {
   (void)state;
-  if (!vr_half_available()) skip();
+  if (!vr_half_available()) {
+#if defined(__x86_64__) || defined(__i386__)
+    /* The fast path is built here: a CPU without F16C cannot test it, and
+     * that is a failure, not a skip (README: the tests need an x86-64 CPU
+     * with F16C, as every one since 2013 has). */
+    fail_msg("this x86 CPU has no F16C: the half conversion's fast path cannot be tested");
+#else
+    skip(); /* not built on this architecture: OpenEXR converts */
+#endif
+  }
   const size_t lines = 3, width = 19, nbs[2] = {31, 8};
   const size_t nv = sizeof edge_values / sizeof edge_values[0];
   for (int t = 0; t < 2; t++) {
