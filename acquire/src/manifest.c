@@ -202,9 +202,10 @@ static vr_capture_region *new_region(parser *p, const char *name) {
 static vr_status region(parser *p, char **tok, size_t n) {
   if (n < 3) return FAIL(p, tok[0], VR_E_PARSE, "'region' needs a name and rect=... or label=...");
   for (const char *c = tok[1]; *c; c++)
-    if (isspace((unsigned char)*c))
-      return FAIL(p, tok[1], VR_E_PARSE, "region \"%s\": a region's name is one word (it names "
-                  "the material saved, which a scene's db:NAME must be able to write)", tok[1]);
+    if (isspace((unsigned char)*c) || strchr("#=\"", *c))
+      return FAIL(p, tok[1], VR_E_PARSE, "region \"%s\": a region's name is one word without '#', '=' "
+                  "or '\"' (it names the material saved, which a scene's db:NAME must be able to "
+                  "write)", tok[1]);
   for (size_t i = 0; i < p->c->nregions; i++)
     if (!strcmp(p->c->regions[i].name, tok[1]))
       return FAIL(p, tok[1], VR_E_PARSE, "region %s is defined twice (line %ld)", tok[1],
@@ -407,6 +408,11 @@ static vr_status parse_in(const char *text, size_t len, const char *path, char *
       bool comment = *q == '#';
       if (*q) q++;
       *w = '\0';
+      if (!*tok[nt - 1]) {
+        st = vr_error_at(err, VR_E_PARSE, path, p.line, (long)(tok[nt - 1] - line) + 1,
+                         "an empty \"\" names nothing");
+        break;
+      }
       if (comment) break;
     }
     if (!st && nt) st = statement(&p, tok, nt);

@@ -253,6 +253,8 @@ int rg_cmd_calibrate(int argc, char **argv) {
   vr_calibration_options_default(&opt);
   double grid[1024];
   size_t n = 0;
+  /* Wrong option values are usage errors (exit 2), found before any file. */
+  rc = 2;
   if (vr_args_double(&a, "clip", opt.clip, &opt.clip, &err)) goto out;
   if (tone_arg && vr_tone_parse(tone_arg, true, &opt.tone, &opt.gamma, &err)) goto out;
   if (grid_arg) {
@@ -264,10 +266,7 @@ int rg_cmd_calibrate(int argc, char **argv) {
     }
     if (vr_camera_grid_uniform(g[0], g[1], g[2], grid, 1024, &n, &err)) goto out;
   }
-  if (name && !*name) {
-    vr_error_set(&err, VR_E_ARG, "--save needs a material name");
-    goto out;
-  }
+  rc = 1;
   /* The database now only if the light is in it; otherwise not before the
    * save, so that a failed run leaves no file behind. */
   if (!strncmp(light_arg, "db:", 3) &&

@@ -22,7 +22,7 @@ static const vr_option OPTIONS[] = {
     {"method", 0, "NAME", "matrix-r, bounded, regularised or auto (default: regularised, weighted by the measured noise)"},
     {"lambda-rule", 0, "NAME", "regularised smoothing from the noise: upre (default), discrepancy or gcv"},
     {"force", 0, NULL, "save and write even when a region misses its photos or a light disagrees with its photo"},
-    {"save-prefix", 's', "P", "save each region's spectrum as material P<region>"},
+    {"save-prefix", 's', "P|''", "save each region's spectrum as material P<region> ('' saves it as <region>)"},
     {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
     {"report", 'r', "FILE.html", "HTML report with plots and a swatch image"},
     {"json", 'j', NULL, "JSON output"},
@@ -176,6 +176,12 @@ typedef struct recover_cmd {
 /* The options checked before any file is opened, in the order the user
  * hears of them.  Returns 0, 1 (err filled) or 2 (usage already told on
  * stderr: exit status 2). */
+/* A wrong option value: told on stderr now, exit status 2. */
+static int usage(const vr_error *err) {
+  fprintf(stderr, "vr-rgb2spec: %s\nTry 'vr-rgb2spec --help' for more information.\n", err->message);
+  return 2;
+}
+
 static int read_options(recover_cmd *c, vr_error *err) {
   vr_args *a = c->a;
   const char *manifest = vr_args_get(a, "manifest");
@@ -189,7 +195,7 @@ static int read_options(recover_cmd *c, vr_error *err) {
     long t = strtol(vr_args_get(a, "threads"), &end, 10);
     if (*end || t < 1 || t > 256) {
       vr_error_set(err, VR_E_ARG, "--threads '%s': expected 1 to 256", vr_args_get(a, "threads"));
-      return 1;
+      return usage(err);
     }
     c->threads = (int)t;
   }
@@ -197,15 +203,15 @@ static int read_options(recover_cmd *c, vr_error *err) {
   c->popt.half = !vr_args_flag(a, "exr-float");
   if (vr_args_get(a, "exr-compression") &&
       vr_exr_compression_parse(vr_args_get(a, "exr-compression"), &c->popt.compression, err))
-    return 1;
+    return usage(err);
   if (c->texture && !c->pixels) {
     vr_error_set(err, VR_E_ARG, "--texture needs --per-pixel FILE.exr");
-    return 1;
+    return usage(err);
   }
-  if (parse_method(vr_args_get(a, "method"), &c->run.method, err)) return 1;
+  if (parse_method(vr_args_get(a, "method"), &c->run.method, err)) return usage(err);
   if (!manifest && a->noperands == 0) {
     vr_error_set(err, VR_E_ARG, "give photos or --manifest FILE");
-    return 1;
+    return usage(err);
   }
   c->mpath = manifest ? strdup(manifest) : default_manifest(a->operands[0]);
   if (!c->mpath) {

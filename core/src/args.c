@@ -122,7 +122,7 @@ vr_args_outcome vr_args_parse(vr_args *a, const char *tool, const char *usage, c
   /* No option takes an empty value: '' is a slip of the command line (an
    * unset shell variable), refused here, in every tool, as a usage error. */
   for (size_t k = 0; k < nopts; k++) {
-    if (!opts[k].arg || !a->values[k] || a->values[k][0]) continue;
+    if (!opts[k].arg || strstr(opts[k].arg, "''") || !a->values[k] || a->values[k][0]) continue;
     if (!strcmp(opts[k].name, "db"))
       return usage_error(a, "%s: the material database path is empty: give --db a file name "
                             "(without --db: $VR_MATDB, else ./materials.db)", "--db ''");

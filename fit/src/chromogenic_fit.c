@@ -193,7 +193,9 @@ static vr_status fit_photo(work *w, vr_chromo_fit_result *r, vr_error *err) {
   bool any_time = false, two_temps = false;
   for (size_t i = 0; i < w->ns; i++) {
     any_time |= w->st[i].kind != VR_STATE_STEADY;
-    two_temps |= fabs(w->st[i].T_K - w->st[0].T_K) > 0.01;
+    /* The same test as the stored domain's (vr/chromogenic.h): closer
+     * temperatures are one, and cannot tell an activation energy. */
+    two_temps |= fabs(w->st[i].T_K - w->st[0].T_K) > 2 * VR_CHROMO_T_SLACK_K;
   }
   /* Start: K = b/a near the middle of the irradiances, a = 1e-3 m2/(W s). */
   double emax = 0, tmin = INFINITY, tmax = -INFINITY;

@@ -266,7 +266,10 @@ static int cmd_simulate(vr_args *a) {
     fprintf(stderr, "vr-ellipso: --noise '%s': expected SPSI,SDELTA in degrees\n", noise);
     return 2;
   }
-  if (vr_args_double(a, "seed", 1, &seed, &err)) return fail(&err);
+  if (vr_args_double(a, "seed", 1, &seed, &err)) {
+    fprintf(stderr, "vr-ellipso: %s\n", err.message);
+    return 2;
+  }
   if (!(seed >= 0 && seed <= 4294967295.0 && seed == floor(seed))) {
     fprintf(stderr, "vr-ellipso: --seed %g: expected a whole number in [0, 4294967295]\n", seed);
     return 2;

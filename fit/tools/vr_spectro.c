@@ -50,7 +50,7 @@ static const char USAGE[] =
     "       vr-spectro metrics FILE|NAME [--standard nfrc|en410|iso9050] [--angle DEG] [--panes A,B] [--json]\n"
     "       vr-spectro btdf FILE|NAME|--stack FILE [--angles LIST] [--wavelengths A:B:S] [--scatter FILE] [--save NAME] [--json]\n"
     "       vr-spectro chromogenic FILES... --states LIST [--save NAME] [--json]\n"
-    "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T]] [--json]";
+    "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T] [--extrapolate]] [--json]";
 static const char ABOUT[] =
     "Spectrophotometry of glass (T, Rf, Rb; CSV, Cary/Lambda CSV exports, LBNL Optics/IGDB\n"
     "  .DAT and .LOF; docs/vr-spectro.md).  Outputs never replace an input of the run.\n"
@@ -230,8 +230,12 @@ vr_status spectro_state_of(const vr_args *a, const vr_material *m, double *s, vr
     }
     unsigned flags = vr_args_flag(a, "extrapolate") ? VR_CHROMO_EXTRAPOLATE : 0;
     vr_status r = vr_chromo_steady_state(m, x, T, flags, s, err);
-    if (r == VR_E_RANGE) vr_error_prefix(err, "--uv %s: ", uv); /* the option's value: exit 2 */
-    if (!r && flags && vr_chromo_check_domain(m, x, T, NULL))
+    /* The options' values: exit 2, naming the one at fault. */
+    if (r == VR_E_RANGE && temp && vr_chromo_check_domain(m, 0, T, 0, NULL))
+      vr_error_prefix(err, "--temperature %s: ", temp);
+    else if (r == VR_E_RANGE)
+      vr_error_prefix(err, "--uv %s: ", uv);
+    if (!r && flags && vr_chromo_check_domain(m, x, T, 0, NULL))
       fprintf(stderr, "vr-spectro: warning: --uv %g W/m2 at %.2f K is outside the range material "
                       "%s was fitted on; extrapolated as asked\n", x, T, m->name);
     return r;

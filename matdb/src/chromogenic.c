@@ -103,18 +103,20 @@ static vr_status rates(const vr_material *m, double T_K, double *K, double *a, d
   return VR_OK;
 }
 
-vr_status vr_chromo_check_domain(const vr_material *m, double E_uv, double T_K, vr_error *err) {
+vr_status vr_chromo_check_domain(const vr_material *m, double E_uv, double T_K, unsigned flags,
+                                 vr_error *err) {
+  double e_slack = flags & VR_CHROMO_ESTIMATE ? VR_CHROMO_E_SLACK : 1e-9;
   const vr_parameter *pe = param(m, "E_fit_max"), *t0 = param(m, "T_fit_min"),
                      *t1 = param(m, "T_fit_max");
   const char *how = "(the model is not extrapolated unless asked: --extrapolate in vr-spectro, "
                     "extrapolate=yes on the scene's material)";
-  if (pe && isfinite(pe->value) && E_uv > pe->value * (1 + 1e-9))
+  if (pe && isfinite(pe->value) && E_uv > pe->value * (1 + e_slack))
     return vr_error_set(err, VR_E_RANGE,
                         "material %s: UV irradiance %.4g W/m2 is outside the 0 to %.4g W/m2 its "
                         "states were fitted on %s", m->name, E_uv, pe->value, how);
   if (t0 && t1 && isfinite(t0->value) && isfinite(t1->value) &&
       (T_K < t0->value - VR_CHROMO_T_SLACK_K || T_K > t1->value + VR_CHROMO_T_SLACK_K)) {
-    if (t1->value - t0->value < 2 * VR_CHROMO_T_SLACK_K)
+    if (t1->value - t0->value <= 2 * VR_CHROMO_T_SLACK_K)
       return vr_error_set(err, VR_E_RANGE,
                           "material %s: temperature %.2f K (%.2f C): its states were fitted at "
                           "%.2f K only, so it has no activation energy; spectra at a second "
@@ -133,7 +135,7 @@ vr_status vr_chromo_steady_state(const vr_material *m, double E_uv, double T_K, 
     return vr_error_set(err, VR_E_ARG, "UV irradiance must be >= 0 W/m2 (%g)", E_uv);
   double K, a, b;
   vr_status st = rates(m, T_K, &K, &a, &b, err);
-  if (!st && !(flags & VR_CHROMO_EXTRAPOLATE)) st = vr_chromo_check_domain(m, E_uv, T_K, err);
+  if (!st && !(flags & VR_CHROMO_EXTRAPOLATE)) st = vr_chromo_check_domain(m, E_uv, T_K, flags, err);
   if (st) return st;
   *s = E_uv / (E_uv + K);
   return VR_OK;
@@ -145,7 +147,7 @@ vr_status vr_chromo_state_after(const vr_material *m, double E_uv, double T_K, u
     return vr_error_set(err, VR_E_ARG, "need E >= 0, t >= 0 and s0 in [0, 1]");
   double K, a, b;
   vr_status st = rates(m, T_K, &K, &a, &b, err);
-  if (!st && !(flags & VR_CHROMO_EXTRAPOLATE)) st = vr_chromo_check_domain(m, E_uv, T_K, err);
+  if (!st && !(flags & VR_CHROMO_EXTRAPOLATE)) st = vr_chromo_check_domain(m, E_uv, T_K, flags, err);
   if (st) return st;
   if (!isfinite(a))
     return vr_error_set(err, VR_E_NOT_FOUND,

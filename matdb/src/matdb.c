@@ -295,10 +295,18 @@ vr_status vr_matdb_open(const char *path, int flags, vr_matdb **out, vr_error *e
     return vr_error_set(err, VR_E_ARG,
                         "the material database path is empty: give --db a file name (without "
                         "--db: $VR_MATDB, else ./materials.db)");
-  if ((flags & VR_MATDB_MUST_EXIST) && explicit_path && access(path, F_OK) != 0 && errno == ENOENT)
+  if ((flags & VR_MATDB_MUST_EXIST) && explicit_path && access(path, F_OK) != 0 && errno == ENOENT) {
+    char folder[4096];
+    struct stat fs;
+    vr_path_folder(path, folder, sizeof folder);
+    if (stat(folder, &fs) != 0 || !S_ISDIR(fs.st_mode))
+      return vr_error_set(err, VR_E_NOT_FOUND,
+                          "--db %s: no such material database, and no folder %s (a mistyped "
+                          "path?)", path, folder);
     return vr_error_set(err, VR_E_NOT_FOUND,
                         "--db %s: no such material database (a mistyped path? 'vr-matdb --db %s "
                         "init' creates one with the built-in library)", path, path);
+  }
   vr_matdb *db = calloc(1, sizeof *db);
   if (!db || !(db->path = strdup(path))) {
     free(db);

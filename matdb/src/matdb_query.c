@@ -258,6 +258,22 @@ vr_status vr_matdb_list(vr_matdb *db, const char *kind, vr_matdb_visit visit, vo
   return visit_rows(db, s, visit, user, err);
 }
 
+vr_status vr_matdb_revision(vr_matdb *db, long long *rows, long long *max_id, vr_error *err) {
+  sqlite3_stmt *s;
+  if (sqlite3_prepare_v2(db->db, "SELECT count(*), coalesce(max(id), 0) FROM material", -1, &s,
+                         NULL) != SQLITE_OK)
+    return sql_error(db, err, "cannot prepare a statement");
+  vr_status st = VR_OK;
+  if (sqlite3_step(s) == SQLITE_ROW) {
+    *rows = sqlite3_column_int64(s, 0);
+    *max_id = sqlite3_column_int64(s, 1);
+  } else {
+    st = sql_error(db, err, "cannot count the materials");
+  }
+  sqlite3_finalize(s);
+  return st;
+}
+
 vr_status vr_matdb_history(vr_matdb *db, const char *name, vr_matdb_visit visit, void *user,
                            vr_error *err) {
   sqlite3_stmt *s;

@@ -281,13 +281,6 @@ static int check_command_line(ctx *c, const struct command *k) {
   for (size_t i = 0; i < NOPT; i++)
     if (a->values[i] && strcmp(OPTIONS[i].name, "db") && !takes(k, OPTIONS[i].name))
       return usage("option --%s does not apply to '%s'", OPTIONS[i].name, k->name);
-  const char *db = vr_args_get(a, "db");
-  if (db && !*db) { /* the library's refusal, as a usage error */
-    vr_matdb *none;
-    vr_error e = {0};
-    vr_matdb_open(db, 0, &none, &e);
-    return usage("%s%s", e.message, "");
-  }
   if (a->noperands < k->min_operands) return usage("%s%s", k->need, "");
   if (k->max_operands && a->noperands > k->max_operands)
     return usage("unexpected argument '%s' after '%s'", a->operands[k->max_operands], k->name);
@@ -336,7 +329,7 @@ int main(int argc, char **argv) {
    * library opens a database it cannot write read-only by itself. */
   int flags = writes ? 0 : VR_MATDB_READONLY;
   struct stat sb;
-  if (!writes && *db_path && (stat(db_path, &sb) != 0 || sb.st_size == 0)) flags = 0;
+  if (!writes && (stat(db_path, &sb) != 0 || sb.st_size == 0)) flags = 0;
   /* A reader never creates the database a --db names (a mistyped path). */
   if (!writes) flags |= VR_MATDB_MUST_EXIST;
   if (vr_matdb_open(path, flags, &c.db, &c.err)) {

@@ -136,7 +136,7 @@ static void say_meshes(vr_run *r) {
     if (any && !o->units_given && span > MESH_UNITS_SUSPECT_M)
       vr_run_say(r, "warning: mesh '%s' (line %ld) spans %.4g m read as metres, as a line without "
                  "units= is: if the model is in millimetres or centimetres, add units=mm or "
-                 "units=cm to that line", b, o->loc.line, span);
+                 "units=cm to that line (units=m if it really is in metres)", b, o->loc.line, span);
     if (said == MESH_LINES_SAID) {
       more++;
       continue;

@@ -219,27 +219,34 @@ static bool scene_needs_db(const vr_scene *s) {
   return s->sky.present && from_db(s->sky.spectrum);
 }
 
+/* A database this run created: its path and what it held then. */
+typedef struct created_db {
+  bool created;
+  long long rows, max_id;
+} created_db;
+
 /* Read-only when the file exists.  When it does not: a scene that takes
  * nothing from the database renders without one; else a --db FILE that is
  * not there is refused (a mistyped path must not become a new database);
  * the default one ($VR_MATDB, else ./materials.db) is created and seeded
  * with the built-in library if the scene needs it (as on any tool's first
- * use; *created says so, and a run that then fails removes it), else there
- * is no database at all, so that a run leaves no stray file. */
-static vr_status open_db(const char *given, const vr_scene *s, ui *u, vr_matdb **db, bool *created,
+ * use; c says so, and a run that then fails removes it if nobody wrote to
+ * it meanwhile), else there is no database at all, so that a run leaves no
+ * stray file.  Under mpirun only rank 0 may remove it. */
+static vr_status open_db(const char *given, const vr_scene *s, ui *u, vr_matdb **db, created_db *c,
                          vr_error *err) {
   *db = NULL;
-  *created = false;
+  memset(c, 0, sizeof *c);
   const char *p = given ? given : vr_matdb_default_path();
   if (access(p, F_OK) == 0) return vr_matdb_open(p, VR_MATDB_READONLY, db, err);
   if (!scene_needs_db(s)) return VR_OK;
-  if (given)
+  if (given && errno == ENOENT)
     return vr_error_set(err, VR_E_NOT_FOUND,
                         "--db %s: no such material database (a mistyped path? 'vr-matdb --db %s "
                         "init' creates one with the built-in library)", p, p);
   vr_status st = vr_matdb_open(p, 0, db, err);
   if (!st) {
-    *created = true;
+    c->created = !vr_matdb_revision(*db, &c->rows, &c->max_id, NULL);
     char line[4200];
     snprintf(line, sizeof line, "created the material database %s with the built-in library", p);
     ui_log(u, line);
@@ -247,15 +254,25 @@ static vr_status open_db(const char *given, const vr_scene *s, ui *u, vr_matdb *
   return st;
 }
 
-/* A database this run created, removed when the run failed: nothing of a
- * failed run stays behind. */
-static void remove_created_db(const char *p) {
+/* The database this failed run created, removed when it still holds only
+ * what the run put there (no other tool saved to it meanwhile). */
+static void remove_created_db(const char *p, const created_db *c, ui *u) {
+  vr_matdb *db = NULL;
+  long long rows = -1, max_id = -1;
+  if (vr_matdb_open(p, VR_MATDB_READONLY, &db, NULL) ||
+      vr_matdb_revision(db, &rows, &max_id, NULL) || rows != c->rows || max_id != c->max_id) {
+    vr_matdb_close(db);
+    return; /* written to since: it is someone's database now */
+  }
+  vr_matdb_close(db);
   static const char *const SUFFIX[] = {"", "-wal", "-shm", "-journal"};
   char buf[4200];
+  bool removed = false;
   for (size_t i = 0; i < sizeof SUFFIX / sizeof SUFFIX[0]; i++) {
     snprintf(buf, sizeof buf, "%s%s", p, SUFFIX[i]);
-    unlink(buf);
+    if (unlink(buf) == 0 && i == 0) removed = true;
   }
+  if (removed) ui_log(u, "removed the material database this failed run had created");
 }
 
 /* What a Perez sky made of its irradiances, and any limit of the model's
@@ -456,7 +473,8 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   char run_id[VR_FILM_RUN_ID_MAX];
   vr_film_run_id(run_id);
   int rc = 1;
-  bool agreed = false, db_created = false;
+  bool agreed = false;
+  created_db db_created = {0};
   const char *cache = vr_args_get(a, "cache");
   if (!(prefix = given ? strdup(given) : default_prefix(path))) {
     vr_error_set(&err, VR_E_NOMEM, "out of memory");
@@ -530,10 +548,7 @@ out:
   if (r) vr_render_result_destroy(r);
   render_outputs_free(&outs);
   vr_matdb_close(db);
-  if (rc && db_created) {
-    remove_created_db(db_path);
-    ui_log(&u, "removed the material database this failed run had created");
-  }
+  if (rc && db_created.created && rank == 0) remove_created_db(db_path, &db_created, &u);
   vr_scene_destroy(scene);
   free(prefix);
   free(cache_dir);

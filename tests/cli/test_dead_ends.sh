@@ -74,8 +74,8 @@ check "... and the database is whole afterwards" test $? -eq 0
 
 # --- a full disk -------------------------------------------------------------------
 # full_run CMD...: CMD in a private mount namespace where full/ is a 640 KiB
-# tmpfs holding a copy of the database (full/m.db) and a file filling it
-# but for a few pages; after it, what full/ holds goes to full.ls and the
+# tmpfs holding a copy of the database (full/m.db) and a file filling the
+# rest; after it, what full/ holds goes to full.ls and the
 # database's files are copied out to after/ (on a full disk even a reader
 # cannot open it: SQLite needs its -shm file); its status is CMD's.
 full_run() {

@@ -72,6 +72,8 @@ sed -i 's/db:pc$/db:pc extrapolate=yes/' pc.scn
 rc=$?
 check "extrapolate=yes renders it and counts the texels" \
   bash -c '[ "$1" = 0 ] && grep -q "texels outside the UV" pcx.err' _ "$rc"
+sed 's/db:pc extrapolate=yes/db:N-BK7 thickness=3mm extrapolate=yes/' pc.scn > nbk7.scn
+refuse render-extrapolate-not-photochromic "$VR_RENDER" nbk7.scn -o nbk7
 # A mesh line without units= whose model spans kilometres.
 cat > house.scn <<SCN
 mesh $src/tests/data/models/assimp_obj_house/regr01.obj

@@ -91,7 +91,7 @@ echo "not a png" > "$tmp/cap/led.png"
 "$bin" --manifest "$tmp/cap/manifest.txt" 2> "$tmp/err" > /dev/null; rc=$?
 check "an unreadable photo names the file" test $rc -eq 1 -a -n "$(grep 'led.png' "$tmp/err")"
 "$bin" "$tmp/cap/d65.png" --method best 2> /dev/null > /dev/null; rc=$?
-check "unknown method" test $rc -eq 1
+check "unknown method (a usage error)" test $rc -eq 2
 
 # Camera calibration.  A real camera (the Nikon D5100 measured by Darrodi et
 # al., JOSA A 2015) photographs the chart under D65 and A; calibrate from the
@@ -209,7 +209,7 @@ assert len(props["texture_sha256"]["text"]) == 64
 PY
 check "per-pixel: the database row references the EXR" test $? -eq 0
 "$bin" "$photos"/d65.png --texture x 2> "$tmp/err" > /dev/null; rc=$?
-check "per-pixel: --texture alone is refused" test $rc -eq 1 -a -n "$(grep -- '--per-pixel' "$tmp/err")"
+check "per-pixel: --texture alone is refused (a usage error)" test $rc -eq 2 -a -n "$(grep -- '--per-pixel' "$tmp/err")"
 "$bin" "$photos"/d65.png --per-pixel "$tmp/no/such/dir/t.exr" --texture bad-tex 2> "$tmp/err" > /dev/null; rc=$?
 check "per-pixel: an unwritable output is an error" test $rc -eq 1 -a -n "$(grep 'no/such/dir' "$tmp/err")"
 "$matdb" show bad-tex > /dev/null 2>&1; rc=$?
@@ -339,7 +339,7 @@ check "per-pixel: the EXR carries the flags channel and its meaning" \
   test "$(grep -a -c 'flagsMeaning' "$tmp/cap.exr")" -ge 1
 check "per-pixel: clipped and bounded pixels counted" test -n "$(grep -E 'bounded to \[0, 1\], [0-9.]+ % with clipped channels' "$tmp/pp2")"
 "$bin" --manifest "$tmp/c2/manifest.txt" --per-pixel "$tmp/cap2.exr" --exr-compression lzma 2> "$tmp/err" > /dev/null; rc=$?
-check "per-pixel: an unknown compression is refused" test $rc -eq 1 -a -n "$(grep -i 'lzma' "$tmp/err")"
+check "per-pixel: an unknown compression is refused (a usage error)" test $rc -eq 2 -a -n "$(grep -i 'lzma' "$tmp/err")"
 "$bin" --manifest "$tmp/c2/manifest.txt" --lambda-rule magic 2> "$tmp/err" > /dev/null; rc=$?
 check "an unknown lambda rule is refused" test $rc -eq 1 -a -n "$(grep 'magic' "$tmp/err")"
 

@@ -1,7 +1,8 @@
 /* The capture manifest of vr-rgb2spec: which photos were taken under which
  * light, how their pixel values relate to light, the camera, and the
  * regions that name materials.  A text file next to the photos, one
- * statement per line, '#' comments:
+ * statement per line, '#' comments; a word in double quotes (whole, or
+ * after its key) keeps its spaces and '#', and the quotes are dropped:
  *
  *   camera  cie1931-srgb | db:NAME | file:PATH.csv
  *   grid    FROM TO STEP                  recovery wavelengths, nm (400 700 10)

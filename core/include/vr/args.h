@@ -20,7 +20,9 @@ extern "C" {
 typedef struct vr_option {
   const char *name;   /* long name without the dashes */
   char short_name;    /* 0 for none */
-  const char *arg;    /* metavar ("FILE") if it takes a value, NULL for a flag */
+  const char *arg;    /* metavar ("FILE") if it takes a value, NULL for a flag;
+                         an empty value is a usage error unless the metavar
+                         shows it ("P|''") */
   const char *help;   /* one line */
 } vr_option;
 

@@ -56,11 +56,17 @@ vr_status vr_chromo_state_of_charge(const vr_material *m, double q_mC_cm2, doubl
  * fitted at one temperature has no activation energy: any other
  * temperature is an extrapolation.) */
 #define VR_CHROMO_EXTRAPOLATE 1u
+/* The UV irradiance is a Monte Carlo estimate (a render's UV pass, an
+ * annual study's sampled coefficients): up to VR_CHROMO_E_SLACK above
+ * E_fit_max is the estimate's noise, not a state outside the domain. */
+#define VR_CHROMO_ESTIMATE 2u
+#define VR_CHROMO_E_SLACK 0.05
 #define VR_CHROMO_T_SLACK_K 0.5 /* rounding of "25C" and the like */
 
-/* Whether (E_uv, T_K) lies in the fitted domain; VR_OK also for a model
- * with no stated domain. */
-vr_status vr_chromo_check_domain(const vr_material *m, double E_uv, double T_K, vr_error *err);
+/* Whether (E_uv, T_K) lies in the fitted domain (flags: VR_CHROMO_ESTIMATE
+ * or 0); VR_OK also for a model with no stated domain. */
+vr_status vr_chromo_check_domain(const vr_material *m, double E_uv, double T_K, unsigned flags,
+                                 vr_error *err);
 
 /* Photochromic steady state under UV irradiance E (W/m², >= 0) at T_K
  * (kelvin, > 0), inside the fitted domain unless flags say extrapolate. */

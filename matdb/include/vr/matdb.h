@@ -106,6 +106,10 @@ vr_status vr_matdb_history(vr_matdb *db, const char *name, vr_matdb_visit visit,
                            vr_error *err);
 /* SQLite's integrity check plus the schema version; ok set to true if sound. */
 vr_status vr_matdb_check(vr_matdb *db, bool *ok, char *report, size_t size, vr_error *err);
+/* What the database holds, in two numbers that any save or removal
+ * changes (the rows of materials and the largest material id): for a tool
+ * that created a database to tell whether anyone wrote to it since. */
+vr_status vr_matdb_revision(vr_matdb *db, long long *rows, long long *max_id, vr_error *err);
 
 #ifdef __cplusplus
 }

@@ -256,7 +256,8 @@ static vr_status pc_state(const vr_annual_hour *h, const vr_uv_set *u, const vr_
       if (st && st != VR_E_NOT_FOUND) return *err = e, st;
     }
     if (st && (st = vr_chromo_steady_state(m, E, T_K, flags, &s, err))) return st;
-    if (flags && vr_chromo_check_domain(m, E, T_K, NULL)) *outside = true;
+    if ((flags & VR_CHROMO_EXTRAPOLATE) && vr_chromo_check_domain(m, E, T_K, flags, NULL))
+      *outside = true;
     texel_state[t] = s;
     sum_s += s, sum_uv += E;
   }
@@ -462,12 +463,19 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
   const char *control =
       res->spec.control_sensor >= 0 ? s->sensors[res->spec.control_sensor].name : NULL;
   double T_K = NAN;
-  unsigned pc_flags = 0;
+  unsigned pc_flags = VR_CHROMO_ESTIMATE; /* the hour's UV is from sampled coefficients */
   if (res->glass_name) {
     T_K = s->materials[res->spec.glass].temperature_K;
-    if (s->materials[res->spec.glass].extrapolate) pc_flags = VR_CHROMO_EXTRAPOLATE;
+    if (s->materials[res->spec.glass].extrapolate) pc_flags |= VR_CHROMO_EXTRAPOLATE;
   }
   if (isnan(T_K)) T_K = 298.15;
+  /* The glass's temperature is the year's: outside the fitted range it is
+   * the material line's fault, not an hour's. */
+  if (pc && !(pc_flags & VR_CHROMO_EXTRAPOLATE) && (st = vr_chromo_check_domain(pc, 0, T_K, 0, err))) {
+    vr_error_prefix(err, "%s:%ld: material '%s': ", s->path ? s->path : "scene",
+                    s->materials[res->spec.glass].loc.line, s->materials[res->spec.glass].name);
+    goto done;
+  }
   st = year(hours, dcs, &uv, pc, T_K, pc_flags, control, res, err);
   if (!st && res->extrapolated_hours)
     say(o, "annual: warning: in %zu hours the glass's UV or temperature lay outside the range "

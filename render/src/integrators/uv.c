@@ -100,13 +100,15 @@ vr_status vr_uv_run(vr_run *r, vr_error *err) {
     for (size_t q = 0; q < VR_SENSOR_PATCHES; q++)
       res->photochromic_uv_patch[t * VR_SENSOR_PATCHES + q] =
           vr_atomic_get(&acc.texel_patches[t * VR_SENSOR_PATCHES + q]);
-    st = vr_chromo_steady_state(m->db, E, m->temperature_K, m->chromo_flags, &s, err);
+    /* E is the UV pass's estimate: VR_CHROMO_ESTIMATE allows its noise. */
+    unsigned flags = m->chromo_flags | VR_CHROMO_ESTIMATE;
+    st = vr_chromo_steady_state(m->db, E, m->temperature_K, flags, &s, err);
     if (st) {
       vr_error_prefix(err, "UV pass, the object of scene line %ld: ",
                       rs->s->objects[c->texel_object[t]].loc.line);
       break;
     }
-    if (m->chromo_flags && vr_chromo_check_domain(m->db, E, m->temperature_K, NULL))
+    if ((flags & VR_CHROMO_EXTRAPOLATE) && vr_chromo_check_domain(m->db, E, m->temperature_K, flags, NULL))
       res->photochromic_extrapolated++;
     res->photochromic_state[t] = s;
     if (s < res->photochromic_state_min) res->photochromic_state_min = s;

@@ -69,6 +69,12 @@ static vr_status resolve_materials(vr_rscene *rs, vr_matdb *db, vr_error *err) {
     rm->photochromic = vr_bsdf_is_photochromic(rm->bsdf) && isnan(sm->state);
     rm->temperature_K = isnan(sm->temperature_K) ? 298.15 : sm->temperature_K;
     rm->chromo_flags = sm->extrapolate ? VR_CHROMO_EXTRAPOLATE : 0;
+    /* An option that would change nothing is refused, not ignored. */
+    if (sm->extrapolate && !vr_bsdf_is_photochromic(rm->bsdf))
+      return vr_error_at(err, VR_E_ARG, s->path, sm->loc.line, sm->loc.col,
+                         "material '%s': extrapolate=yes applies to photochromic glass, whose "
+                         "state follows its UV; '%s' is not", sm->name,
+                         sm->db_name ? sm->db_name : sm->name);
   }
   return VR_OK;
 }
