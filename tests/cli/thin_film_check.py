@@ -1,0 +1,72 @@
+#!/usr/bin/env python3
+# tests/cli/test_vr_spectro.sh: the coated-stack BTDF table against an
+# independent thin-film computation (characteristic matrices, Macleod,
+# Thin-Film Optical Filters, 4th ed., ch. 2; an incoherent substrate by
+# summing intensities) of
+# the sample low-e stack at normal incidence.
+import cmath, math, re, sys
+d = sys.argv[1]
+def rii(path):
+    txt = open(path).read()
+    tab = []
+    m = re.search(r"type: tabulated nk\s+data: \|\n((?:\s+[-+0-9.eE]+\s+[-+0-9.eE]+\s+[-+0-9.eE]+\n)+)", txt)
+    if m:
+        for line in m.group(1).split("\n"):
+            if line.strip():
+                w, n, k = map(float, line.split()); tab.append((w * 1000, n, k))
+        def nk(nm):
+            for (w0, n0, k0), (w1, n1, k1) in zip(tab, tab[1:]):
+                if w0 <= nm <= w1:
+                    f = (nm - w0) / (w1 - w0)
+                    return complex(n0 + f * (n1 - n0), k0 + f * (k1 - k0))
+            raise ValueError(nm)
+        return nk
+    c = list(map(float, re.search(r"coefficients: ([-0-9. eE]+)", txt).group(1).split()))
+    ktab = []
+    m = re.search(r"type: tabulated k\s+data: \|\n((?:\s+[-+0-9.eE]+\s+[-+0-9.eE]+\n)+)", txt)
+    for line in m.group(1).split("\n"):
+        if line.strip():
+            w, k = map(float, line.split()); ktab.append((w * 1000, k))
+    def nk(nm):
+        um = nm / 1000
+        n = c[0] + c[1] * um ** c[2] + c[3] * um ** c[4]
+        for (w0, k0), (w1, k1) in zip(ktab, ktab[1:]):
+            if w0 <= nm <= w1:
+                return complex(n, k0 + (nm - w0) / (w1 - w0) * (k1 - k0))
+        raise ValueError(nm)
+    return nk
+zno, ag, glass = rii(d + "/ZnO_Aguilar.yml"), rii(d + "/Ag_Ciesielski.yml"), rii(d + "/SodaLime_Rubin.yml")
+def stack(nm, layers, n_in, n_out):
+    # r, t of films between n_in and n_out at normal incidence
+    M = [[1, 0], [0, 1]]
+    for N, dd in layers:
+        delta = 2 * math.pi * N * dd / nm
+        A = [[cmath.cos(delta), 1j * cmath.sin(delta) / N], [1j * N * cmath.sin(delta), cmath.cos(delta)]]
+        M = [[M[0][0] * A[0][0] + M[0][1] * A[1][0], M[0][0] * A[0][1] + M[0][1] * A[1][1]],
+             [M[1][0] * A[0][0] + M[1][1] * A[1][0], M[1][0] * A[0][1] + M[1][1] * A[1][1]]]
+    B = M[0][0] + M[0][1] * n_out
+    C = M[1][0] + M[1][1] * n_out
+    r = (n_in * B - C) / (n_in * B + C)
+    t = 2 * n_in / (n_in * B + C)
+    return abs(r) ** 2, (n_out.real / n_in.real) * abs(t) ** 2
+worst = 0
+for line in list(open(sys.argv[2]))[1:]:
+    a, nm, ts, tp, rfs, rfp, rbs, rbp = map(float, line.split(","))
+    if a != 0: continue
+    ns = glass(nm)
+    # Macleod's convention: N = n - ik with this matrix.
+    films = [(zno(nm).conjugate(), 35), (ag(nm).conjugate(), 10), (zno(nm).conjugate(), 35)]
+    Rf1, Tf1 = stack(nm, films, complex(1), complex(ns.real, 0))
+    Rb1, _ = stack(nm, films[::-1], complex(ns.real, 0), complex(1))
+    Rg = abs((ns.real - 1) / (ns.real + 1)) ** 2
+    tau = math.exp(-4 * math.pi * ns.imag * 4e6 / nm)
+    T = Tf1 * tau * (1 - Rg) / (1 - Rb1 * tau * tau * Rg)
+    Rf = Rf1 + Tf1 * Tf1 * tau * tau * Rg / (1 - Rb1 * tau * tau * Rg)
+    Rb = Rg + (1 - Rg) ** 2 * tau * tau * Rb1 / (1 - Rg * tau * tau * Rb1)
+    for name, want, got in (("T", T, ts), ("Rf", Rf, rfs), ("Rb", Rb, rbs)):
+        worst = max(worst, abs(want - got))
+        print("%6.0f %-2s table %.6f independent %.6f" % (nm, name, got, want))
+print("worst", worst)
+# Usage: thin_film_check.py SAMPLE_FOLDER TABLE.csv LIMIT: exit 1 when a value
+# differs from the table by more than LIMIT.
+sys.exit(0 if worst <= float(sys.argv[3]) else 1)
