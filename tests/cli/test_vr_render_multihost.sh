@@ -59,7 +59,10 @@ echo "# two hosts in network namespaces ${hosts[*]} on $net.0/24: $link"
 # The launcher agent, in ssh's place: "agent [options] HOST COMMAND...".
 # It enters HOST's namespace (ip netns exec gives it a mount namespace of
 # its own too) and binds that host's cache folder over the shared path, so
-# each host reads only the cache it built.
+# each host reads only the cache it built.  Each host's Open MPI daemon
+# gets its own TMPDIR, as a real host has its own /tmp: the two daemons
+# had raced creating one session folder tree ("mkdir ... File exists",
+# orte_init failed) in two of this session's full ctest runs.
 cat > "$tmp/agent.sh" <<AGENT
 #!/bin/sh
 while [ \$# -gt 0 ]; do case "\$1" in -*) shift;; *) break;; esac; done
@@ -70,8 +73,8 @@ case "\$host" in
   *) echo "agent: unknown host \$host" >&2; exit 1;;
 esac
 echo "\$ns" >> "$tmp/launched"
-mkdir -p "$tmp/cache-\$ns"
-exec ip netns exec "\$ns" /bin/sh -c "mount --bind '$tmp/cache-\$ns' '$tmp/cache' && exec \$*"
+mkdir -p "$tmp/cache-\$ns" "$tmp/tmp-\$ns"
+exec ip netns exec "\$ns" /bin/sh -c "mount --bind '$tmp/cache-\$ns' '$tmp/cache' && export TMPDIR='$tmp/tmp-\$ns' && exec \$*"
 AGENT
 chmod +x "$tmp/agent.sh"
 printf '%s slots=1\n%s slots=1\n' "$net.2" "$net.3" > "$tmp/hosts"
