@@ -14,8 +14,9 @@ scripts/build.sh build -DVR_WERROR=ON
 echo "== vr-render built without MPI (it must build and run alone)"
 [ -f build-nompi/CMakeCache.txt ] ||
   cmake -S . -B build-nompi -DVR_MPI=OFF -DVR_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
-# vr-rgb2spec too: the textures test makes its spectral texture with it.
-cmake --build build-nompi -j "$(nproc)" --target vr-render vr-test-exr-compare vr-hotel vr-rgb2spec > /dev/null
+# vr-rgb2spec too: the textures test makes its spectral texture with it;
+# vr-spectro: the tint study of cli_vr_render fits its glass with it.
+cmake --build build-nompi -j "$(nproc)" --target vr-render vr-test-exr-compare vr-hotel vr-rgb2spec vr-spectro > /dev/null
 (cd build-nompi && ctest --output-on-failure -R '^cli_vr_render')
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"

@@ -179,11 +179,14 @@ python3 -c 'import sqlite3, sys; c = sqlite3.connect(sys.argv[1]); c.execute("PR
 chmod 755 "$tmp"; chmod 777 "$tmp/ro_out"
 chmod 444 "$ro"/*/m.db; chmod 555 "$ro/wal" "$ro/rollback"
 chmod 444 "$ro/wal/old.db"
-# Without user namespaces, root drops to nobody with setpriv (util-linux);
-# a user who is not root is already bound by the modes.
+# Without user namespaces (a container's seccomp profile blocks them),
+# root keeps its uid but drops the capabilities that override file modes
+# (setpriv, util-linux), so the 444/555 modes bind it as they bind anyone
+# and it can still read the binaries and the test data; a user who is not
+# root is already bound by the modes.
 asuser=()
 if unshare -U true 2> /dev/null; then asuser=(unshare -U)
-elif [ "$(id -u)" -eq 0 ]; then asuser=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+elif [ "$(id -u)" -eq 0 ]; then asuser=(setpriv --bounding-set -dac_override,-dac_read_search,-fowner)
 fi
 {
   "${asuser[@]}" touch "$ro/wal/probe" 2> /dev/null

@@ -483,6 +483,9 @@ refuse render-set-twice "$bin" "$tmp/point.scn" --set grey.state=0.5 --set grey.
 sed 's/^render/material silver db:Ag\nsphere center=3,3,1 radius=0.2 material=silver\nrender/' "$tmp/point.scn" > "$tmp/ag.scn"
 refuse render-set-not-chromogenic "$bin" "$tmp/ag.scn" --set silver.state=0.5
 spectro="$VR_BIN/../fit/vr-spectro"
+# vr-spectro is built in every configuration that runs this test
+# (scripts/test.sh builds it in the one-process stage too).
+check "vr-spectro is built beside vr-render" test -x "$spectro"
 if [ -x "$spectro" ]; then
   "$spectro" chromogenic "$src/samples/glazing/electrochromic/ec_states.csv" --save ec > /dev/null 2>&1
   check "an electrochromic glass for the tint study" test $? -eq 0

@@ -55,7 +55,9 @@ assert free["peak_rss_bytes"] - start > b + allow, (free["peak_rss_bytes"], star
 PY
 check "resident memory grew by at most the budget + 16 MiB (and by more without it)" test $? -eq 0
 
-if [ "$VR_HAVE_MPI" = "ON" ] && command -v mpirun > /dev/null; then
+# Built with MPI, the ranks' case must run (a missing mpirun fails it).
+if [ "$VR_HAVE_MPI" = "ON" ]; then
+  check "mpirun is there (scripts/install-deps.sh)" command -v mpirun
   mpi=(mpirun --oversubscribe -np 2)
   [ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)
   if [ -n "${ASAN_OPTIONS:-}" ]; then

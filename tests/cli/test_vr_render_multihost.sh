@@ -18,7 +18,8 @@ source "$(dirname "$0")/harness.sh"
 
 skip() { echo "# SKIP: $*"; exit 77; }
 [ "$VR_HAVE_MPI" = "ON" ] || skip "built without MPI"
-command -v mpirun > /dev/null || skip "mpirun is missing"
+# Built with MPI, mpirun is installed by the set-up: its absence fails.
+command -v mpirun > /dev/null || { echo "not ok - mpirun is missing (scripts/install-deps.sh)"; exit 1; }
 [ "$(id -u)" -eq 0 ] || skip "needs root for network namespaces"
 command -v ip > /dev/null && command -v tc > /dev/null || skip "needs iproute2 (ip, tc)"
 

@@ -50,9 +50,11 @@ def stack(nm, layers, n_in, n_out):
     t = 2 * n_in / (n_in * B + C)
     return abs(r) ** 2, (n_out.real / n_in.real) * abs(t) ** 2
 worst = 0
+rows = bad = 0
 for line in list(open(sys.argv[2]))[1:]:
     a, nm, ts, tp, rfs, rfp, rbs, rbp = map(float, line.split(","))
     if a != 0: continue
+    rows += 1
     ns = glass(nm)
     # Macleod's convention: N = n - ik with this matrix.
     films = [(zno(nm).conjugate(), 35), (ag(nm).conjugate(), 10), (zno(nm).conjugate(), 35)]
@@ -64,9 +66,13 @@ for line in list(open(sys.argv[2]))[1:]:
     Rf = Rf1 + Tf1 * Tf1 * tau * tau * Rg / (1 - Rb1 * tau * tau * Rg)
     Rb = Rg + (1 - Rg) ** 2 * tau * tau * Rb1 / (1 - Rg * tau * tau * Rb1)
     for name, want, got in (("T", T, ts), ("Rf", Rf, rfs), ("Rb", Rb, rbs)):
-        worst = max(worst, abs(want - got))
+        diff = abs(want - got)
+        worst = max(worst, diff)
+        if not (diff <= float(sys.argv[3])):  # false for NaN too
+            bad += 1
         print("%6.0f %-2s table %.6f independent %.6f" % (nm, name, got, want))
-print("worst", worst)
-# Usage: thin_film_check.py SAMPLE_FOLDER TABLE.csv LIMIT: exit 1 when a value
-# differs from the table by more than LIMIT.
-sys.exit(0 if worst <= float(sys.argv[3]) else 1)
+print("worst", worst, "rows", rows, "outside the limit", bad)
+# Usage: thin_film_check.py SAMPLE_FOLDER TABLE.csv LIMIT NROWS: exit 1 when
+# a value differs from the table by more than LIMIT (or is NaN), or when the
+# table does not hold NROWS rows at 0 degrees.
+sys.exit(0 if bad == 0 and rows == int(sys.argv[4]) else 1)
