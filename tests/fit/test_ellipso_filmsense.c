@@ -115,10 +115,20 @@ static void native_oxide_against_the_instrument(void **state) {
   assert_true(r.ci_lo[0] <= 1.5973 && 1.5973 <= r.ci_hi[0]);
   assert_true(r.ncs_from_file);
   assert_true(r.describes);
-  /* N = cos 2Ψ, so the N, C, S MSE of a non-depolarising model against
-   * values of norm ~1 stays of the order of the Ψ, Δ misfit in radians
-   * x 1000: here the rms Ψ/Δ residual is ~0.06 deg ~ 1e-3 rad. */
-  assert_true(r.mse_ncs > 0.2 && r.mse_ncs < 5);
+  /* The N, C, S MSE as CompleteEASE defines it (J. A. Woollam,
+   * CompleteEASE manual, "MSE"): 1000 sqrt(Σ (ΔN² + ΔC² + ΔS²) / (3n - m))
+   * over the n points and m free parameters, here recomputed from the
+   * file's own N, C, S and the fitted Ψ, Δ of this non-depolarising model
+   * (N = cos 2Ψ, C = sin 2Ψ cos Δ, S = sin 2Ψ sin Δ). */
+  double sum = 0;
+  for (size_t i = 0; i < d.n; i++) {
+    double t = 2 * r.psi_model[i] * M_PI / 180, dl = r.delta_model[i] * M_PI / 180;
+    sum += pow(cos(t) - d.p[i].N, 2) + pow(sin(t) * cos(dl) - d.p[i].C, 2) +
+           pow(sin(t) * sin(dl) - d.p[i].S, 2);
+  }
+  double want = 1000 * sqrt(sum / (double)(3 * d.n - r.nfree));
+  print_message("N/C/S MSE %.6f, from its definition %.6f\n", r.mse_ncs, want);
+  assert_true(fabs(r.mse_ncs - want) <= 1e-9 * want);
   vr_fit_result_free(&r);
   vr_model_destroy(m);
   vr_ellipso_data_free(&d);

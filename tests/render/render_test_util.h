@@ -77,16 +77,26 @@ static inline vr_render_result *render_text_models(const char *text, const char 
  * over the readings (floor points) of the illuminance less the analytic
  * direct part I cos / r^2, and (*expected) the standard's indirect value
  * rho Phi / (S_T (1 - rho)), S_T = 96 m^2. */
-static inline double cie171_cube_indirect(const vr_render_result *r, double phi_lm, double rho,
-                                          double *expected) {
-  double I = phi_lm / (4 * M_PI), sum = 0;
-  for (size_t i = 0; i < r->nreadings; i++) {
+static inline double cie171_cube_indirect_of(const vr_render_result *r, size_t first, size_t n,
+                                             double phi_lm, double rho, double *expected,
+                                             double *stderr_mean) {
+  double I = phi_lm / (4 * M_PI), sum = 0, var = 0;
+  for (size_t i = first; i < first + n; i++) {
     const double *p = r->readings[i].position;
     double r2 = p[0] * p[0] + p[1] * p[1] + 4.0;
     sum += r->readings[i].illuminance_lx - I * (2.0 / sqrt(r2)) / r2;
+    var += r->readings[i].stderr_lx * r->readings[i].stderr_lx;
   }
   *expected = rho * phi_lm / (96.0 * (1 - rho));
-  return sum / (double)r->nreadings;
+  /* The points' estimates are independent (a stream each): the variance
+   * of their mean is the sum of their variances over n^2. */
+  if (stderr_mean) *stderr_mean = sqrt(var) / (double)n;
+  return sum / (double)n;
+}
+
+static inline double cie171_cube_indirect(const vr_render_result *r, double phi_lm, double rho,
+                                          double *expected) {
+  return cie171_cube_indirect_of(r, 0, r->nreadings, phi_lm, rho, expected, NULL);
 }
 
 #endif
