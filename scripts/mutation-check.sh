@@ -9,9 +9,15 @@ set -u
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 build=${1:-build}
-# MUTATIONS="3 5" runs only those (default: all).
+# MUTATIONS="3 5" runs only those (default: all).  Exit status: 0 when
+# every mutation run was caught, 1 when one was not (or did not build), 2
+# for a bad argument.
 only=" ${MUTATIONS:-1 2 3 4 5} "
+for m in $only; do
+  case "$m" in [1-5]) ;; *) echo "mutation-check: MUTATIONS='${MUTATIONS:-}': $m is not a mutation (1 to 5, separated by spaces)" >&2; exit 2 ;; esac
+done
 want() { case "$only" in *" $1 "*) return 0 ;; esac; return 1; }
+missed=0
 files=(render/src/lights/spd.c core/src/fresnel.c render/src/film/accum.c core/src/cmf.c
        render/src/ddm/flow.c)
 if [ -n "$(git status --porcelain -- "${files[@]}")" ]; then
@@ -26,9 +32,16 @@ trap restore EXIT
 run() {
   echo "== mutation: $1"
   if cmake --build "$build" -j"$(nproc)" > /dev/null 2>&1; then
-    (cd "$build" && ctest -j"$(nproc)" 2>&1 | grep -E '\*\*\*Failed|\*\*\*Timeout|tests passed|tests failed')
+    local out
+    out=$(cd "$build" && ctest -j"$(nproc)" 2>&1 | grep -E '\*\*\*Failed|\*\*\*Timeout|tests passed|tests failed')
+    echo "$out"
+    if ! grep -qE '\*\*\*Failed|\*\*\*Timeout' <<< "$out"; then
+      echo "   NOT CAUGHT: no test failed"
+      missed=1
+    fi
   else
     echo "   (the mutated tree does not build: no tests run)"
+    missed=1
   fi
   git checkout -- "${files[@]}"
 }
@@ -76,3 +89,4 @@ if want 5; then
   git diff --quiet -- render/src/ddm/flow.c && { echo "mutation 5 no longer applies" >&2; exit 1; }
   run "one in 1000 hand-overs between cells drops its ray (render/src/ddm/flow.c, trace)"
 fi
+exit $missed

@@ -119,7 +119,10 @@ static void native_oxide_against_the_instrument(void **state) {
    * CompleteEASE manual, "MSE"): 1000 sqrt(Σ (ΔN² + ΔC² + ΔS²) / (3n - m))
    * over the n points and m free parameters, here recomputed from the
    * file's own N, C, S and the fitted Ψ, Δ of this non-depolarising model
-   * (N = cos 2Ψ, C = sin 2Ψ cos Δ, S = sin 2Ψ sin Δ). */
+   * (N = cos 2Ψ, C = sin 2Ψ cos Δ, S = sin 2Ψ sin Δ).  This checks the
+   * figure, not the fit: the fit's quality is held by its verdict above
+   * (r.describes: the residual within VR_FIT_MAX_MISFIT of the data's own
+   * noise), where a range on the MSE would be a bound set from our output. */
   double sum = 0;
   for (size_t i = 0; i < d.n; i++) {
     double t = 2 * r.psi_model[i] * M_PI / 180, dl = r.delta_model[i] * M_PI / 180;
