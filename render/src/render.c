@@ -45,15 +45,18 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
                        .caustic_photons = opt->photons > 0 ? opt->photons : set->caustic_photons,
                        .needs = *nd,
                        .lights_exist = rs->L.nsources > 0 && rs->L.total_power > 0};
-  vr_status st = vr_accum_create(&acc, W, H, rs->nbins, rs->film_lo, rs->film_step, 0, 1, 0, err);
+  /* The film's spectral bins only when an output needs them. */
+  size_t fb = opt->film_without_bins ? 0 : rs->nbins;
+  vr_status st = vr_accum_create(&acc, W, H, fb, rs->film_lo, rs->film_step, 0, 1, 0, err);
   if (!st && rs->bins_mode) st = vr_accum_set_bins(&acc, rs->lmin, rs->lmax, rs->nwl, err);
   /* The film counts in the budget (its pages fill as the pass writes). */
-  r->film_bytes = (size_t)W * (size_t)H * (3 + rs->nbins) * sizeof(double);
+  r->film_bytes = (size_t)W * (size_t)H * (3 + fb) * sizeof(double);
+  res->film_bytes = r->film_bytes;
   if (!st) st = ig->render(&job, err);
   if (st) goto done;
   if (opt->memory_budget) {
-    /* The cells are done with: their memory goes to the image's copies
-     * (the result, the ranks' sum) rather than on top of them. */
+    /* The cells are done with: their memory goes to the outputs (the
+     * writers' images) rather than on top of them. */
     for (int c = 0; c < vr_domains_count(rs->d); c++) vr_domains_unload(rs->d, c);
     malloc_trim(0);
   }
@@ -64,18 +67,12 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   res->height = H;
   res->exposure_ev = s->camera.exposure_ev;
   size_t px = (size_t)W * H;
-  res->xyz = malloc(px * 3 * sizeof *res->xyz);
-  res->spectral = malloc(px * rs->nbins * sizeof *res->spectral);
-  if (!res->xyz || !res->spectral) {
-    st = vr_error_set(err, VR_E_NOMEM, "out of memory");
-    goto done;
-  }
   /* Each rank's film holds what its rays delivered: the sum is the image. */
   st = vr_ranks_sum_accum(r, &acc, RANKS_FILM, err);
   if (st) goto done;
-  for (size_t i = 0; i < px * 3; i++) res->xyz[i] = vr_atomic_get(&acc.xyz[i]) / job.passes;
-  for (size_t i = 0; i < px * rs->nbins; i++)
-    res->spectral[i] = vr_atomic_get(&acc.bins[i]) / job.passes;
+  /* The sums become the result where they lie: no copy of the film. */
+  res->xyz = vr_accum_take_mean(&acc.xyz, px * 3, job.passes);
+  res->spectral = fb ? vr_accum_take_mean(&acc.bins, px * fb, job.passes) : NULL;
   if (job.add_film) job.add_film(job.state, res->xyz, res->spectral);
   if (s->camera.model == VR_CAM_FISHEYE) {
     /* The vertical illuminance at the lens and the glare probability from

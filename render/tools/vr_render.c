@@ -34,7 +34,7 @@
 
 static const vr_option OPTIONS[] = {
     {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv (those that apply, or those of --outputs) and .manifest.json (default PREFIX: the scene's name without .scn, here); checked before any work"},
-    {"outputs", 0, "LIST", "which files to write: a comma-separated subset of exr, spectral, png, sensors (default: all that apply); the manifest is always written and lists them. Without png (and --falsecolour), OpenCV is never loaded"},
+    {"outputs", 0, "LIST", "which files to write: a comma-separated subset of exr, spectral, png, sensors (default: all that apply); the manifest is always written and lists them. Without png (and --falsecolour), OpenCV is never loaded; without spectral the film keeps XYZ only (24 bytes a pixel instead of 8 x (3 + bins): 190 MiB at 4K instead of 2.0 GiB)"},
     {"db", 'd', "FILE", "material database, read-only; must exist (default: $VR_MATDB, else ./materials.db, made if missing and needed)"},
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
     {"memory-budget", 0, "SIZE", "add at most SIZE (e.g. 512M, 2G) to the process's memory: sub-domains, ray queues, maps and the film, with the resident memory watched (16 MiB allowed beyond); sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
@@ -375,8 +375,11 @@ static void digest_of(const char *path, const vr_render_options *o, const render
   if (!vr_read_file(path, 0, &text, &len, NULL)) vr_sha256_update(&c, text, len);
   free(text);
   char opts[256], more[8192];
-  snprintf(opts, sizeof opts, "S=%d spp=%d photons=%ld image_space=%d no_camera=%d",
-           o->subdomains, o->spp, o->photons, o->image_space, o->no_camera);
+  /* What changes the ranks' work or their collective calls (the film's
+   * bins are summed over the ranks only when kept). */
+  snprintf(opts, sizeof opts, "S=%d spp=%d photons=%ld image_space=%d no_camera=%d bins=%d",
+           o->subdomains, o->spp, o->photons, o->image_space, o->no_camera,
+           !o->film_without_bins);
   vr_sha256_update(&c, opts, strlen(opts));
   render_overrides_text(ov, more, sizeof more);
   vr_sha256_update(&c, more, strlen(more));
@@ -489,6 +492,8 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
     goto ready;
   }
   if (render_outputs_choose(asked, scene, opt.no_camera, &outputs, &err)) goto ready;
+  /* Without the spectral EXR the film keeps XYZ only (3 doubles a pixel, not 33). */
+  opt.film_without_bins = !(outputs & VR_FILM_SPECTRAL);
   /* Every output before any work: a wrong path costs a second, not a render. */
   if (rank == 0) {
     if (render_outputs_check(scene, prefix, stats, db_path, outputs, fc != NULL, &outs, &err))

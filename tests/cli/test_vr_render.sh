@@ -124,6 +124,37 @@ assert not a["dispersion"]["ran"] and not b["dispersion"]["ran"]
 PY
 check "--stats: caustic pass only with a mirror, no UV pass without photochromic glass" test $? -eq 0
 
+# The film keeps its spectral bins only for the spectral EXR: --outputs
+# exr,png gives the same EXR with 3 doubles a pixel in the film's sums
+# instead of 3 + 30, and the process's peak memory falls by at least 90 %
+# of the difference, 8 x 30 bytes a pixel.  (The run with every output
+# also writes the spectral EXR, 4 x 30 bytes a pixel more at its peak;
+# a film that kept its bins without the spectral EXR would save nothing.)
+# One thread, so that each pixel's sum is added in one order.
+cat > "$tmp/big.scn" <<'EOF'
+camera pinhole from=0,-1.5,1 to=0,0,1 fov=70 resolution=800x600
+material grey lambert reflectance=0.5
+box min=-2,-2,0 max=2,2,2.5 material=grey
+light point position=0,0,2 intensity=500lm
+render integrator=path spp=1 depth=1
+EOF
+(cd "$tmp" && "$bin" big.scn -o big_all --threads 1 --stats big_all.json --quiet && \
+   "$bin" big.scn -o big_rgb --threads 1 --outputs exr,png --stats big_rgb.json --quiet) > /dev/null 2>&1
+check "a film with and without its bins renders" test $? -eq 0
+python3 - "$tmp" <<'PY'
+import json, sys, os
+d = sys.argv[1]
+a, b = (json.load(open(d + f)) for f in ("/big_all.json", "/big_rgb.json"))
+px = 800 * 600
+assert a["memory"]["film_bytes"] == px * 33 * 8, a["memory"]
+assert b["memory"]["film_bytes"] == px * 3 * 8, b["memory"]
+saved = a["peak_rss_bytes"] - b["peak_rss_bytes"]
+assert saved >= 0.9 * px * 30 * 8, (saved, a["peak_rss_bytes"], b["peak_rss_bytes"])
+assert not os.path.exists(d + "/big_rgb.spectral.exr") and os.path.exists(d + "/big_all.spectral.exr")
+PY
+check "without the spectral EXR the film holds 3 doubles a pixel, and the process less memory" test $? -eq 0
+cmp -s "$tmp/big_all.exr" "$tmp/big_rgb.exr"; check "the same EXR with or without the film's bins" test $? -eq 0
+
 # A light mesh made only of degenerate triangles is refused with the file
 # named; one with a good triangle renders and the dropped ones are counted.
 printf 'v 0 0 2\nv 1 0 2\nv 2 0 2\nf 1 2 3\n' > "$tmp/flat.obj"

@@ -97,6 +97,32 @@ check "SPPM: 2 ranks on 8 sub-domains render" test $? -eq 0
 check "SPPM: 2 ranks give the image of one process" test $rc -eq 0
 [ $rc -eq 0 ] || sed 's/^/# /' "$tmp/cmpsppm.txt"
 
+# A film of over 2^20 sums (400 x 300 pixels x 33) is added over the
+# ranks in pieces through one buffer (run/ranks.c): the image and every
+# band of the spectral image are those of one process; without the spectral
+# EXR (3 sums a pixel) the image is the same.
+sed 's/^render .*/render integrator=path spp=1 depth=3 seed=5/' "$tmp/room.scn" > "$tmp/film.scn"
+(cd "$tmp" && "$bin" film.scn --threads 1 --resolution 400x300 -o film1 --quiet)
+check "a 400 x 300 film: one process renders" test $? -eq 0
+(cd "$tmp" && timeout 300 "${mpi[@]}" -np 2 "$bin" film.scn --subdomains 8 --threads 1 \
+   --resolution 400x300 -o film2 --quiet)
+check "a 400 x 300 film: 2 ranks render" test $? -eq 0
+"$cmp" "$tmp/film1.exr" "$tmp/film2.exr" > /dev/null
+check "a 400 x 300 film: 2 ranks give the image of one process" test $? -eq 0
+"$cmp" --spectral "$tmp/film1.spectral.exr" "$tmp/film2.spectral.exr" > /dev/null
+check "a 400 x 300 film: and every band of its spectral image" test $? -eq 0
+(cd "$tmp" && timeout 300 "${mpi[@]}" -np 2 "$bin" film.scn --subdomains 8 --threads 1 \
+   --resolution 400x300 --outputs exr -o film3 --quiet)
+"$cmp" "$tmp/film1.exr" "$tmp/film3.exr" > /dev/null
+check "a 400 x 300 film without its bins: the same image on 2 ranks" test $? -eq 0
+# The ranks must agree on keeping the bins (their sums are collective):
+# different --outputs are refused like different options.
+(cd "$tmp" && timeout 120 "${mpi[@]}" -np 2 sh -c 'if [ "$OMPI_COMM_WORLD_RANK" = 0 ]; then exec "$0" "$@" --outputs exr; else exec "$0" "$@"; fi' \
+   "$bin" film.scn --subdomains 8 --threads 1 --resolution 40x30 -o film4 --quiet) > /dev/null 2> "$tmp/film4.err"
+rc=$?
+check "ranks asked for different outputs are refused" test $rc -ne 0 -a $rc -ne 124
+grep -q "other options than rank 0" "$tmp/film4.err"; check "the refusal says the ranks' options differ" test $? -eq 0
+
 # Under a budget that holds the film and a few cells a rank, rays go to a rank that
 # holds their cell: --send-batch bounds the rays of a message, a message
 # is a header and whole rays, and --send-credit bounds what a rank holds

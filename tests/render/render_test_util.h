@@ -22,6 +22,18 @@ static inline vr_scene *parse_text(const char *text, const char *name) {
   return s;
 }
 
+/* Renders s with the materials of db (may be NULL) and options o; fails
+ * the test on any error. */
+static inline vr_render_result *render_scene_opt(vr_scene *s, struct vr_matdb *db,
+                                                 const vr_render_options *o) {
+  vr_render_result *r = NULL;
+  vr_error err = {0};
+  vr_status st = vr_render_scene(s, db, o, &r, &err);
+  if (st) fprintf(stderr, "render: %s\n", err.message);
+  assert_int_equal(st, VR_OK);
+  return r;
+}
+
 /* Renders s with the materials of db (may be NULL) on S sub-domains and P
  * threads, without the camera pass when sensors_only, in image space when
  * image_space; fails the test on any error. */
@@ -33,12 +45,7 @@ static inline vr_render_result *render_scene_with(vr_scene *s, struct vr_matdb *
   o.threads = P;
   o.no_camera = sensors_only;
   o.image_space = image_space;
-  vr_render_result *r = NULL;
-  vr_error err = {0};
-  vr_status st = vr_render_scene(s, db, &o, &r, &err);
-  if (st) fprintf(stderr, "render: %s\n", err.message);
-  assert_int_equal(st, VR_OK);
-  return r;
+  return render_scene_opt(s, db, &o);
 }
 
 /* Parses text and renders it (render_scene_with, no database). */

@@ -60,6 +60,11 @@ typedef struct vr_render_options {
   int spp;            /* > 0 overrides the scene's samples per pixel */
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
+  /* The camera's film keeps XYZ only, not its spectral bins: 3 doubles a
+   * pixel instead of 3 + bins (33 with the default 30 bins), for a render
+   * whose outputs do not include the spectral EXR.  The result's spectral
+   * is then NULL (the sensors keep their bins).  Default false. */
+  bool film_without_bins;
   /* Record what each pass's rays did (vr_flow_profile: each cell's rays
    * and time by kind, the moves between cells, the units' generation),
    * for the model of the decomposition (bench/bench_ddm_sim.c).  One
@@ -134,7 +139,8 @@ typedef struct vr_render_result {
   size_t nbins;
   double *bin_nm;         /* centre wavelength of each film bin */
   double bin_width_nm;
-  double *spectral;       /* width*height*nbins, W/(m² sr nm) */
+  double *spectral;       /* width*height*nbins, W/(m² sr nm); NULL with film_without_bins */
+  size_t film_bytes;      /* the camera film's sums in each process (XYZ and bins, doubles) */
   double exposure_ev;
   size_t nreadings;
   vr_sensor_reading *readings;

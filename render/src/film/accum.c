@@ -74,6 +74,20 @@ vr_status vr_accum_create(vr_accum *a, int width, int height, size_t nbins, doub
   return VR_OK;
 }
 
+double *vr_accum_take_mean(_Atomic uint64_t **cells, size_t n, double by) {
+  _Atomic uint64_t *c = *cells;
+  /* Allocated storage takes the type of what is stored in it: each slot is
+   * read as its bits, then written back as a double (both 8 bytes). */
+  _Static_assert(sizeof(_Atomic uint64_t) == sizeof(double), "a sum's slot holds a double");
+  double *d = (double *)(void *)c;
+  for (size_t i = 0; i < n; i++) {
+    double v = vr_atomic_get(&c[i]) / by;
+    memcpy(&d[i], &v, sizeof v);
+  }
+  *cells = NULL;
+  return d;
+}
+
 void vr_accum_destroy(vr_accum *a) {
   free(a->xyz);
   free(a->bins);

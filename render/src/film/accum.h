@@ -51,6 +51,10 @@ void vr_accum_destroy(vr_accum *a);
  * exactly (the midpoint rule with 4 bins of 117 nm is 17 % off for D65). */
 vr_status vr_accum_set_bins(vr_accum *a, double lo, double hi, int n, vr_error *err);
 void vr_atomic_add(_Atomic uint64_t *cell, double v);
+/* The n sums at *cells, each divided by `by`, as plain doubles in the same
+ * memory, which the caller now owns (*cells becomes NULL): a film's sums
+ * become its image without a second copy.  No worker may still add. */
+double *vr_accum_take_mean(_Atomic uint64_t **cells, size_t n, double by);
 double vr_atomic_get(_Atomic uint64_t *cell);
 /* Adds radiance samples (already divided by their wavelength pdf) of a pixel. */
 void vr_accum_pixel(vr_accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,

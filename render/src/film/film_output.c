@@ -277,9 +277,9 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
   if (!o->run_id) vr_film_run_id(run_id);
   if ((st = film_set_begin(&set, prefix, err))) goto out;
   if (image) {
-    if ((exr || spectral || png_file) &&
-        (st = make_images(r, tm, exr || spectral ? &rgb : NULL, png_file ? &png : NULL, err)))
-      goto out;
+    /* One whole-frame image at a time (each is 12 bytes a pixel, 95 MiB at
+     * 4K): the EXRs' linear RGB, written and freed, then the PNG's. */
+    if ((exr || spectral) && (st = make_images(r, tm, &rgb, NULL, err))) goto out;
     /* For viewers: linear sRGB, pixels in cd/m2 (RGB (1,1,1) is 1 cd/m2),
      * and the exposure that makes the PNG's white (100 cd/m2 at EV 0) 1.0. */
     vr_exr_colour colour = vr_exr_colour_srgb(1.0, r->exposure_ev - log2(100.0));
@@ -292,10 +292,14 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
       if ((st = film_set_add(&set, ".spectral.exr", &g, err))) goto out;
       if ((st = vr_spectral_exr_write_with(g->stage, &sp, &rgb, EMISSIVE_UNITS, &colour, err)))
         goto fail;
+      vr_spectral_image_free(&sp);
     }
+    vr_image_free(&rgb);
     if (png_file) {
+      if ((st = make_images(r, tm, NULL, &png, err))) goto out;
       if ((st = film_set_add(&set, ".png", &g, err))) goto out;
       if ((st = vr_image_write_png(g->stage, &png, 8, err))) goto fail;
+      vr_image_free(&png);
     }
     if (falsecolour) {
       if ((st = make_falsecolour(r, o, &fc, err))) goto out;
@@ -481,10 +485,10 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
           "{\"budget_bytes\": %zu, \"peak_cells_bytes\": %zu, \"peak_geometry_bytes\": %zu, "
           "\"peak_embree_bytes\": %zu, \"peak_queue_bytes\": %zu, \"peak_map_bytes\": %zu, "
           "\"peak_spill_bytes\": %zu, \"rss_start_bytes\": %lld, \"rss_base_bytes\": %lld, "
-          "\"peak_uncounted_bytes\": %zu},\n",
+          "\"peak_uncounted_bytes\": %zu, \"film_bytes\": %zu},\n",
           r->memory_budget, r->peak_cells_bytes, r->peak_geometry_bytes, r->peak_embree_bytes,
           r->peak_queue_bytes, r->peak_map_bytes, r->peak_spill_bytes, r->rss_start_bytes,
-          r->rss_base_bytes, r->peak_uncounted_bytes);
+          r->rss_base_bytes, r->peak_uncounted_bytes, r->film_bytes);
   vr_flow_profile_write_json(f, r);
   json_key(f, "  ", "peak_rss_bytes");
   fprintf(f, "%lld,\n", vr_peak_rss_bytes());

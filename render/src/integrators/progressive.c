@@ -120,7 +120,7 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
                                          : "depth 1: no indirect light asked for");
   vr_sppm *s = calloc(1, sizeof *s);
   if (!s) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  vr_status st = vr_sppm_create(s, job->rs, job->W, job->H,
+  vr_status st = vr_sppm_create(s, job->rs, job->W, job->H, job->acc->nbins,
                                 isnan(set->radius_m) ? 0 : set->radius_m, SPPM_RADIUS_PX,
                                 set->alpha, err);
   if (st) {

@@ -41,8 +41,8 @@ static void put(_Atomic uint64_t *cell, double v) {
   atomic_store_explicit(cell, b, memory_order_relaxed);
 }
 
-vr_status vr_sppm_create(vr_sppm *s, const vr_rscene *rs, int width, int height, double radius0,
-                         double radius0_px, double gamma, vr_error *err) {
+vr_status vr_sppm_create(vr_sppm *s, const vr_rscene *rs, int width, int height, size_t film_bins,
+                         double radius0, double radius0_px, double gamma, vr_error *err) {
   memset(s, 0, sizeof *s);
   s->width = width;
   s->height = height;
@@ -67,7 +67,7 @@ vr_status vr_sppm_create(vr_sppm *s, const vr_rscene *rs, int width, int height,
     return vr_error_set(err, VR_E_NOMEM, "out of memory for the visible points of %d x %d pixels",
                         width, height);
   }
-  vr_status st = vr_accum_create(&s->tau, width, height, rs->nbins, rs->film_lo, rs->film_step, 0,
+  vr_status st = vr_accum_create(&s->tau, width, height, film_bins, rs->film_lo, rs->film_step, 0,
                                  1, 0, err);
   if (!st && rs->bins_mode) st = vr_accum_set_bins(&s->tau, rs->lmin, rs->lmax, rs->nwl, err);
   if (st) vr_sppm_destroy(s);

@@ -88,8 +88,10 @@ typedef struct vr_sppm {
   uint64_t photons_total;    /* emitted over the iterations so far */
 } vr_sppm;
 
-vr_status vr_sppm_create(vr_sppm *s, const vr_rscene *rs, int width, int height, double radius0,
-                         double radius0_px, double gamma, vr_error *err);
+/* film_bins: the spectral bins its film keeps (the camera film's: 0 when
+ * no output needs them). */
+vr_status vr_sppm_create(vr_sppm *s, const vr_rscene *rs, int width, int height, size_t film_bins,
+                         double radius0, double radius0_px, double gamma, vr_error *err);
 void vr_sppm_destroy(vr_sppm *s);
 
 /* Iteration `iteration` of `iterations`: picks its wavelengths and clears
