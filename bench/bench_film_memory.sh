@@ -24,8 +24,13 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 common=(--db "$db" --resolution 3840x2160 --spp 1 --photons 20000 --threads 1 --quiet)
 echo "build: $build ($(git -C "$build" rev-parse --short HEAD 2>/dev/null || echo '?')), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
-"$bin" "$root/samples/room.scn" "${common[@]}" --cache "$work/cache" -o "$work/warm" --outputs exr \
-  --resolution 16x16 > /dev/null 2>&1
+# The geometry caches the runs use (one folder per sub-domain count), built
+# before any run is measured.
+for warm in "--cache $work/cache" "--cache $work/cache --subdomains 8" "--cache $work/cache8 --subdomains 8"; do
+  # shellcheck disable=SC2086
+  "$bin" "$root/samples/room.scn" --db "$db" --resolution 16x16 --spp 1 --photons 1000 --quiet \
+    $warm -o "$work/warm" --outputs exr || { echo "bench_film_memory: the warm-up render failed" >&2; exit 1; }
+done
 printf '| run | outputs | film sums a process | peak at the end of the render, each rank | peak of rank 0 with its outputs | wall |\n|---|---|---|---|---|---|\n'
 run() { # label, outputs label, command...
   local label=$1 outs=$2

@@ -34,7 +34,7 @@
 
 static const vr_option OPTIONS[] = {
     {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv (those that apply, or those of --outputs) and .manifest.json (default PREFIX: the scene's name without .scn, here); checked before any work"},
-    {"outputs", 0, "LIST", "which files to write: a comma-separated subset of exr, spectral, png, sensors (default: all that apply); the manifest is always written and lists them. Without png (and --falsecolour), OpenCV is never loaded; without spectral the film keeps XYZ only (24 bytes a pixel instead of 8 x (3 + bins): 190 MiB at 4K instead of 2.0 GiB)"},
+    {"outputs", 0, "LIST", "which files to write: a comma-separated subset of exr, spectral, png, sensors (default: all that apply); the manifest is always written and lists them. Without png (and --falsecolour), OpenCV is never loaded; without spectral the film keeps XYZ only (24 bytes a pixel instead of 8 x (3 + bins): 190 MiB at 4K instead of 2.0 GiB with the default 30 bins)"},
     {"db", 'd', "FILE", "material database, read-only; must exist (default: $VR_MATDB, else ./materials.db, made if missing and needed)"},
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
     {"memory-budget", 0, "SIZE", "add at most SIZE (e.g. 512M, 2G) to the process's memory: sub-domains, ray queues, maps and the film, with the resident memory watched (16 MiB allowed beyond); sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},

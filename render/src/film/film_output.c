@@ -277,8 +277,9 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
   if (!o->run_id) vr_film_run_id(run_id);
   if ((st = film_set_begin(&set, prefix, err))) goto out;
   if (image) {
-    /* One whole-frame image at a time (each is 12 bytes a pixel, 95 MiB at
-     * 4K): the EXRs' linear RGB, written and freed, then the PNG's. */
+    /* The EXRs' linear RGB (12 bytes a pixel, 95 MiB at 4K), beside the
+     * spectral EXR's float copy while that is written (4 bytes a pixel a
+     * bin), all freed before the PNG's image is made. */
     if ((exr || spectral) && (st = make_images(r, tm, &rgb, NULL, err))) goto out;
     /* For viewers: linear sRGB, pixels in cd/m2 (RGB (1,1,1) is 1 cd/m2),
      * and the exposure that makes the PNG's white (100 cd/m2 at EV 0) 1.0. */
