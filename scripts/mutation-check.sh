@@ -29,6 +29,8 @@ restore() {
   cmake --build "$build" -j"$(nproc)" > /dev/null 2>&1 || echo "mutation-check: the restored tree did not build" >&2
 }
 trap restore EXIT
+# Stops when mutation $1's edit of file $2 no longer applies.
+applied() { git diff --quiet -- "$2" && { echo "mutation $1 no longer applies" >&2; exit 1; }; return 0; }
 run() {
   echo "== mutation: $1"
   if cmake --build "$build" -j"$(nproc)" > /dev/null 2>&1; then
@@ -49,7 +51,7 @@ run() {
 if want 1; then
   sed -i 's/  for (int i = 0; i < s->n; i++) s->v\[i\] \*= f;/  for (int i = 0; i < s->n; i++) s->v[i] *= f * 1.005;/' \
     render/src/lights/spd.c
-  git diff --quiet -- render/src/lights/spd.c && { echo "mutation 1 no longer applies" >&2; exit 1; }
+  applied 1 render/src/lights/spd.c
   run "emitted radiance scaled by 1.005 (render/src/lights/spd.c, scale_spd)"
 fi
 # 2. s and p reflection swapped at an interface.
@@ -65,28 +67,28 @@ s = s.replace("  o->Rs = abs2(ns) / abs2(ds);\n  o->Rp = abs2(np) / abs2(dp);",
 s = s.replace("  o->rs = ns / ds;", "  o->rs = np / dp;").replace("  o->rp = np / dp;", "  o->rp = ns / ds;")
 open(p, 'w').write(s)
 PY
-  git diff --quiet -- core/src/fresnel.c && { echo "mutation 2 no longer applies" >&2; exit 1; }
+  applied 2 core/src/fresnel.c
   run "s and p reflection swapped (core/src/fresnel.c, vr_fresnel_interface)"
 fi
 # 3. A one-bin wavelength shift in the film: every sample lands in the bin
 #    above its own (the spectral images, the sensors' spectral columns).
 if want 3; then
   sed -i 's|  double x = (nm - a->bin_lo) / a->bin_step;|  double x = (nm - a->bin_lo) / a->bin_step + 1.0;|' render/src/film/accum.c
-  git diff --quiet -- render/src/film/accum.c && { echo "mutation 3 no longer applies" >&2; exit 1; }
+  applied 3 render/src/film/accum.c
   run "film spectral bins shifted by one (render/src/film/accum.c, bin_of)"
 fi
 # 4. A one-bin wavelength shift in colorimetry: the spectra weighted at the
 #    next 1 nm row of the colour-matching functions (every XYZ, Tvis, colour).
 if want 4; then
   sed -i 's|    double nm = t\[i \* 4\];|    double nm = t[i * 4] + 1.0;|' core/src/cmf.c
-  git diff --quiet -- core/src/cmf.c && { echo "mutation 4 no longer applies" >&2; exit 1; }
+  applied 4 core/src/cmf.c
   run "colour-matching rows shifted by 1 nm (core/src/cmf.c, weighted_sum)"
 fi
 # 5. A dropped ray: one in 1000 rays handed from one cell to the next is
 #    lost, its count balanced as if it had ended (so the run still ends).
 if want 5; then
   sed -i 's|^      w->st.crossings++;$|      w->st.crossings++;\n      if (w->st.crossings % 1000 == 0) { finish(w, 1); return; }|' render/src/ddm/flow.c
-  git diff --quiet -- render/src/ddm/flow.c && { echo "mutation 5 no longer applies" >&2; exit 1; }
+  applied 5 render/src/ddm/flow.c
   run "one in 1000 hand-overs between cells drops its ray (render/src/ddm/flow.c, trace)"
 fi
 exit $missed

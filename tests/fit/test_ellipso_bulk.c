@@ -51,16 +51,26 @@ static void simulate(const vr_sample_model *m, double s, vr_ellipso_data *d) {
   gsl_rng_free(rng);
 }
 
+/* The truth's data with noise (simulate), fitted without a model: the
+ * truth *t, its data *d, the fitted model *m and the result *r. */
+static void fit_simulated(const char *truth, double noise, vr_sample_model **t, vr_ellipso_data *d,
+                          vr_sample_model **m, vr_fit_result *r) {
+  *t = model(truth);
+  simulate(*t, noise, d);
+  *m = NULL;
+  memset(r, 0, sizeof *r);
+  vr_error err = {0};
+  if (vr_ellipso_fit_bulk(d, NULL, m, r, &err)) fail_msg("%s", err.message);
+}
+
 /* Fits without a model; returns the largest |N_fit - N_true| over the
  * data wavelengths, or -1 when the fit flagged itself. */
 static double bulk_error(const char *truth, double noise, bool *inverted) {
-  vr_sample_model *t = model(truth);
+  vr_sample_model *t, *m;
   vr_ellipso_data d;
-  simulate(t, noise, &d);
-  vr_sample_model *m = NULL;
-  vr_fit_result r = {0};
+  vr_fit_result r;
+  fit_simulated(truth, noise, &t, &d, &m, &r);
   vr_error err = {0};
-  if (vr_ellipso_fit_bulk(&d, NULL, &m, &r, &err)) fail_msg("%s", err.message);
   *inverted = r.exact_inversion;
   double worst = 0;
   for (int i = 0; i <= 52; i++) {
@@ -136,13 +146,11 @@ static void noisy_metal(void **state) {
   (void)state;
   const char *truth = "substrate genosc:drude\nparam substrate.Amp1 = 81\nparam substrate.Br1 = 0.1\n";
   const double s = 0.01;
-  vr_sample_model *t = model(truth);
+  vr_sample_model *t, *m;
   vr_ellipso_data d;
-  simulate(t, s, &d);
-  vr_sample_model *m = NULL;
-  vr_fit_result r = {0};
+  vr_fit_result r;
+  fit_simulated(truth, s, &t, &d, &m, &r);
   vr_error err = {0};
-  if (vr_ellipso_fit_bulk(&d, NULL, &m, &r, &err)) fail_msg("%s", err.message);
   assert_true(r.exact_inversion);
   assert_true(r.describes);
   double worst = 0, worst_abs = 0;
