@@ -108,7 +108,7 @@ static run_out render(const char *vr_render, const char *scene, const char *db, 
   while (p && (p = strstr(p + 1, "{\"rank\": "))) {
     o.ranks++;
     o.sent += bench_json_num(p, "rays_sent");
-    o.bytes += bench_json_num(p, "bytes_sent");
+    o.bytes += bench_json_num(p, "ray_bytes_sent"); /* the messages of rays, headers included */
     o.idle += bench_json_num(p, "idle_seconds");
     o.traced += bench_json_num(p, "rays_traced");
     o.rss = fmax(o.rss, bench_json_num(p, "peak_rss_bytes"));
@@ -192,13 +192,14 @@ static void pair_study(const char *db, const char *hdir, const char *dir, const 
   render(vr_render, scene, db, cache, ref, 1, 2, 16, false, 0, 0, "1"); /* the cache, built */
   printf("### The hotel floor on 2 ranks against 1 (16 sub-domains, 1 thread a rank, %s spp)\n\n", n);
   printf("| run | ranks | wall | speedup | loads (largest rank) | load time (largest rank) | "
-         "rays sent | waiting per rank | largest rank RSS | image |\n|---|---|---|---|---|---|---|---|---|---|\n");
+         "rays sent | bytes per ray sent | waiting per rank | largest rank RSS | image |\n"
+         "|---|---|---|---|---|---|---|---|---|---|---|\n");
   double one = 0;
   for (int rep = 0; rep < 2; rep++) {
     run_out a = render(vr_render, scene, db, cache, ref, 1, 1, 16, false, 0, 0, n);
     if (a.status) bench_die(a.msg);
     if (!rep || a.wall < one) one = a.wall;
-    printf("| %d | 1 | %.2f s | 1.00 | %.0f | %.2f s | 0 | %.2f s | %.0f MiB | |\n", rep + 1, a.wall,
+    printf("| %d | 1 | %.2f s | 1.00 | %.0f | %.2f s | 0 | | %.2f s | %.0f MiB | |\n", rep + 1, a.wall,
            a.loads_max, a.load_s_max, a.idle, a.rss / 1048576.0);
     char refexr[4600], exr[4600];
     snprintf(refexr, sizeof refexr, "%s.exr", ref);
@@ -211,8 +212,9 @@ static void pair_study(const char *db, const char *hdir, const char *dir, const 
         continue;
       }
       snprintf(exr, sizeof exr, "%s.exr", pre);
-      printf("| %d | 2, %s | %.2f s | %.2f | %.0f | %.2f s | %.0f | %.2f s | %.0f MiB | %s |\n", rep + 1,
-             modes[m], o.wall, a.wall / o.wall, o.loads_max, o.load_s_max, o.sent,
+      printf("| %d | 2, %s | %.2f s | %.2f | %.0f | %.2f s | %.0f | %.1f | %.2f s | %.0f MiB | %s |\n",
+             rep + 1, modes[m], o.wall, a.wall / o.wall, o.loads_max, o.load_s_max, o.sent,
+             o.sent > 0 ? o.bytes / o.sent : 0,
              o.ranks ? o.idle / o.ranks : 0, o.rss / 1048576.0, yes(bench_image_diff(refexr, exr)));
       fflush(stdout);
     }

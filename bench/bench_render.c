@@ -219,7 +219,8 @@ static void fl_generate(void *ctx, vr_flow_worker *w, long unit) {
     vr_flow_push(w, &r);
   }
 }
-static const vr_flow_ops flow_ops = {fl_closest, fl_shadow_hit, fl_shadow_done, fl_generate};
+static const vr_flow_ops flow_ops = {fl_closest, fl_shadow_hit, fl_shadow_done, fl_generate,
+                                     NULL, NULL, NULL};
 
 static double run_flow(vr_domains *dm, const bounds *b, int threads, bool image_space,
                        float *t, long *hits, uint64_t *crossings) {

@@ -20,9 +20,16 @@
  *     steps that never straddle the 1 nm table's points, exact for the
  *     table's linear pieces, and the source's lumens are the trapezoid
  *     over the same points, exact for E x V, linear between them.  The
- *     reading must equal the formula to rounding, 1e-12 relative.  (With
- *     bins of 58.75 nm over 360-830 nm the steps straddle the table's
- *     points and the reading is 9e-8 off.)
+ *     reading must equal the formula to rounding: DET_REL = 2^-20
+ *     (9.5e-7) relative.  Each ray pushed has its origin, direction,
+ *     weight and throughput rounded to float (vr_flow_push: a ray is the
+ *     same on every rank and goes in few bytes on the wire), 2^-24
+ *     relative each; a sensor's direct reading passes two pushes (the
+ *     sensor ray and the shadow ray), at most 8 roundings that enter its
+ *     value, each entering at most twice (the inverse square of a
+ *     distance): 16 x 2^-24 = 2^-20.  (With bins of 58.75 nm over
+ *     360-830 nm the steps straddle the table's points and the reading is
+ *     9e-8 off: within this bound, no longer told apart.)
  *   - statistical: a Monte Carlo reading must lie within K_SE of its own
  *     standard errors of the expected value.  The standard error comes
  *     from 16 batches of samples, so the ratio follows Student's t with
@@ -45,6 +52,7 @@
 #include "render_test_util.h"
 
 #define K_SE 6.0
+#define DET_REL 0x1p-20 /* the deterministic cases' bound, above */
 #define MAX_SE 0.01
 
 static vr_render_result *render_text(const char *text, int S, int P) {
@@ -113,7 +121,7 @@ static void test_cie171_point_lambertian(void **state) {
            " spectral=bins wavelengths=8 range=360,832");
   r = render_text(scn, 1, 2);
   for (size_t i = 0; i < 3; i++)
-    expect_lx(r, i, lambertian_point(1000, 3, cie171_xy[i][0], cie171_xy[i][1]), 1e-12);
+    expect_lx(r, i, lambertian_point(1000, 3, cie171_xy[i][0], cie171_xy[i][1]), DET_REL);
   vr_render_result_destroy(r);
 }
 
@@ -143,7 +151,7 @@ static void test_inverse_square_cosine(void **state) {
       double r2 = pts[i][0] * pts[i][0] + pts[i][1] * pts[i][1] + 4.0;
       double want = 500.0 * (2.0 / sqrt(r2)) / r2;
       if (deterministic)
-        expect_lx(r, i, want, 1e-12);
+        expect_lx(r, i, want, DET_REL);
       else
         expect_lx_se(r, i, want);
     }

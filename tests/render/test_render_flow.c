@@ -259,7 +259,8 @@ static void test_termination_many_spawned(void **state) {
   vr_geometry *g = NULL;
   vr_error err = {0};
   assert_int_equal(vr_geometry_build(s, &g, &err), VR_OK);
-  const vr_flow_ops ops = {tree_closest, tree_shadow_hit, tree_shadow_done, tree_generate};
+  const vr_flow_ops ops = {tree_closest, tree_shadow_hit, tree_shadow_done, tree_generate,
+                           NULL, NULL, NULL};
   const long units = 40, per_unit = 16 * 1023;
   for (int S = 1; S <= 8; S *= 8) {
     vr_domains *d = NULL;

@@ -48,8 +48,12 @@ extern "C" {
 #endif
 
 #define VR_RAY_PAYLOAD 232 /* bytes of integrator state carried by each ray */
-/* A message of rays between ranks: an 8-byte header, then each ray as a
- * mask of its non-zero 8-byte words and those words (ddm/ray_wire.h). */
+/* The most bytes a payload codec (vr_flow_ops.pack) may write for one ray. */
+#define VR_RAY_PAYLOAD_WIRE_MAX (VR_RAY_PAYLOAD + 32)
+/* A message of rays between ranks: an 8-byte header, then each ray in its
+ * wire form (ddm/ray_wire.c): the flow's fields as varints and floats
+ * where a float holds them exactly, the payload as its pass's codec writes
+ * it (or its non-zero 8-byte words). */
 
 typedef enum vr_ray_kind {
   VR_RAY_CLOSEST = 0, /* wants its closest hit (camera, bounce, photon, sensor) */
@@ -79,6 +83,24 @@ typedef struct vr_flow_ops {
   void (*shadow_done)(void *ctx, vr_flow_worker *w, const vr_ray *r, bool reached);
   /* Creates the rays of work unit `unit` (0 .. units-1) by vr_flow_push. */
   void (*generate)(void *ctx, vr_flow_worker *w, long unit);
+  /* Optional (NULL: a payload goes between ranks as its non-zero 8-byte
+   * words, about 100 bytes for a path's).  The payload's compact form on
+   * the wire:
+   *   - round() is called on each ray pushed and after each shadow_hit
+   *     that lets a ray go on, wherever the ray is traced, and leaves the
+   *     payload in a form pack() writes in few bytes (its doubles rounded
+   *     to float, say): a ray then carries the same numbers whether it
+   *     stays on its rank or not, and the image does not depend on the
+   *     ranks;
+   *   - pack() writes at most VR_RAY_PAYLOAD_WIRE_MAX bytes and returns
+   *     how many; it must be exact for any payload, rounded or not;
+   *   - unpack() reads at most avail bytes, writes the whole payload and
+   *     returns the bytes read, or 0 if they are not a payload.  Every
+   *     field comes back bit for bit (padding between fields as zeros). */
+  void (*round)(const void *ctx, unsigned char *payload);
+  size_t (*pack)(const void *ctx, const unsigned char *payload, unsigned char *out);
+  size_t (*unpack)(const void *ctx, const unsigned char *in, size_t avail,
+                   unsigned char *payload);
 } vr_flow_ops;
 
 /* Counted by each worker on its own and summed when the run ends. */
@@ -204,7 +226,10 @@ vr_status vr_flow_run_image_space(vr_domains *d, const vr_flow_ops *ops, void *c
 /* Queues a new ray (from a callback or generate): into its cell's queue in
  * the queued flow, onto the calling worker's own stack in image space.
  * tnear is where it starts (usually 0, with the origin already offset from
- * any surface). */
+ * any surface).  The ray's origin, direction, tnear and tmax are rounded
+ * to float (the precision Embree traces in) and its payload by the ops'
+ * round(), so that a ray is the same on every rank (its wire form is
+ * exact and short). */
 void vr_flow_push(vr_flow_worker *w, const vr_ray *r);
 
 /* Index of the calling worker (0 .. threads-1), for per-thread scratch. */

@@ -10,7 +10,9 @@
  * (and their spill files) are in flow_queue.c, the choice of a cell (and
  * loading cells under a budget) in flow_sched.c. */
 #include "ddm/flow_internal.h"
+#include "ddm/ray_wire.h"
 #include "vr/comm.h"
+#include "vr/wire.h"
 
 #include <math.h>
 #include <sched.h>
@@ -139,8 +141,13 @@ static vr_ray *stack_slot(vr_flow_worker *w) {
 
 void vr_flow_push(vr_flow_worker *w, const vr_ray *r0) {
   flow *f = w->f;
-  double te;
-  int c = vr_domains_locate(f->d, r0->org, r0->dir, r0->tnear, &te);
+  /* The cell is the rounded ray's (vr_ray_round). */
+  double org[3], dir[3], te;
+  for (int a = 0; a < 3; a++) {
+    org[a] = vr_wire_round(r0->org[a]);
+    dir[a] = vr_wire_round(r0->dir[a]);
+  }
+  int c = vr_domains_locate(f->d, org, dir, vr_wire_round(r0->tnear), &te);
   if (w->credit == 0) reserve(w);
   w->credit--;
   w->st.created++;
@@ -150,7 +157,7 @@ void vr_flow_push(vr_flow_worker *w, const vr_ray *r0) {
     w->st.closest++;
   w->st.by_purpose[r0->purpose & 7]++;
   if (f->profile && !f->image_space) note_move(w, c);
-  /* Copied once, straight to where it waits. */
+  /* Copied once, straight to where it waits, and rounded there. */
   vr_ray *r = f->image_space ? stack_slot(w) : &w->out[(size_t)c * f->batch + (size_t)w->nout[c]];
   if (!r) {
     /* The stack cannot grow: the ray is lost, the run fails. */
@@ -160,6 +167,8 @@ void vr_flow_push(vr_flow_worker *w, const vr_ray *r0) {
     return;
   }
   *r = *r0;
+  vr_ray_round(r);
+  if (f->ops->round) f->ops->round(f->ctx, r->payload);
   r->cell = c;
   r->crossings = 0;
   if (f->image_space) {
@@ -214,6 +223,7 @@ static void trace(vr_flow_worker *w, vr_ray *r, bool walk) {
         finish(w, 1);
         return;
       }
+      if (f->ops->round) f->ops->round(f->ctx, r->payload);
       /* Past a thin element: go on just beyond it, in float steps, so the
        * same surface is not met again. */
       double t = hit.t;

@@ -305,7 +305,7 @@ static bool send_rays(vr_flow *f, int dest, const vr_ray *rays, size_t k) {
   msg_head h = {MSG_RAYS, (uint32_t)k};
   memcpy(buf, &h, sizeof h);
   size_t bytes = sizeof h;
-  for (size_t i = 0; i < k; i++) bytes += vr_ray_pack(&rays[i], buf + bytes);
+  for (size_t i = 0; i < k; i++) bytes += vr_ray_pack(f->ops, f->ctx, &rays[i], buf + bytes);
   if (!send_msg(f, dest, buf, bytes)) return false;
   f->net->sent += (int64_t)k;
   f->net->ray_messages++;
@@ -427,7 +427,7 @@ static void take_rays(vr_flow *f, int src, const unsigned char *body, size_t len
   for (size_t i = 0; i < n;) {
     int k = 0, c = -1;
     while (i < n && k < VR_FLOW_BATCH) {
-      size_t used = vr_ray_unpack(body + off, len - off, &run[k]);
+      size_t used = vr_ray_unpack(f->ops, f->ctx, body + off, len - off, &run[k]);
       if (!used) {
         fail(f, VR_E_IO, "ray flow: a malformed message");
         return;

@@ -1,60 +1,41 @@
-/* A ray's form in a message between ranks (flow_net.c): the record with
- * its zero 8-byte words left out.  A mask of 64 bits says which of the
- * record's words follow, in order; the words are copied bit for bit, so a
- * ray arrives exactly as it left (the image does not depend on where a ray
- * was traced).  Unused wavelength slots, a payload's tail, a ray at the
- * origin of an axis: all zeros, all left out.  A camera or path ray with
- * four wavelengths is about 190 bytes instead of 304. */
+/* A ray's form in a message between ranks (flow_net.c), exact bit for bit
+ * so that the image does not depend on where a ray was traced:
+ *   - a varint of flags: bit i (0..7) says the i-th of origin x, y, z,
+ *     direction x, y, z, tnear, tmax goes as a double (else as a float,
+ *     which holds it exactly: vr_flow_push rounds them); bit 8 says the
+ *     payload follows in its pass's form (vr_flow_ops.pack), else as a
+ *     32-bit mask of its non-zero 8-byte words and those words; bit 9
+ *     says kind and purpose share one byte (kind | purpose << 1);
+ *   - the cell (varint), kind and purpose (one byte, or a byte each), the
+ *     crossings (varint);
+ *   - the eight numbers, 4 or 8 bytes each;
+ *   - the payload.
+ * A camera or path ray with four wavelengths handed over to another cell
+ * takes 74 bytes (304 in memory); docs/ddm.md has the measured means. */
 #ifndef VR_DDM_RAY_WIRE_H
 #define VR_DDM_RAY_WIRE_H
 
-#include <stdint.h>
-#include <string.h>
+#include <stddef.h>
 
 #include "vr/flow.h"
 
-#define VR_RAY_WORDS (sizeof(vr_ray) / 8)
-_Static_assert(sizeof(vr_ray) % 8 == 0 && sizeof(vr_ray) / 8 <= 64,
-               "a ray record is whole 8-byte words, at most 64 of them");
-/* The most bytes one ray takes in a message (the mask and every word). */
-#define VR_RAY_WIRE_MAX (8 + sizeof(vr_ray))
+/* The most bytes one ray takes in a message. */
+#define VR_RAY_WIRE_MAX (3 + 5 + 2 + 3 + 8 * 8 + VR_RAY_PAYLOAD_WIRE_MAX)
 
-/* Writes r at out (room for VR_RAY_WIRE_MAX bytes); returns the bytes. */
-static inline size_t vr_ray_pack(const vr_ray *r, unsigned char *out) {
-  uint64_t w[VR_RAY_WORDS], mask = 0;
-  memcpy(w, r, sizeof *r);
-  size_t n = 8;
-  for (size_t i = 0; i < VR_RAY_WORDS; i++)
-    if (w[i]) {
-      mask |= (uint64_t)1 << i;
-      memcpy(out + n, &w[i], 8);
-      n += 8;
-    }
-  memcpy(out, &mask, 8);
-  return n;
-}
+/* Writes r at out (room for VR_RAY_WIRE_MAX bytes), its payload by ops'
+ * pack if ops has one (ops may be NULL); returns the bytes written. */
+size_t vr_ray_pack(const vr_flow_ops *ops, const void *ctx, const vr_ray *r,
+                   unsigned char *out);
 
 /* Reads one ray from in (avail bytes left); returns the bytes it took, or
- * 0 if they are not a ray record (a mask naming words a ray does not have,
- * or fewer bytes than the mask says). */
-static inline size_t vr_ray_unpack(const unsigned char *in, size_t avail, vr_ray *r) {
-  if (avail < 8) return 0;
-  uint64_t mask;
-  memcpy(&mask, in, 8);
-  if (VR_RAY_WORDS < 64 && (mask >> VR_RAY_WORDS)) return 0;
-  size_t need = 8 + 8 * (size_t)__builtin_popcountll(mask);
-  if (need > avail) return 0;
-  uint64_t w[VR_RAY_WORDS];
-  size_t n = 8;
-  for (size_t i = 0; i < VR_RAY_WORDS; i++) {
-    w[i] = 0;
-    if (mask >> i & 1) {
-      memcpy(&w[i], in + n, 8);
-      n += 8;
-    }
-  }
-  memcpy(r, w, sizeof *r);
-  return n;
-}
+ * 0 if they are not a ray record (flags or fields out of their range, a
+ * payload in another form than ops writes, fewer bytes than the record
+ * needs). */
+size_t vr_ray_unpack(const vr_flow_ops *ops, const void *ctx, const unsigned char *in,
+                     size_t avail, vr_ray *r);
+
+/* Rounds r's origin, direction, tnear and tmax to float (the form the
+ * wire carries in 4 bytes each). */
+void vr_ray_round(vr_ray *r);
 
 #endif

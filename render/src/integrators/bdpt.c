@@ -348,7 +348,8 @@ static bool no_shadow_hit(void *ctx, vr_flow_worker *w, vr_ray *r, const vr_hit 
 static void no_shadow_done(void *ctx, vr_flow_worker *w, const vr_ray *r, bool reached) {
   (void)ctx, (void)w, (void)r, (void)reached;
 }
-static const vr_flow_ops bdpt_ops = {no_closest, no_shadow_hit, no_shadow_done, generate};
+static const vr_flow_ops bdpt_ops = {no_closest, no_shadow_hit, no_shadow_done, generate,
+                                      NULL, NULL, NULL};
 
 static void progress(void *u, long done, long total) {
   const vr_run *r = u;

@@ -89,6 +89,13 @@ void vr_path_shadow_done(void *ctx, vr_flow_worker *w, const vr_ray *r, bool rea
  * goes on through it (pushed again beyond the hit, its footprint and
  * medium's absorption carried on) and true is returned; else false. */
 bool vr_path_pass_through(vr_pass *c, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit);
+/* A vr_payload's wire form between ranks (payload_wire.c): the ops' round,
+ * pack and unpack of every pass whose rays carry one (ctx: its vr_pass). */
+void vr_payload_round(const void *ctx, unsigned char *payload);
+size_t vr_payload_pack(const void *ctx, const unsigned char *payload, unsigned char *out);
+size_t vr_payload_unpack(const void *ctx, const unsigned char *in, size_t avail,
+                         unsigned char *payload);
+#define VR_PAYLOAD_WIRE vr_payload_round, vr_payload_pack, vr_payload_unpack
 /* Camera unit: one tile of the image, one wave of its samples. */
 void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit);
 /* The camera pass's flow: camera paths, shadow rays. */

@@ -423,7 +423,7 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
 }
 
 const vr_flow_ops vr_camera_path_ops = {vr_path_closest, vr_path_shadow_hit, vr_path_shadow_done,
-                                   vr_camera_generate};
+                                   vr_camera_generate, VR_PAYLOAD_WIRE};
 
 /* The camera pass's units: each tile in waves of at most CAMERA_WAVE_RAYS
  * camera rays (unit = wave x tiles + tile), so the rays in flight, and the

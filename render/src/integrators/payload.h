@@ -35,6 +35,14 @@ enum {
                                 went on by its specular part): later vertices are traced */
 };
 
+/* Where the random-number streams of each kind of path begin
+ * (vr_payload.stream): a camera path's is its pixel, a sensor path's
+ * VR_STREAM_SENSOR + its point, a photon's VR_STREAM_PHOTON + its number,
+ * a UV path's VR_STREAM_UV + its unit; the wire form names the base. */
+#define VR_STREAM_SENSOR 0x5E450000000ull
+#define VR_STREAM_PHOTON 0x9000000000000ull
+#define VR_STREAM_UV 0x0F000000000ull
+
 /* No sky patch (vr_payload.patch). */
 #define VR_NO_PATCH 0xFF
 

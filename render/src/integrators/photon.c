@@ -103,7 +103,7 @@ static void closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit 
 }
 
 static const vr_flow_ops camera_ops = {closest, vr_path_shadow_hit, vr_path_shadow_done,
-                                       vr_camera_generate};
+                                       vr_camera_generate, VR_PAYLOAD_WIRE};
 
 static vr_status render(vr_camera_job *job, vr_error *err) {
   vr_run *r = job->run;

@@ -21,7 +21,7 @@ static void photon_generate(void *ctx, vr_flow_worker *w, long unit) {
   if (!L->nsources || !(L->total_power > 0)) return;
   for (long j = 0; j < c->photons_per_unit; j++) {
     vr_payload p = {0};
-    p.stream = 0x9000000000000ull + (uint64_t)(unit * c->photons_per_unit + j);
+    p.stream = VR_STREAM_PHOTON + (uint64_t)(unit * c->photons_per_unit + j);
     p.sample = (uint32_t)c->sample_offset;
     p.target = VR_TARGET_PHOTON;
     p.nwl = (uint8_t)rs->nwl;
@@ -162,7 +162,7 @@ static void photon_shadow_done(void *ctx, vr_flow_worker *w, const vr_ray *r, bo
 }
 
 const vr_flow_ops vr_photon_ops = {photon_closest, photon_shadow_hit, photon_shadow_done,
-                                   photon_generate};
+                                   photon_generate, VR_PAYLOAD_WIRE};
 /* Jensen's maps: into the map of its path's kind, of the cell where the
  * photon landed. */
 static void store(vr_pass *c, const vr_payload *p, const vr_hit *hit, const double dir[3]) {

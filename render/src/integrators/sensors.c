@@ -43,7 +43,7 @@ static void generate(void *ctx, vr_flow_worker *w, long unit) {
   int per = (ss->samples + groups - 1) / groups;
   for (int s = 0; s < per; s++) {
     vr_payload p = {0};
-    p.stream = 0x5E450000000ull + point;
+    p.stream = VR_STREAM_SENSOR + point;
     p.sample = (uint32_t)(g + s * groups);
     p.index = (uint32_t)point;
     p.target = VR_TARGET_SENSOR;
@@ -71,7 +71,7 @@ static void generate(void *ctx, vr_flow_worker *w, long unit) {
 }
 
 static const vr_flow_ops sensor_ops = {vr_path_closest, vr_path_shadow_hit, vr_path_shadow_done,
-                                       generate};
+                                       generate, VR_PAYLOAD_WIRE};
 
 /* A photon sensor's diffuse vertex: direct light came from the next-event
  * estimate; what arrives after a diffuse or specular bounce comes from the

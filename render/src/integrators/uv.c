@@ -33,7 +33,7 @@ static void generate(void *ctx, vr_flow_worker *w, long unit) {
     for (int a = 0; a < 3; a++) n[a] = side ? -o->normal[a] : o->normal[a];
     for (int s = 0; s < UV_SAMPLES; s++) {
       vr_payload p = {0};
-      p.stream = 0x0F000000000ull + (uint64_t)unit;
+      p.stream = VR_STREAM_UV + (uint64_t)unit;
       p.sample = (uint32_t)(side * UV_SAMPLES + s);
       p.index = (uint32_t)unit;
       p.target = VR_TARGET_TEXEL;
@@ -51,7 +51,7 @@ static void generate(void *ctx, vr_flow_worker *w, long unit) {
 }
 
 static const vr_flow_ops uv_ops = {vr_path_closest, vr_path_shadow_hit, vr_path_shadow_done,
-                                   generate};
+                                   generate, VR_PAYLOAD_WIRE};
 
 vr_status vr_uv_run(vr_run *r, vr_error *err) {
   vr_rscene *rs = r->rs;

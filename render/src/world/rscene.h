@@ -137,5 +137,9 @@ static inline const vr_rspd *vr_rscene_emission(const vr_rscene *rs, uint32_t o)
  * over `strata` samples, and equally spaced rotations of it; or the fixed
  * bins' centres. */
 void vr_wavelengths(const vr_rscene *rs, const vr_rng_key *key, uint32_t strata, double *wl);
+/* The i-th wavelength of a path whose first is wl0, as vr_wavelengths
+ * makes it (every one then follows from the first: a ray's wire form
+ * carries the first alone). */
+double vr_wavelength_at(const vr_rscene *rs, double wl0, int i);
 
 #endif
