@@ -241,8 +241,7 @@ static void test_sizes_by_definition(void **state) {
    * and source 1; flags 1; medium -1: 1; weight 4; the hero 4; four
    * throughputs 16.  41 + 33 = 74. */
   vr_ray r = camera_ray(76799);
-  assert_int_equal(round_trip(&g_ops, &r), 74);
-  assert_true(74 <= 96); /* issue 31's bound */
+  assert_int_equal(round_trip(&g_ops, &r), 74); /* issue 31's bound: 96 */
   /* A 4K frame's last pixel (8294399 < 2^28): the index takes 4 bytes. */
   r = camera_ray(3840 * 2160 - 1);
   assert_int_equal(round_trip(&g_ops, &r), 75);
@@ -260,7 +259,8 @@ static void test_sizes_by_definition(void **state) {
   p.index = 0;
   memcpy(r.payload, &p, sizeof p);
   assert_int_equal(round_trip(&g_ops, &r), 74);
-  /* A sensor path: VR_STREAM_SENSOR + its point, the index: 74. */
+  /* A sensor path: VR_STREAM_SENSOR + its point 37, the index in 1 byte:
+   * 72. */
   p.stream = VR_STREAM_SENSOR + 37;
   p.index = 37;
   memcpy(r.payload, &p, sizeof p);
@@ -288,7 +288,7 @@ static void test_sizes_by_definition(void **state) {
   p.weight = 1.0 / 3.0;
   for (int i = 0; i < 4; i++) p.beta[i] = 1.0 / (3.0 + 2 * i); /* 1/3, 1/5, 1/7, 1/9 */
   memcpy(r.payload, &p, sizeof p);
-  /* Flags grow past 7 bits (beta bits 16..19): 3 bytes, not 1. */
+  /* Flags grow past 7 bits (beta bits 17..20): 3 bytes, not 1. */
   assert_int_equal(round_trip(&g_ops, &r), 74 + 4 + 16 + 2);
 }
 
@@ -339,9 +339,9 @@ static void test_refuses_what_is_not_a_ray(void **state) {
   size_t np = vr_ray_pack(NULL, NULL, &r, plain);
   assert_int_equal(vr_ray_unpack(NULL, NULL, plain, np, &back), np);
   assert_int_equal(vr_ray_unpack(&g_ops, &g_pass, plain, np, &back), 0);
-  /* Flags past bit 9. */
+  /* Flags past bit 9 (the ray's own flags, 0x340, and bit 10). */
   unsigned char bad[VR_RAY_WIRE_MAX + 2];
-  unsigned char *o = vr_wire_put_u64(bad, 1u << 10);
+  unsigned char *o = vr_wire_put_u64(bad, 0x340 | 1u << 10);
   memcpy(o, buf + 2, n - 2);
   assert_int_equal(vr_ray_unpack(&g_ops, &g_pass, bad, n, &back), 0);
   /* A payload with nine wavelengths (its nwl byte is the payload's 8th:
@@ -386,9 +386,11 @@ static void test_rays_a_run_sent(void **state) {
         vr_ray r;
         size_t used = vr_ray_unpack(&g_ops, &g_pass, buf + off, len - off, &r);
         if (!used || used > 96) fail_msg("%s: ray %d: %zu bytes", path, i, used);
-        /* A real ray: a unit direction to float precision, a known purpose. */
+        /* A real ray: a unit direction to float precision, a kind and a
+         * purpose tag the flow knows (vr_ray_kind; the stats' 8 tags). */
         double d2 = r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2];
         assert_true(fabs(d2 - 1) < 1e-6);
+        assert_true(r.kind <= VR_RAY_SHADOW && r.purpose < 8);
         unsigned char again[VR_RAY_WIRE_MAX];
         assert_int_equal(vr_ray_pack(&g_ops, &g_pass, &r, again), used);
         assert_memory_equal(again, buf + off, used);

@@ -30,6 +30,9 @@ void vr_ray_round(vr_ray *r) {
   for (int i = 0; i < 8; i++) *n[i] = vr_wire_round(*n[i]);
 }
 
+/* Whether the pass writes its payload in its own form. */
+static bool has_codec(const vr_flow_ops *ops) { return ops && ops->pack && ops->unpack; }
+
 size_t vr_ray_pack(const vr_flow_ops *ops, const void *ctx, const vr_ray *r0,
                    unsigned char *out) {
   vr_ray r = *r0;
@@ -38,11 +41,11 @@ size_t vr_ray_pack(const vr_flow_ops *ops, const void *ctx, const vr_ray *r0,
   unsigned flags = 0;
   for (int i = 0; i < 8; i++)
     if (!vr_wire_is_float(*n[i])) flags |= 1u << i;
-  bool codec = ops && ops->pack && ops->unpack;
+  bool codec = has_codec(ops);
   if (codec) flags |= WF_PAYLOAD_CODEC;
   if (r.kind < 2 && r.purpose < 128) flags |= WF_KIND_PURPOSE;
   unsigned char *o = vr_wire_put_u64(out, flags);
-  o = vr_wire_put_u64(o, (uint32_t)r.cell);
+  o = vr_wire_put_u64(o, (uint32_t)r.cell); /* a ray's cell is never negative: the flow sets it */
   if (flags & WF_KIND_PURPOSE) {
     *o++ = (unsigned char)(r.kind | r.purpose << 1);
   } else {
@@ -92,7 +95,7 @@ size_t vr_ray_unpack(const vr_flow_ops *ops, const void *ctx, const unsigned cha
   numbers(&t, n);
   for (int i = 0; i < 8; i++)
     if (!vr_wire_get_num(&rd, n[i], flags >> i & 1)) return 0;
-  bool codec = ops && ops->pack && ops->unpack;
+  bool codec = has_codec(ops);
   if (!(flags & WF_PAYLOAD_CODEC) != !codec) return 0; /* not the form this pass writes */
   if (codec) {
     size_t used = ops->unpack(ctx, rd.p, (size_t)(rd.end - rd.p), t.payload);

@@ -38,7 +38,8 @@ enum {
 /* Where the random-number streams of each kind of path begin
  * (vr_payload.stream): a camera path's is its pixel, a sensor path's
  * VR_STREAM_SENSOR + its point, a photon's VR_STREAM_PHOTON + its number,
- * a UV path's VR_STREAM_UV + its unit; the wire form names the base. */
+ * a UV path's VR_STREAM_UV + its unit; the wire form names the camera's,
+ * the sensors' and the photons' (payload_wire.c), a UV stream goes whole. */
 #define VR_STREAM_SENSOR 0x5E450000000ull
 #define VR_STREAM_PHOTON 0x9000000000000ull
 #define VR_STREAM_UV 0x0F000000000ull
@@ -64,8 +65,8 @@ typedef struct vr_payload {
   double portal_t;         /* portal photons: distance left to the portal */
   /* The ray's footprint for texture filtering (a ray cone): its width at
    * the origin and its spread angle (radians), both 0 in a scene without
-   * textures (so they cost nothing on the wire: vr_ray_pack leaves zero
-   * words out). */
+   * textures (so they cost nothing on the wire: payload_wire.c sends
+   * them only when not zero). */
   float cone_w, cone_a;
 } vr_payload;
 _Static_assert(sizeof(vr_payload) <= VR_RAY_PAYLOAD, "a payload must fit in a ray");

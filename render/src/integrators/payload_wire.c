@@ -27,12 +27,12 @@ enum { /* the usual ones in the low 7 bits: a varint of one byte */
                                  below 16: one byte for the four */
   PW_CONE = 1u << 2,          /* cone_w, cone_a follow */
   PW_WL_RULE = 1u << 3,       /* only wl[0]: the others follow from it */
-  PW_STREAM = 4,              /* bits 4-5: how the stream goes (STREAM_*) */
+  PW_STREAM_SHIFT = 4,        /* bits 4-5: how the stream goes (STREAM_*) */
   PW_WEIGHT_DOUBLE = 1u << 6,
   PW_ALL_SLOTS = 1u << 7,     /* all VR_MAX_WL slots follow, not nwl */
   PW_PORTAL_DOUBLE = 1u << 8,
-  PW_WL_DOUBLE = 9,           /* bit PW_WL_DOUBLE + i: wl[i] as a double */
-  PW_BETA_DOUBLE = 9 + VR_MAX_WL
+  PW_WL_DOUBLE_SHIFT = 9,     /* bit PW_WL_DOUBLE_SHIFT + i: wl[i] as a double */
+  PW_BETA_DOUBLE_SHIFT = 9 + VR_MAX_WL
 };
 enum {
   STREAM_RAW = 0,    /* a varint */
@@ -40,8 +40,12 @@ enum {
   STREAM_SENSOR = 2, /* VR_STREAM_SENSOR + the index (a sensor point's path) */
   STREAM_PHOTON = 3  /* VR_STREAM_PHOTON + a varint */
 };
-_Static_assert(PW_BETA_DOUBLE + VR_MAX_WL <= 63, "the flags fit in 64 bits");
-_Static_assert(sizeof(vr_payload) + 48 <= VR_RAY_PAYLOAD_WIRE_MAX,
+_Static_assert(PW_BETA_DOUBLE_SHIFT + VR_MAX_WL <= 63, "the flags fit in 64 bits");
+/* The longest form: the flags' varint (4 bytes for 25 bits), the stream
+ * (10), sample and index (5 each), the six small fields (6), the flags
+ * (3), the medium (5), then weight, every wavelength and throughput and
+ * the portal distance as doubles, and the cone (8). */
+_Static_assert(4 + 10 + 5 + 5 + 6 + 3 + 5 + 8 * (2 + 2 * VR_MAX_WL) + 8 <= VR_RAY_PAYLOAD_WIRE_MAX,
                "a payload's longest form fits the wire's bound");
 
 static bool zero_tail(const double *v, int from) {
@@ -52,16 +56,18 @@ static bool zero_tail(const double *v, int from) {
 
 void vr_payload_round(const void *ctx, unsigned char *payload) {
   (void)ctx;
-  vr_payload *p = (vr_payload *)(void *)payload; /* vr_ray.payload is 8-aligned */
-  p->weight = vr_wire_round(p->weight);
+  vr_payload p;
+  memcpy(&p, payload, sizeof p);
+  p.weight = vr_wire_round(p.weight);
   /* The slots from nwl on are not read by any pass: zeros (they go as
    * nothing), where a contribution copied whole may have left anything. */
-  int n = p->nwl < VR_MAX_WL ? p->nwl : VR_MAX_WL;
+  int n = p.nwl < VR_MAX_WL ? p.nwl : VR_MAX_WL;
   for (int i = 0; i < VR_MAX_WL; i++) {
-    p->beta[i] = i < n ? vr_wire_round(p->beta[i]) : 0.0;
-    if (i >= n) p->wl[i] = 0.0;
+    p.beta[i] = i < n ? vr_wire_round(p.beta[i]) : 0.0;
+    if (i >= n) p.wl[i] = 0.0;
   }
-  p->portal_t = vr_wire_round(p->portal_t);
+  p.portal_t = vr_wire_round(p.portal_t);
+  memcpy(payload, &p, sizeof p);
 }
 
 size_t vr_payload_pack(const void *ctx, const unsigned char *payload, unsigned char *out) {
@@ -96,9 +102,9 @@ size_t vr_payload_pack(const void *ctx, const unsigned char *payload, unsigned c
     }
   }
   for (int i = 0; i < nwl_sent; i++)
-    if (!vr_wire_is_float(p.wl[i])) fl |= 1ull << (PW_WL_DOUBLE + i);
+    if (!vr_wire_is_float(p.wl[i])) fl |= 1ull << (PW_WL_DOUBLE_SHIFT + i);
   for (int i = 0; i < n; i++)
-    if (!vr_wire_is_float(p.beta[i])) fl |= 1ull << (PW_BETA_DOUBLE + i);
+    if (!vr_wire_is_float(p.beta[i])) fl |= 1ull << (PW_BETA_DOUBLE_SHIFT + i);
   uint64_t stream_code = STREAM_RAW;
   if (p.stream == p.index)
     stream_code = STREAM_INDEX;
@@ -106,7 +112,7 @@ size_t vr_payload_pack(const void *ctx, const unsigned char *payload, unsigned c
     stream_code = STREAM_SENSOR;
   else if (p.stream >= VR_STREAM_PHOTON)
     stream_code = STREAM_PHOTON;
-  fl |= stream_code << PW_STREAM;
+  fl |= stream_code << PW_STREAM_SHIFT;
   if (c && c->rs && p.nwl == c->rs->nwl && p.patch == VR_NO_PATCH && !p.holes && p.target < 16 &&
       p.source < 16)
     fl |= PW_USUAL;
@@ -129,8 +135,8 @@ size_t vr_payload_pack(const void *ctx, const unsigned char *payload, unsigned c
   o = vr_wire_put_u64(o, p.flags);
   o = vr_wire_put_i64(o, p.medium);
   o = vr_wire_put_num(o, p.weight, fl & PW_WEIGHT_DOUBLE);
-  for (int i = 0; i < nwl_sent; i++) o = vr_wire_put_num(o, p.wl[i], fl >> (PW_WL_DOUBLE + i) & 1);
-  for (int i = 0; i < n; i++) o = vr_wire_put_num(o, p.beta[i], fl >> (PW_BETA_DOUBLE + i) & 1);
+  for (int i = 0; i < nwl_sent; i++) o = vr_wire_put_num(o, p.wl[i], fl >> (PW_WL_DOUBLE_SHIFT + i) & 1);
+  for (int i = 0; i < n; i++) o = vr_wire_put_num(o, p.beta[i], fl >> (PW_BETA_DOUBLE_SHIFT + i) & 1);
   if (fl & PW_PORTAL) o = vr_wire_put_num(o, p.portal_t, fl & PW_PORTAL_DOUBLE);
   if (fl & PW_CONE) {
     memcpy(o, &cw, 4);
@@ -148,8 +154,8 @@ size_t vr_payload_unpack(const void *ctx, const unsigned char *in, size_t avail,
   memset(&p, 0, sizeof p);
   uint64_t fl, v;
   int64_t m;
-  if (!vr_wire_get_u64(&rd, &fl) || fl >> (PW_BETA_DOUBLE + VR_MAX_WL)) return 0;
-  uint64_t stream_code = fl >> PW_STREAM & 3;
+  if (!vr_wire_get_u64(&rd, &fl) || fl >> (PW_BETA_DOUBLE_SHIFT + VR_MAX_WL)) return 0;
+  uint64_t stream_code = fl >> PW_STREAM_SHIFT & 3;
   if (stream_code == STREAM_RAW || stream_code == STREAM_PHOTON) {
     if (!vr_wire_get_u64(&rd, &p.stream)) return 0;
     if (stream_code == STREAM_PHOTON) {
@@ -195,14 +201,14 @@ size_t vr_payload_unpack(const void *ctx, const unsigned char *in, size_t avail,
   }
   /* Bits for slots the record does not have make it no record. */
   for (int i = 0; i < VR_MAX_WL; i++)
-    if ((i >= nwl_sent && fl >> (PW_WL_DOUBLE + i) & 1) || (i >= n && fl >> (PW_BETA_DOUBLE + i) & 1))
+    if ((i >= nwl_sent && fl >> (PW_WL_DOUBLE_SHIFT + i) & 1) || (i >= n && fl >> (PW_BETA_DOUBLE_SHIFT + i) & 1))
       return 0;
   for (int i = 0; i < nwl_sent; i++)
-    if (!vr_wire_get_num(&rd, &p.wl[i], fl >> (PW_WL_DOUBLE + i) & 1)) return 0;
+    if (!vr_wire_get_num(&rd, &p.wl[i], fl >> (PW_WL_DOUBLE_SHIFT + i) & 1)) return 0;
   if (fl & PW_WL_RULE)
     for (int i = 1; i < n; i++) p.wl[i] = vr_wavelength_at(c->rs, p.wl[0], i);
   for (int i = 0; i < n; i++)
-    if (!vr_wire_get_num(&rd, &p.beta[i], fl >> (PW_BETA_DOUBLE + i) & 1)) return 0;
+    if (!vr_wire_get_num(&rd, &p.beta[i], fl >> (PW_BETA_DOUBLE_SHIFT + i) & 1)) return 0;
   if (fl & PW_PORTAL && !vr_wire_get_num(&rd, &p.portal_t, fl & PW_PORTAL_DOUBLE)) return 0;
   if (!(fl & PW_PORTAL) && fl & PW_PORTAL_DOUBLE) return 0;
   if (fl & PW_CONE) {
