@@ -19,9 +19,10 @@ static const struct {
 } FILES[] = {{"exr", ".exr", VR_FILM_EXR},
              {"spectral", ".spectral.exr", VR_FILM_SPECTRAL},
              {"png", ".png", VR_FILM_PNG},
+             {"hdr", ".hdr", VR_FILM_HDR},
              {"sensors", ".sensors.csv", VR_FILM_SENSORS}};
 #define NFILES (sizeof FILES / sizeof FILES[0])
-#define IMAGES (VR_FILM_EXR | VR_FILM_SPECTRAL | VR_FILM_PNG)
+#define IMAGES (VR_FILM_EXR | VR_FILM_SPECTRAL | VR_FILM_PNG | VR_FILM_HDR)
 
 int render_outputs_parse(const vr_args *a, unsigned *out) {
   *out = 0;
@@ -38,7 +39,7 @@ int render_outputs_parse(const vr_args *a, unsigned *out) {
       if (strlen(FILES[k].name) == n && !strncasecmp(at, FILES[k].name, n)) bit = FILES[k].bit;
     if (!bit)
       return render_usage_error("--outputs '%s': unknown output \"%.*s\" (choose among exr, "
-                                "spectral, png, sensors)", list, (int)n, at);
+                                "spectral, png, hdr, sensors)", list, (int)n, at);
     if (*out & bit)
       return render_usage_error("--outputs '%s': \"%.*s\" is named twice", list, (int)n, at);
     if (sensors_only && (bit & IMAGES))
@@ -60,7 +61,7 @@ int render_outputs_parse(const vr_args *a, unsigned *out) {
 vr_status render_outputs_choose(unsigned asked, const vr_scene *s, bool no_camera,
                                 unsigned *out, vr_error *err) {
   unsigned can = (no_camera ? 0u : IMAGES) | (s->nsensors ? VR_FILM_SENSORS : 0u);
-  *out = asked ? asked : can;
+  *out = asked ? asked : can & ~(unsigned)VR_FILM_HDR; /* the Radiance picture when asked */
   if (asked && s->sky.annual)
     return vr_error_set(err, VR_E_ARG, "%s: --outputs chooses among the files of one render; "
                         "an annual study writes PREFIX.annual.csv and PREFIX.annual-hourly.csv",
@@ -102,6 +103,8 @@ vr_status render_outputs_check(const vr_scene *s, const char *prefix, const char
   vr_out_guard_init(g);
   vr_out_guard_input(g, s->path, "the scene");
   if (s->sky.weather_path) vr_out_guard_input(g, s->sky.weather_path, "the weather file");
+  for (size_t i = 0; i < s->nsensors; i++)
+    if (s->sensors[i].pts_path) vr_out_guard_input(g, s->sensors[i].pts_path, "a sensor points file");
   for (size_t i = 0; i < s->nlights; i++)
     if (s->lights[i].ies_path) vr_out_guard_input(g, s->lights[i].ies_path, "an IES file");
   for (size_t i = 0; i < s->nobjects; i++)

@@ -34,7 +34,7 @@
 
 static const vr_option OPTIONS[] = {
     {"output", 'o', "PREFIX", "write PREFIX.exr, .spectral.exr, .png, .sensors.csv (those that apply, or those of --outputs) and .manifest.json (default PREFIX: the scene's name without .scn, here); checked before any work"},
-    {"outputs", 0, "LIST", "which files to write: a comma-separated subset of exr, spectral, png, sensors (default: all that apply); the manifest is always written and lists them. Without png (and --falsecolour), OpenCV is never loaded; without spectral the film keeps XYZ only (24 bytes a pixel instead of 8 x (3 + bins): 190 MiB at 4K instead of 2.0 GiB with the default 30 bins)"},
+    {"outputs", 0, "LIST", "which files to write: a comma-separated subset of exr, spectral, png, hdr, sensors (default: all that apply but hdr, the Radiance picture, written only when named); the manifest is always written and lists them. Without png (and --falsecolour), OpenCV is never loaded; without spectral the film keeps XYZ only (24 bytes a pixel instead of 8 x (3 + bins): 190 MiB at 4K instead of 2.0 GiB with the default 30 bins)"},
     {"db", 'd', "FILE", "material database, read-only; must exist (default: $VR_MATDB, else ./materials.db, made if missing and needed)"},
     {"subdomains", 0, "S", "split the geometry into S sub-domains (default 1)"},
     {"memory-budget", 0, "SIZE", "add at most SIZE (e.g. 512M, 2G) to the process's memory: sub-domains, ray queues, maps and the film, with the resident memory watched (16 MiB allowed beyond); sub-domains are loaded and unloaded as rays need them (default: no budget, all loaded)"},
@@ -339,15 +339,19 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
         printf("; extrapolated beyond its fitted UV or temperature: %zu h", res->extrapolated_hours);
       printf("\n");
     }
-    printf("annual   sDA%g/%g%% %.1f %% of points, ASE%g,%gh %.1f %% of points\n", a->da_lx,
-           100 * a->sda_share, 100 * res->sda, a->ase_lx, a->ase_hours, 100 * res->ase);
+    printf("annual   sDA%g/%g%% %.1f %% of points, ASE%g,%gh %.1f %% of points (the work plane: %s, "
+           "%zu point%s)\n",
+           a->da_lx, 100 * a->sda_share, 100 * res->sda, a->ase_lx, a->ase_hours, 100 * res->ase,
+           a->workplane >= 0 ? scene->sensors[a->workplane].name
+                             : res->workplane_points < res->npoints ? "every grid" : "every sensor",
+           res->workplane_points, res->workplane_points == 1 ? "" : "s");
     for (size_t p = 0; p < res->npoints; p++) {
       const vr_annual_point *pt = &res->points[p];
       printf("point    %s (%d, %d)  DA %.1f %%  UDI %.1f / %.1f / %.1f %%  direct sun %.0f h  "
-             "DGPs>=0.35 %.0f h  mean %.0f lx\n",
+             "DGPs>=0.35 %.0f h  mean %.0f lx%s\n",
              pt->sensor ? pt->sensor : "", pt->i, pt->j, 100 * pt->da, 100 * pt->udi_below,
              100 * pt->udi_useful, 100 * pt->udi_above, pt->direct_hours, pt->glare_hours,
-             pt->mean_lx);
+             pt->mean_lx, pt->workplane ? "" : "  (not on the work plane)");
     }
     printf("wrote    %s.annual.csv %s.annual-hourly.csv %s.manifest.json\n", prefix, prefix,
            prefix);
@@ -535,6 +539,7 @@ ready:
     fo.stats_path = stats;
     fo.run_id = run_id;
     fo.outputs = outputs;
+    fo.camera = &scene->camera;
     if (vr_film_write_with(r, prefix, &fo, &err)) goto out;
     render_report rep = {.scene = path, .prefix = prefix, .stats = stats, .run_id = run_id,
                          .outputs = &outs, .falsecolour = fc != NULL,

@@ -40,12 +40,12 @@ manifest_names() {
 }
 
 "$bin" --help > "$tmp/help" 2>&1
-check "--help lists --outputs and its names" grep -q -- "--outputs LIST.*exr, spectral, png, sensors" "$tmp/help"
+check "--help lists --outputs and its names" grep -q -- "--outputs LIST.*exr, spectral, png, hdr, sensors" "$tmp/help"
 
 # Each choice: exactly its files and the manifest, which lists them and
 # passes --verify.
 n=0
-for choice in exr spectral png sensors exr,sensors spectral,png png,exr,spectral,sensors; do
+for choice in exr spectral png sensors exr,sensors spectral,png png,exr,spectral,sensors hdr exr,hdr; do
   n=$((n + 1))
   d="$tmp/o$n"
   mkdir "$d"
@@ -53,12 +53,13 @@ for choice in exr spectral png sensors exr,sensors spectral,png png,exr,spectral
     > "$d.out" 2> "$d.err"; rc=$?
   check "--outputs $choice exits 0" test $rc -eq 0
   want=""
-  for name in exr spectral png sensors; do
+  for name in exr spectral png hdr sensors; do
     case ",$choice," in *",$name,"*)
       case $name in
         exr) want="$want p.exr" ;;
         spectral) want="$want p.spectral.exr" ;;
         png) want="$want p.png" ;;
+        hdr) want="$want p.hdr" ;;
         sensors) want="$want p.sensors.csv" ;;
       esac ;;
     esac
@@ -83,6 +84,13 @@ assert struct.unpack(">II", b[16:24]) == (32, 24), struct.unpack(">II", b[16:24]
 PY
 check "--outputs png writes a 32 x 24 PNG" test $? -eq 0
 check "--outputs sensors writes the table" grep -q "^floor,0,0," "$tmp/o4/p.sensors.csv"
+# The Radiance picture (docs/vr-render.md, "Radiance pictures"): its
+# header as Radiance's tools read it, the camera's view.
+check "--outputs hdr writes a Radiance picture" test "$(head -n 1 "$tmp/o8/p.hdr")" = "#?RADIANCE"
+check "the picture's format line" grep -aq "^FORMAT=32-bit_rle_rgbe$" "$tmp/o8/p.hdr"
+check "the picture's view: the pinhole's, 60 degrees across" \
+  grep -aq "^VIEW= -vtv -vp 0 -6 4 .* -vh 60 -vv 46.826" "$tmp/o8/p.hdr"
+check "the picture's resolution line" grep -aq "^-Y 24 +X 32$" "$tmp/o8/p.hdr"
 # The files do not depend on which others are written: a full run's are
 # the same, byte for byte (one thread, so that the film's sums are added in
 # one order).

@@ -378,6 +378,8 @@ static void annual_line_errors(void **state) {
       {"annual sda=0\n", "sda"},
       {"annual ase=0,250\n", "above 0"},
       {"annual glass=g control=glare max=0.1\n", "(0.184, 1]"},
+      {"annual workplane=nope\n", "workplane=nope: no sensor of that name"},
+      {"annual workplane=s\n", "workplane=s: a point sensor"},
   };
   for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
     snprintf(t, sizeof t, "%s%s", base, bad[i].line);
@@ -388,11 +390,58 @@ static void annual_line_errors(void **state) {
           "needs a year of skies");
 }
 
+/* IES LM-83-12 defines sDA and ASE over the analysis grid (the work
+ * plane); a view sensor at the eye is reported but not counted (issue 34:
+ * a 16-point grid and one view sensor gave ASE 8/17 where the grid alone
+ * gives 8/16).  An open ground under the Chicago year, 11-14 h: a 2 x 2
+ * horizontal grid sees the sun directly (above 1000 lx in far more than
+ * 250 of the 1095 occupied hours: ASE 100 % of the grid), a vertical eye
+ * sensor facing north never does (the sun stays south of east-west
+ * between 11 and 14 h at 42 deg N): counted, it would make ASE 80 %. */
+static void workplane_lm83(void **state) {
+  (void)state;
+  const char *text = "material ground lambert reflectance=0.2\n"
+                     "rect center=0,0,0 normal=0,0,1 size=10,10 material=ground\n"
+                     "light sun spectrum=D65\n"
+                     "sky perez weather=" WEA "\n"
+                     "sensor eye point position=0,0,1.2 normal=0,1,0\n"
+                     "sensor plane grid origin=-0.5,-0.5,0.001 u=1,0,0 v=0,1,0 n=2,2 normal=0,0,1\n"
+                     "sensor desk grid origin=2,2,0.001 u=1,0,0 v=0,1,0 n=1,1 normal=0,0,1\n"
+                     "annual hours=11,14%s\n"
+                     "render sensor_samples=64\n";
+  char t[2048];
+  snprintf(t, sizeof t, text, "");
+  vr_annual_result *r = run_annual(t, NULL);
+  assert_int_equal(r->npoints, 6);
+  assert_int_equal(r->workplane_points, 5); /* every grid's points: plane and desk */
+  size_t eye = 0, direct = 0;
+  for (size_t p = 0; p < r->npoints; p++) {
+    bool is_eye = !strcmp(r->points[p].sensor, "eye");
+    assert_true(r->points[p].workplane == !is_eye);
+    if (is_eye) eye = p;
+    else direct += r->points[p].direct_hours > 250;
+  }
+  printf("eye: %.0f direct-sun hours; grid points above 250 h: %zu of 5\n",
+         r->points[eye].direct_hours, direct);
+  assert_true(r->points[eye].direct_hours == 0);
+  assert_int_equal(direct, 5);
+  assert_true(r->ase == 1.0); /* 5 of 5, where 5 of 6 counted the eye */
+  vr_annual_result_destroy(r);
+  /* workplane= names one grid: only its 4 points count. */
+  snprintf(t, sizeof t, text, " workplane=plane");
+  r = run_annual(t, NULL);
+  assert_int_equal(r->workplane_points, 4);
+  for (size_t p = 0; p < r->npoints; p++)
+    assert_true(r->points[p].workplane == !strcmp(r->points[p].sensor, "plane"));
+  vr_annual_result_destroy(r);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(tregenza),
       cmocka_unit_test(annual_line_errors),
       cmocka_unit_test(unobstructed_point),
+      cmocka_unit_test(workplane_lm83),
       cmocka_unit_test(room_against_direct_renders),
       cmocka_unit_test(electrochromic_control),
       cmocka_unit_test(electrochromic_glare_control),

@@ -47,10 +47,13 @@
  * Reinhart & Walkenhorst 2001 for DA), over the occupied hours (records
  * whose interval centre lies in [from, to) local standard time, every day):
  *   DA       share of occupied hours with E >= da_lx (300 lx);
- *   sDA      share of points whose DA >= sda_share (50 %);
+ *   sDA      share of the work plane's points whose DA >= sda_share (50 %):
+ *            the grid named workplane=, else every grid sensor's points,
+ *            else (no grid) every point; view sensors are reported, not
+ *            counted (IES LM-83 defines sDA and ASE over the analysis grid);
  *   UDI      shares of occupied hours below udi_lo (100 lx), between
  *            udi_lo and udi_hi (3000 lx) and above;
- *   ASE      share of points whose direct sunlight reaches ase_lx
+ *   ASE      share of the work plane's points whose direct sunlight reaches ase_lx
  *            (1000 lx) in more than ase_hours (250) occupied hours, through
  *            the glass in the state it has that hour;
  *   glare    occupied hours in which DGPs = 6.22e-5 E + 0.184 (Wienold
@@ -81,6 +84,7 @@ typedef struct vr_annual_point {
   double glare_hours;        /* occupied hours with DGPs >= 0.35 (Wienold 2009's perceptible
                                 glare) of the point's illuminance: for points facing a view */
   double mean_lx;            /* over the occupied hours */
+  bool workplane;            /* one of the work plane's points (vr_scene_annual.workplane) */
 } vr_annual_point;
 
 typedef enum vr_annual_glass {
@@ -93,7 +97,8 @@ typedef struct vr_annual_result {
   const char *glass_name;    /* the scene's alias, or NULL */
   size_t npoints;
   vr_annual_point *points;
-  double sda, ase;           /* shares of points in [0, 1] */
+  double sda, ase;           /* shares of the work plane's points in [0, 1] */
+  size_t workplane_points;   /* how many (the other points are reported apart) */
   size_t records, occupied_hours, daylit_hours; /* of the file; occupied; of those with daylight */
   size_t sun_patches;        /* sun positions rendered */
   size_t renders;            /* every render made */

@@ -69,7 +69,8 @@ enum {
   VR_FILM_SPECTRAL = 1 << 1, /* PREFIX.spectral.exr */
   VR_FILM_PNG = 1 << 2,      /* PREFIX.png */
   VR_FILM_SENSORS = 1 << 3,  /* PREFIX.sensors.csv */
-  VR_FILM_ALL = (1 << 4) - 1
+  VR_FILM_HDR = 1 << 4,      /* PREFIX.hdr, a Radiance picture: only when asked for */
+  VR_FILM_ALL = (1 << 5) - 1
 };
 
 /* What vr_film_write_with writes besides the defaults. */
@@ -86,6 +87,9 @@ typedef struct vr_film_options {
   double falsecolour_hi_cd_m2; /* 0: none */
   const char *stats_path;      /* non-NULL: the statistics (vr_stats_write_json), one of the set */
   const char *run_id;          /* the manifest's run id; NULL: a new one (vr_film_run_id) */
+  /* The camera the film is from (the Radiance picture's VIEW line); NULL:
+   * no VIEW line. */
+  const vr_scene_camera *camera;
 } vr_film_options;
 
 /* vr_film_write with options: the same files, all or nothing, and the
@@ -102,6 +106,22 @@ typedef struct vr_film_options {
  * vr_film_verify finds them. */
 vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
                              const vr_film_options *o, vr_error *err);
+
+/* The Radiance picture (film_hdr.c): the film's XYZ in Radiance's RGB
+ * (its standard primaries, equal-energy white) and units (radiance of
+ * 179 lm/W white: luminance = 179 (0.265 R + 0.670 G + 0.065 B)), times
+ * 2^exposure_ev with EXPOSURE= that factor, PRIMARIES= and the camera's
+ * VIEW= (vr_film_radiance_view) when it has one. */
+vr_status vr_film_write_hdr(const vr_render_result *r, const vr_scene_camera *camera,
+                            const char *path, vr_error *err);
+/* The camera as Radiance's view options (" -vtv -vp ... -vv V"), for a
+ * W x H picture: -vtv for pinhole and thin-lens cameras, -vta for an
+ * angular fisheye; false (nothing written) for an equisolid fisheye, which
+ * Radiance has no view type for. */
+bool vr_film_radiance_view(const vr_scene_camera *c, int W, int H, char *buf, size_t n);
+/* Radiance's RGB to XYZ (row-major), Y at 1 for white: the Y row is
+ * Radiance's CIE_rf, CIE_gf, CIE_bf. */
+void vr_film_radiance_rgb_matrix(double rgb_to_xyz[9]);
 
 /* A new run id: "20261128T013000Z-<pid>-<8 random hex digits>". */
 #define VR_FILM_RUN_ID_MAX 64

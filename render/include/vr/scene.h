@@ -301,6 +301,11 @@ typedef struct vr_scene_sensor {
   double normal[3];          /* unit */
   double u[3], v[3];         /* grid: edge vectors */
   int nu, nv;                /* grid: points along u and v (>= 1) */
+  /* A points file (sensor NAME points file=F.pts): nu points, nv = 1, each
+   * x y z dx dy dz (the normal unit) in pts[6 k ..]; it counts as a grid
+   * (an analysis grid, as Radiance's .pts files are).  NULL otherwise. */
+  double *pts;
+  char *pts_path;
   vr_scene_loc loc;
 } vr_scene_sensor;
 
@@ -380,6 +385,11 @@ typedef struct vr_scene_annual {
   double max;                /* the control's threshold; NAN: 3000 lx (illuminance), 1000 lx
                                 (sun), DGPs 0.35 (glare) */
   int control_sensor;        /* sensor index, -1: every sensor */
+  /* The work plane sDA, ASE and the summary's UDI are over (IES LM-83:
+   * the analysis grid, not a view sensor): a grid sensor's index
+   * (workplane=NAME), or -1: every grid sensor (every sensor in a scene
+   * without grids). */
+  int workplane;
   vr_scene_loc loc;
 } vr_scene_annual;
 

@@ -398,16 +398,19 @@ static vr_status year(const vr_annual_hour *hours, const vr_dc_set *dcs, const v
   res->mean_state = res->glass && res->daylit_hours ? state_sum / (double)res->daylit_hours : NAN;
   /* Shares over the occupied hours; sDA and ASE over the points. */
   double occ = nh ? (double)nh : 1;
-  size_t sda = 0, ase = 0;
+  size_t sda = 0, ase = 0, nw = 0;
   for (size_t p = 0; p < np; p++) {
     vr_annual_point *pt = &res->points[p];
     pt->mean_lx /= occ;
     pt->da /= occ, pt->udi_below /= occ, pt->udi_useful /= occ, pt->udi_above /= occ;
+    if (!pt->workplane) continue;
+    nw++;
     sda += pt->da >= a->sda_share;
     ase += pt->direct_hours > a->ase_hours;
   }
-  res->sda = np ? (double)sda / (double)np : 0;
-  res->ase = np ? (double)ase / (double)np : 0;
+  res->workplane_points = nw;
+  res->sda = nw ? (double)sda / (double)nw : 0;
+  res->ase = nw ? (double)ase / (double)nw : 0;
 done:
   free(E), free(D), free(texel_state);
   return st;

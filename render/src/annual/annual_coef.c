@@ -91,13 +91,20 @@ static vr_status fill_points(vr_annual_job *j, const vr_render_result *r, vr_err
     at[i] = off;
     off += strlen(s->sensors[i].name) + 1;
   }
+  bool grids = false;
+  for (size_t i = 0; i < s->nsensors; i++) grids |= s->sensors[i].grid;
   for (size_t p = 0; p < j->npoints; p++) {
     const vr_sensor_reading *rd = &r->readings[p];
     vr_annual_point *pt = &res->points[p];
     for (size_t i = 0; i < s->nsensors; i++)
       if (rd->sensor && !strcmp(rd->sensor, s->sensors[i].name)) {
         pt->sensor = res->names + at[i];
-        memcpy(pt->normal, s->sensors[i].normal, sizeof pt->normal);
+        memcpy(pt->normal, s->sensors[i].pts ? s->sensors[i].pts + 6 * (size_t)rd->i + 3
+                                              : s->sensors[i].normal,
+               sizeof pt->normal);
+        /* The work plane (IES LM-83): the grid named, else every grid. */
+        pt->workplane = s->annual.workplane >= 0 ? (int)i == s->annual.workplane
+                                                 : !grids || s->sensors[i].grid;
       }
     pt->i = rd->i, pt->j = rd->j;
     memcpy(pt->position, rd->position, sizeof pt->position);

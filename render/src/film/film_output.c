@@ -201,16 +201,17 @@ static vr_status make_images(const vr_render_result *r, vr_tonemap tm, vr_image 
 static vr_status chosen_outputs(const vr_render_result *r, unsigned asked, unsigned *out,
                                 vr_error *err) {
   bool image = r->width > 0 && r->height > 0;
-  unsigned can = (image ? VR_FILM_EXR | VR_FILM_PNG : 0u) |
+  unsigned can = (image ? VR_FILM_EXR | VR_FILM_PNG | VR_FILM_HDR : 0u) |
                  (image && r->nbins > 0 && r->spectral ? VR_FILM_SPECTRAL : 0u) |
                  (r->nreadings ? VR_FILM_SENSORS : 0u);
-  *out = asked ? asked : can;
+  *out = asked ? asked : can & ~(unsigned)VR_FILM_HDR; /* the Radiance picture when asked */
   if (asked & ~(unsigned)VR_FILM_ALL)
     return vr_error_set(err, VR_E_ARG, "film: unknown outputs 0x%x", asked & ~(unsigned)VR_FILM_ALL);
   unsigned cannot = asked & ~can;
-  if (cannot & (VR_FILM_EXR | VR_FILM_PNG))
+  if (cannot & (VR_FILM_EXR | VR_FILM_PNG | VR_FILM_HDR))
     return vr_error_set(err, VR_E_ARG, "film: the %s was asked for, but the render has no image "
-                        "(no camera pass)", cannot & VR_FILM_EXR ? "EXR" : "PNG");
+                        "(no camera pass)",
+                        cannot & VR_FILM_EXR ? "EXR" : cannot & VR_FILM_PNG ? "PNG" : "Radiance picture");
   if (cannot & VR_FILM_SPECTRAL)
     return vr_error_set(err, VR_E_ARG, "film: the spectral EXR was asked for, but the %s",
                         image ? "film has no spectral bins" : "render has no image (no camera pass)");
@@ -263,7 +264,8 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
   unsigned want;
   if ((st = chosen_outputs(r, o->outputs, &want, err))) return st;
   bool exr = want & VR_FILM_EXR, spectral = want & VR_FILM_SPECTRAL, png_file = want & VR_FILM_PNG;
-  if ((exr || spectral || png_file || falsecolour) && image &&
+  bool hdr = want & VR_FILM_HDR;
+  if ((exr || spectral || png_file || hdr || falsecolour) && image &&
       (st = check_film(r, spectral, err)))
     return st;
   if (falsecolour && !image)
@@ -296,6 +298,10 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
       vr_spectral_image_free(&sp);
     }
     vr_image_free(&rgb);
+    if (hdr) {
+      if ((st = film_set_add(&set, ".hdr", &g, err))) goto out;
+      if ((st = vr_film_write_hdr(r, o->camera, g->stage, err))) goto fail;
+    }
     if (png_file) {
       if ((st = make_images(r, tm, NULL, &png, err))) goto out;
       if ((st = film_set_add(&set, ".png", &g, err))) goto out;

@@ -143,6 +143,10 @@ static vr_status sensor_points(const vr_scene *s, vr_sensor_state *c, vr_render_
         for (int a = 0; a < 3; a++) {
           c->points[k][a] = se->position[a] + fu * se->u[a] + fv * se->v[a];
           c->points[k][3 + a] = se->normal[a];
+          if (se->pts) { /* a points file: its u-th line */
+            c->points[k][a] = se->pts[6 * (size_t)u + (size_t)a];
+            c->points[k][3 + a] = se->pts[6 * (size_t)u + 3 + (size_t)a];
+          }
         }
         vr_sensor_reading *rd = &res->readings[k];
         rd->sensor = name;

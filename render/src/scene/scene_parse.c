@@ -39,7 +39,11 @@ void vr_scene_destroy(vr_scene *s) {
     free(s->lights[i].ies_path);
     free(s->lights[i].spectrum);
   }
-  for (size_t i = 0; i < s->nsensors; i++) free(s->sensors[i].name);
+  for (size_t i = 0; i < s->nsensors; i++) {
+    free(s->sensors[i].name);
+    free(s->sensors[i].pts);
+    free(s->sensors[i].pts_path);
+  }
   for (size_t i = 0; i < s->nmesh_maps; i++) free(s->mesh_maps[i].pattern), free(s->mesh_maps[i].file);
   free(s->mesh_maps);
   for (size_t i = 0; i < s->nnotes; i++) free(s->notes[i]);
@@ -273,7 +277,7 @@ static void defaults(vr_scene *s) {
   vr_scene_annual *a = &s->annual;
   a->from_h = 8, a->to_h = 18, a->da_lx = 300, a->sda_share = 0.5;
   a->udi_lo = 100, a->udi_hi = 3000, a->ase_lx = 1000, a->ase_hours = 250;
-  a->glass = -1, a->control_sensor = -1, a->max = NAN;
+  a->glass = -1, a->control_sensor = -1, a->workplane = -1, a->max = NAN;
 }
 
 /* Splits a line into words in place; the rest of the line after '#' is a
@@ -350,6 +354,7 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
   free(p.alias_loc);
   free(p.annual_glass);
   free(p.annual_sensor);
+  free(p.annual_workplane);
   if (st) {
     vr_scene_destroy(s);
     return st;

@@ -29,6 +29,8 @@ typedef struct vr_scn_parser {
   size_t sun;        /* index + 1 of the sun light, 0 if none */
   char *annual_glass, *annual_sensor; /* annual glass= and control_sensor= until resolved */
   vr_scene_loc annual_glass_loc, annual_sensor_loc;
+  char *annual_workplane;             /* annual workplane= until resolved */
+  vr_scene_loc annual_workplane_loc;
   bool have_render;
 } vr_scn_parser;
 
@@ -195,5 +197,7 @@ vr_status scn_transform(const vr_scn_parser *p, const char *word, const char *ke
 /* A path relative to the scene's folder; absolute paths are kept.  NULL when
  * out of memory. */
 char *scn_resolve(const vr_scene *s, const char *rel);
+/* A Radiance sensor points file (sensor_pts.c): *n points of 6 doubles. */
+vr_status scn_read_pts(const char *path, double **out, int *n, vr_error *err);
 
 #endif

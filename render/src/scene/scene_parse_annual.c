@@ -67,7 +67,7 @@ static vr_status states(const vr_scn_stmt *t, vr_scene_annual *a) {
 vr_status scn_annual(vr_scn_stmt *t) {
   static const char *const KEYS[] = {"hours", "da",      "sda",   "udi",            "ase",
                                      "glass", "states",  "control", "max",          "control_sensor",
-                                     NULL};
+                                     "workplane", NULL};
   static const char *const CONTROLS[] = {"fixed", "illuminance", "sun", "glare", NULL};
   vr_scn_parser *p = t->p;
   vr_scene_annual *a = &p->s->annual;
@@ -95,6 +95,11 @@ vr_status scn_annual(vr_scn_stmt *t) {
   a->sda_share = sda_pct / 100;
   if (control >= 0) a->control = (vr_annual_control)control;
   const vr_scn_opt *g = scn_get(t, "glass"), *cs = scn_get(t, "control_sensor");
+  const vr_scn_opt *wp = scn_get(t, "workplane");
+  if (wp) {
+    if (!(p->annual_workplane = strdup(wp->val))) return scn_nomem(p);
+    p->annual_workplane_loc = scn_loc(p, wp->word);
+  }
   if (g) {
     if (!(p->annual_glass = strdup(g->val))) return scn_nomem(p);
     p->annual_glass_loc = scn_loc(p, g->word);
@@ -117,6 +122,18 @@ vr_status scn_annual(vr_scn_stmt *t) {
   if (scn_get(t, "max") && a->control == VR_CONTROL_FIXED)
     return scn_fail(p, scn_get(t, "max")->word, "\"%s\": a fixed glass has no threshold",
                     scn_get(t, "max")->word);
+  return VR_OK;
+}
+
+/* *index = the sensor called name, given by the option key at loc. */
+static vr_status sensor_named(vr_scn_parser *p, const char *key, const char *name,
+                              vr_scene_loc loc, int *index) {
+  const vr_scene *s = p->s;
+  for (size_t i = 0; i < s->nsensors; i++)
+    if (!strcmp(s->sensors[i].name, name)) *index = (int)i;
+  if (*index < 0)
+    return vr_error_at(p->err, VR_E_PARSE, p->file, loc.line, loc.col,
+                       "%s=%s: no sensor of that name", key, name);
   return VR_OK;
 }
 
@@ -144,13 +161,21 @@ vr_status scn_annual_finish(vr_scn_parser *p) {
                          "glass=%s: a switchable glass is a chromogenic material of the database",
                          p->annual_glass);
   }
-  if (p->annual_sensor) {
-    for (size_t i = 0; i < s->nsensors; i++)
-      if (!strcmp(s->sensors[i].name, p->annual_sensor)) a->control_sensor = (int)i;
-    if (a->control_sensor < 0)
-      return vr_error_at(p->err, VR_E_PARSE, p->file, p->annual_sensor_loc.line,
-                         p->annual_sensor_loc.col, "control_sensor=%s: no sensor of that name",
-                         p->annual_sensor);
+  vr_status st;
+  if (p->annual_workplane) {
+    if ((st = sensor_named(p, "workplane", p->annual_workplane, p->annual_workplane_loc,
+                           &a->workplane)))
+      return st;
+    if (!s->sensors[a->workplane].grid)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, p->annual_workplane_loc.line,
+                         p->annual_workplane_loc.col,
+                         "workplane=%s: a point sensor; sDA and ASE are over a work-plane grid "
+                         "(IES LM-83): name a 'sensor NAME grid' line",
+                         p->annual_workplane);
   }
+  if (p->annual_sensor &&
+      (st = sensor_named(p, "control_sensor", p->annual_sensor, p->annual_sensor_loc,
+                         &a->control_sensor)))
+    return st;
   return VR_OK;
 }

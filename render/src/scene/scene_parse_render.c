@@ -12,7 +12,7 @@
 vr_status scn_sensor(vr_scn_stmt *t) {
   vr_scn_parser *p = t->p;
   vr_scene *s = p->s;
-  vr_status st = scn_positional(t, 2, "a name and a kind: point or grid");
+  vr_status st = scn_positional(t, 2, "a name and a kind: point, grid or points");
   if (st) return st;
   for (size_t i = 0; i < s->nsensors; i++)
     if (!strcmp(s->sensors[i].name, t->w[1]))
@@ -20,16 +20,27 @@ vr_status scn_sensor(vr_scn_stmt *t) {
                       s->sensors[i].loc.line);
   static const char *const POINT[] = {"position", "normal", NULL};
   static const char *const GRID[] = {"origin", "u", "v", "n", "normal", NULL};
-  bool grid = !strcmp(t->w[2], "grid");
-  if (!grid && strcmp(t->w[2], "point"))
-    return scn_fail(p, t->w[2], "unknown sensor kind \"%s\" (point, grid)", t->w[2]);
-  t->what = grid ? "a grid sensor" : "a point sensor";
-  if ((st = scn_options(t, 3, grid ? GRID : POINT))) return st;
+  static const char *const POINTS[] = {"file", NULL};
+  bool grid = !strcmp(t->w[2], "grid"), points = !strcmp(t->w[2], "points");
+  if (!grid && !points && strcmp(t->w[2], "point"))
+    return scn_fail(p, t->w[2], "unknown sensor kind \"%s\" (point, grid, points)", t->w[2]);
+  t->what = grid ? "a grid sensor" : points ? "a points-file sensor" : "a point sensor";
+  if ((st = scn_options(t, 3, grid ? GRID : points ? POINTS : POINT))) return st;
   vr_scene_sensor *se = scn_grow((void **)&s->sensors, &s->nsensors, sizeof *se);
   if (!se || !(se->name = strdup(t->w[1]))) return scn_nomem(p);
-  se->grid = grid;
+  se->grid = grid || points;
   se->loc = scn_loc(p, t->w[0]);
   se->nu = se->nv = 1;
+  if (points) {
+    /* Radiance's .pts: a point a line, x y z dx dy dz; an analysis grid. */
+    const vr_scn_opt *f;
+    if ((st = scn_need(t, "file", &f))) return st;
+    if (!(se->pts_path = scn_resolve(s, f->val))) return scn_nomem(p);
+    vr_error e = {0};
+    if (scn_read_pts(se->pts_path, &se->pts, &se->nu, &e)) return scn_fail(p, f->word, "%s", e.message);
+    se->position[2] = 0, se->normal[2] = 1; /* unused: each point has its own */
+    return VR_OK;
+  }
   const vr_scn_opt *pos, *n, *u, *v, *cnt;
   if ((st = scn_need(t, grid ? "origin" : "position", &pos)) || (st = scn_need(t, "normal", &n)) ||
       (st = scn_point(t, pos, se->position)) || (st = scn_direction(p, n->word, n->val, se->normal)))
