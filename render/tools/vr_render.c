@@ -103,7 +103,36 @@ typedef struct ui {
   vr_progress *bar;
   char pass[64];
   long total;
+  /* stderr not a terminal (a batch job, a log): a line at each tenth of a
+   * pass instead of a bar, so a long run shows it is alive. */
+  bool lines;
+  int tenth;        /* the last tenth printed for this pass, -1 none */
+  double started;   /* when this pass began (monotonic seconds) */
 } ui;
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* A progress line for a log: "vr-render: camera 30 % (12 s, about 28 s
+ * left)" at each tenth once the pass has run 2 s (a quick pass says only
+ * "done"), and "vr-render: camera done (40 s)" at its end. */
+static void ui_line(ui *u, const char *pass, long done, long total) {
+  int tenth = (int)(10 * (double)done / (double)total);
+  if (tenth > 10) tenth = 10;
+  if (tenth <= u->tenth) return;
+  double t = now_s() - u->started;
+  if (tenth < 10 && t < 2.0) return;
+  u->tenth = tenth;
+  if (tenth >= 10)
+    fprintf(stderr, "vr-render: %s done (%.0f s)\n", pass, t);
+  else if (done > 0)
+    fprintf(stderr, "vr-render: %s %d %% (%.0f s, about %.0f s left)\n", pass, 10 * tenth, t,
+            t * (double)(total - done) / (double)done);
+  fflush(stderr);
+}
 
 static void ui_log(void *user, const char *line) {
   ui *u = user;
@@ -120,6 +149,17 @@ static void ui_progress(void *user, const char *pass, long done, long total) {
   ui *u = user;
   if (u->quiet || total <= 0) return;
   pthread_mutex_lock(&u->lock);
+  if (u->lines) {
+    if (strcmp(u->pass, pass ? pass : "") || total != u->total) {
+      snprintf(u->pass, sizeof u->pass, "%s", pass ? pass : "");
+      u->total = total;
+      u->tenth = -1;
+      u->started = now_s();
+    }
+    ui_line(u, u->pass, done < 0 ? 0 : done, total);
+    pthread_mutex_unlock(&u->lock);
+    return;
+  }
   if (u->bar && (strcmp(u->pass, pass ? pass : "") || total != u->total)) {
     vr_progress_finish(u->bar);
     u->bar = NULL;
@@ -360,12 +400,6 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
   return st;
 }
 
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* ---- main ---- */
 
 /* A checksum of what every rank must render alike: the scene file's bytes
@@ -453,7 +487,8 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   bool json = vr_args_flag(a, "json");
   int rank = vr_comm_rank(comm);
   /* Only rank 0 speaks (and writes). */
-  ui u = {.quiet = vr_args_flag(a, "quiet") || rank != 0};
+  ui u = {.quiet = vr_args_flag(a, "quiet") || rank != 0, .lines = !isatty(fileno(stderr)),
+          .tenth = -1};
   pthread_mutex_init(&u.lock, NULL);
   opt.subdomains = (int)subdomains;
   opt.threads = (int)threads;
