@@ -209,7 +209,12 @@ vr_status vr_rgbe_read(const char *path, vr_image *out, vr_rgbe_info *info, vr_e
     }
     if (!len) break;
     if (!strncmp(line, "FORMAT=", 7)) {
-      format_ok = !strcmp(line + 7, "32-bit_rle_rgbe");
+      /* Radiance's formatval skips blanks around the value. */
+      char *fv = line + 7;
+      while (*fv == ' ' || *fv == '\t') fv++;
+      size_t fl = strlen(fv);
+      while (fl && (fv[fl - 1] == ' ' || fv[fl - 1] == '\t')) fv[--fl] = 0;
+      format_ok = !strcmp(fv, "32-bit_rle_rgbe");
       if (!format_ok) {
         st = vr_error_set(err, VR_E_PARSE, "%s:%d: FORMAT=%s: only 32-bit_rle_rgbe is read", path,
                           ln, line + 7);
@@ -254,8 +259,9 @@ vr_status vr_rgbe_read(const char *path, vr_image *out, vr_rgbe_info *info, vr_e
                       "the top, left to right) is read", path, ln, line);
     goto done;
   }
-  if (W < 1 || H < 1 || W > 65535 || H > 65535) {
-    st = vr_error_set(err, VR_E_PARSE, "%s:%d: a picture of %d x %d pixels", path, ln, W, H);
+  if (W < 1 || H < 1 || W > 65535 || H > 65535 || (size_t)W * (size_t)H > ((size_t)1 << 28)) {
+    st = vr_error_set(err, VR_E_PARSE, "%s:%d: a picture of %d x %d pixels (at most 65535 a side, "
+                      "2^28 in all)", path, ln, W, H);
     goto done;
   }
   if ((st = vr_image_alloc(out, W, H, err))) goto done;

@@ -107,6 +107,7 @@ typedef struct ui {
    * pass instead of a bar, so a long run shows it is alive. */
   bool lines;
   int tenth;        /* the last tenth printed for this pass, -1 none */
+  long last_done;   /* the pass's last count of work done */
   double started;   /* when this pass began (monotonic seconds) */
 } ui;
 
@@ -116,15 +117,16 @@ static double now_s(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* A progress line for a log: "vr-render: camera 30 % (12 s, about 28 s
- * left)" at each tenth once the pass has run 2 s (a quick pass says only
- * "done"), and "vr-render: camera done (40 s)" at its end. */
+/* A progress line for a log, once a pass has run 2 s (a quick pass, or
+ * each of progressive photon mapping's many iterations, says nothing):
+ * "vr-render: camera 30 % (12 s, about 28 s left)" at each tenth, and
+ * "vr-render: camera done (40 s)" at its end. */
 static void ui_line(ui *u, const char *pass, long done, long total) {
   int tenth = (int)(10 * (double)done / (double)total);
   if (tenth > 10) tenth = 10;
-  if (tenth <= u->tenth) return;
+  if (tenth <= u->tenth || tenth == 0) return;
   double t = now_s() - u->started;
-  if (tenth < 10 && t < 2.0) return;
+  if (t < 2.0) return;
   u->tenth = tenth;
   if (tenth >= 10)
     fprintf(stderr, "vr-render: %s done (%.0f s)\n", pass, t);
@@ -150,12 +152,16 @@ static void ui_progress(void *user, const char *pass, long done, long total) {
   if (u->quiet || total <= 0) return;
   pthread_mutex_lock(&u->lock);
   if (u->lines) {
-    if (strcmp(u->pass, pass ? pass : "") || total != u->total) {
+    /* A new pass: another name or size, or the same again after its end
+     * (progressive photon mapping's camera passes). */
+    if (strcmp(u->pass, pass ? pass : "") || total != u->total ||
+        (u->tenth == 10 && done < total) || done < u->last_done) {
       snprintf(u->pass, sizeof u->pass, "%s", pass ? pass : "");
       u->total = total;
       u->tenth = -1;
       u->started = now_s();
     }
+    u->last_done = done;
     ui_line(u, u->pass, done < 0 ? 0 : done, total);
     pthread_mutex_unlock(&u->lock);
     return;
@@ -341,6 +347,14 @@ static void log_perez(ui *u, const vr_scene *s) {
   }
 }
 
+/* Whether the scene has a grid (or points-file) sensor: the annual work
+ * plane's default. */
+static bool any_grid(const vr_scene *s) {
+  for (size_t i = 0; i < s->nsensors; i++)
+    if (s->sensors[i].grid) return true;
+  return false;
+}
+
 /* A scene whose sky is a whole weather file: the annual study
  * (vr/annual.h), its two CSV files and a summary. */
 static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_options *opt,
@@ -383,7 +397,7 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
            "%zu point%s)\n",
            a->da_lx, 100 * a->sda_share, 100 * res->sda, a->ase_lx, a->ase_hours, 100 * res->ase,
            a->workplane >= 0 ? scene->sensors[a->workplane].name
-                             : res->workplane_points < res->npoints ? "every grid" : "every sensor",
+                             : any_grid(scene) ? "every grid" : "every sensor (no grid)",
            res->workplane_points, res->workplane_points == 1 ? "" : "s");
     for (size_t p = 0; p < res->npoints; p++) {
       const vr_annual_point *pt = &res->points[p];

@@ -1,6 +1,7 @@
 /* Radiance pictures (image/src/rgbe.c, vr/rgbe.h) against Radiance itself:
  *   - three pictures Radiance 6.1 wrote (tests/data/radiance, README.md
- *     there): a ramp from `pvalue -r` (run-length encoded rows of 16), the
+ *     there): a ramp from `pvalue -r` (run-length encoded rows of 24, runs
+ *     and literal chunks, a blank-padded resolution line), the
  *     same through `pfilt -1 -e 2` (EXPOSURE=2), and an angular fisheye
  *     from `rpict -vta` (VIEW=, PRIMARIES=).  Each pixel read must equal
  *     what Radiance's own `pvalue` printed for it (its 4 significant
@@ -63,7 +64,7 @@ static void test_radiance_wrote_these(void **state) {
   vr_rgbe_info info;
   data_path(path, sizeof path, "ramp.hdr");
   assert_int_equal(vr_rgbe_read(path, &img, &info, NULL), VR_OK);
-  assert_int_equal(img.width, 16);
+  assert_int_equal(img.width, 24);
   assert_int_equal(img.height, 3);
   assert_true(info.exposure == 1.0 && !info.has_primaries && !info.view[0]);
   against_pvalue(&img, "ramp.pvalue.txt", 1.0);
@@ -188,6 +189,8 @@ static void test_refusals(void **state) {
       CASE("P6\n1 1\n255\n\0\0\0", "not a picture", ":1: not a Radiance picture"),
       CASE("#?RADIANCE\nEXPOSURE=-2\n\n-Y 1 +X 1\n\x80\x80\x80\x81", "exposure",
            ":2: EXPOSURE=-2"),
+      CASE("#?RADIANCE\n\n-Y 60000 +X 60000\n\x80\x80\x80\x81", "a huge header",
+           ":3: a picture of 60000 x 60000 pixels"),
   };
 #undef CASE
   for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {

@@ -8,8 +8,9 @@
  *   - every pixel of a rendered daylit room, read back from PREFIX.hdr, has
  *     the film's luminance by Radiance's definition, 179 (CIE_rf R + CIE_gf
  *     G + CIE_bf B) / EXPOSURE (Radiance's WHTEFFICACY = 179), within the
- *     RGBE format's 8-bit mantissa (2^-7 of the pixel's largest component,
- *     2^-8 for each of two roundings), with the camera's exposure (EV 2:
+ *     RGBE format's 8-bit mantissa (2^-7 of the pixel's largest component:
+ *     the mantissas are truncated, 2^-8, and the luminance mixes three),
+ *     with the camera's exposure (EV 2:
  *     EXPOSURE=4) undone, also where a noisy pixel's colour lies outside
  *     Radiance's RGB (desaturated toward white at its luminance, since the
  *     format holds no negative component);
@@ -37,11 +38,19 @@
 
 static const double CIE_RGB_Y[3] = {0.26510582010582, 0.67010582010582, 0.06478835978836};
 
+/* Radiance's standard primaries and white (color.h, STDPRIMS). */
+static const double PRIMS[8] = {0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 1.0 / 3, 1.0 / 3};
+
 static void test_radiance_primaries(void **state) {
   (void)state;
   double m[9];
   vr_film_radiance_rgb_matrix(m);
   for (int c = 0; c < 3; c++) assert_true(fabs(m[3 + c] - CIE_RGB_Y[c]) < 1e-8);
+  /* Each primary's XYZ (a column) has its chromaticity: the X and Z rows. */
+  for (int c = 0; c < 3; c++) {
+    double X = m[c], Y = m[3 + c], Z = m[6 + c], S = X + Y + Z;
+    assert_true(fabs(X / S - PRIMS[2 * c]) < 1e-12 && fabs(Y / S - PRIMS[2 * c + 1]) < 1e-12);
+  }
   /* White (1, 1, 1) is the equal-energy white at Y = 1: X = Y = Z = 1. */
   for (int r = 0; r < 3; r++) assert_true(fabs(m[3 * r] + m[3 * r + 1] + m[3 * r + 2] - 1) < 1e-12);
 }
@@ -78,8 +87,18 @@ static void test_rendered_luminance(void **state) {
   assert_true(info.exposure == 4.0); /* EV 2 */
   assert_string_equal(info.view, " -vta -vp 2 3 1.2 -vd 0 -1 0 -vu 0 0 1 -vh 225 -vv 180 "
                                  "-vo 0 -va 0 -vs 0 -vl 0");
-  size_t lit = 0;
+  /* Pixels whose colour lies outside Radiance's RGB (a negative component
+   * by the inverse of the matrix checked above): the desaturated ones. */
+  double m[9];
+  vr_film_radiance_rgb_matrix(m);
+  double det = m[0] * (m[4] * m[8] - m[5] * m[7]) - m[1] * (m[3] * m[8] - m[5] * m[6]) +
+               m[2] * (m[3] * m[7] - m[4] * m[6]);
+  double rinv[3] = {(m[4] * m[8] - m[5] * m[7]) / det, (m[2] * m[7] - m[1] * m[8]) / det,
+                    (m[1] * m[5] - m[2] * m[4]) / det}; /* the R row of the inverse */
+  size_t lit = 0, outside = 0;
   for (size_t p = 0; p < 40 * 32; p++) {
+    const double *xyz = &r->xyz[3 * p];
+    outside += rinv[0] * xyz[0] + rinv[1] * xyz[1] + rinv[2] * xyz[2] < 0;
     const float *c = img.data + 3 * p;
     double Y = 179.0 * (CIE_RGB_Y[0] * c[0] + CIE_RGB_Y[1] * c[1] + CIE_RGB_Y[2] * c[2]) / info.exposure;
     double big = 179.0 * fmax(fmax(c[0], c[1]), c[2]) / info.exposure, want = r->xyz[3 * p + 1];
@@ -88,6 +107,8 @@ static void test_rendered_luminance(void **state) {
     lit += want > 1;
   }
   assert_true(lit > 600); /* the circle (about 64 % of the picture) is lit */
+  printf("pixels with a negative R, desaturated: %zu\n", outside);
+  assert_true(outside > 0); /* the luminance check above covered some */
   vr_image_free(&img);
   vr_render_result_destroy(r);
   vr_scene_destroy(s);

@@ -3,8 +3,9 @@
  * Radiance 6.1's `cnt 2 4 | rcalc -e '$1=$2*0.5+0.25;$2=$1*0.5+0.25;
  * $3=0.76;$4=0;$5=0;$6=1'` (tab-separated, a point a line).
  *   - The file's 8 points are the centres of the cells of a 2 x 1 m grid
- *     of 4 x 2 at 0.76 m (the scene format's grid definition, every
- *     coordinate exact in binary), in the grid's order: the readings of
+ *     of 4 x 2 at 0.76 m (the scene format's grid definition; x and y
+ *     exact in binary, 0.76 parsed from the same text), in the grid's
+ *     order: the readings of
  *     `sensor desk points file=...` must equal those of the same `sensor
  *     desk grid` bit for bit (the same points, the same random streams);
  *   - each reading of a black floor under a point source is E = I cos(theta) / r^2

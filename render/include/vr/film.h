@@ -117,7 +117,8 @@ vr_status vr_film_write_hdr(const vr_render_result *r, const vr_scene_camera *ca
 /* The camera as Radiance's view options (" -vtv -vp ... -vv V"), for a
  * W x H picture: -vtv for pinhole and thin-lens cameras, -vta for an
  * angular fisheye; false (nothing written) for an equisolid fisheye, which
- * Radiance has no view type for. */
+ * Radiance has no view type for, and for an angular one wider than 360
+ * degrees across the picture, which Radiance refuses. */
 bool vr_film_radiance_view(const vr_scene_camera *c, int W, int H, char *buf, size_t n);
 /* Radiance's RGB to XYZ (row-major), Y at 1 for white: the Y row is
  * Radiance's CIE_rf, CIE_gf, CIE_bf. */

@@ -385,10 +385,10 @@ typedef struct vr_scene_annual {
   double max;                /* the control's threshold; NAN: 3000 lx (illuminance), 1000 lx
                                 (sun), DGPs 0.35 (glare) */
   int control_sensor;        /* sensor index, -1: every sensor */
-  /* The work plane sDA, ASE and the summary's UDI are over (IES LM-83:
-   * the analysis grid, not a view sensor): a grid sensor's index
-   * (workplane=NAME), or -1: every grid sensor (every sensor in a scene
-   * without grids). */
+  /* The work plane sDA and ASE are over (IES LM-83: the analysis grid,
+   * not a view sensor): a grid or points-file sensor's index
+   * (workplane=NAME), or -1: every grid and points-file sensor, whatever
+   * its orientation (every sensor in a scene without them). */
   int workplane;
   vr_scene_loc loc;
 } vr_scene_annual;

@@ -64,6 +64,7 @@ bool vr_film_radiance_view(const vr_scene_camera *c, int W, int H, char *buf, si
     if (c->projection != VR_FISHEYE_ANGULAR) return false;
     int m = W < H ? W : H;
     type = "-vta", vh = c->fov_deg * W / m, vv = c->fov_deg * H / m;
+    if (vh > 360 || vv > 360) return false; /* Radiance's setview refuses a view over 360 deg */
   } else {
     type = "-vtv", vh = c->fov_deg;
     vv = 2 * atan(tan(c->fov_deg * M_PI / 360) * H / W) * 180 / M_PI;

@@ -170,7 +170,7 @@ vr_status scn_annual_finish(vr_scn_parser *p) {
       return vr_error_at(p->err, VR_E_PARSE, p->file, p->annual_workplane_loc.line,
                          p->annual_workplane_loc.col,
                          "workplane=%s: a point sensor; sDA and ASE are over a work-plane grid "
-                         "(IES LM-83): name a 'sensor NAME grid' line",
+                         "(IES LM-83): name a 'sensor NAME grid' or 'sensor NAME points' line",
                          p->annual_workplane);
   }
   if (p->annual_sensor &&

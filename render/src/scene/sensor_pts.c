@@ -1,5 +1,6 @@
 /* Radiance's sensor points files (.pts): one point a line, "x y z dx dy
- * dz", the position and the direction the sensor faces, as rtrace reads
+ * dz", the position (in metres, the scene's unit) and the direction the
+ * sensor faces, as rtrace reads
  * them and as Honeybee, DIVA and `cnt | rcalc` write them; blank lines and
  * '#' comments skipped.  Every field must be a finite number and the
  * direction not zero (it is made unit); a line of more or fewer than six
@@ -25,9 +26,10 @@ vr_status scn_read_pts(const char *path, double **out, int *n, vr_error *err) {
   vr_status st = vr_read_file(path, (size_t)1 << 28, &text, &len, err);
   if (st) return st;
   size_t cap = 0, k = 0;
+  size_t skip = len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3) ? 3 : 0; /* a UTF-8 BOM */
   double *pts = NULL;
   long line = 0;
-  for (char *at = text, *next; at < text + len; at = next) {
+  for (char *at = text + skip, *next; at < text + len; at = next) {
     line++;
     char *eol = memchr(at, '\n', (size_t)(text + len - at));
     next = eol ? eol + 1 : text + len;
@@ -61,7 +63,13 @@ vr_status scn_read_pts(const char *path, double **out, int *n, vr_error *err) {
                         "field %d (%s) is missing", path, line, f, f + 1, FIELD[f]);
       goto fail;
     }
-    double l = sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
+    /* Scaled by the largest component first: 1e200 1e200 0 and 1e-170 0 0
+     * are directions too. */
+    double big = fmax(fabs(v[3]), fmax(fabs(v[4]), fabs(v[5]))), l = 0;
+    if (big > 0) {
+      for (int a = 3; a < 6; a++) v[a] /= big;
+      l = sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
+    }
     if (!(l > 0) || !isfinite(l)) {
       st = vr_error_set(err, VR_E_PARSE, "%s:%ld: fields 4-6 (dx dy dz): a zero direction", path, line);
       goto fail;
