@@ -113,7 +113,7 @@ void vr_srgb_white(double xyz[3]) {
 static const double BFD[9] = {0.8951, 0.2664, -0.1614, -0.7502, 1.7135,
                               0.0367, 0.0389, -0.0685, 1.0296};
 
-static void inverse3(const double m[9], double inv[9]) {
+void vr_mat3_inverse(const double m[9], double inv[9]) {
   double a = m[0], b = m[1], c = m[2], d = m[3], e = m[4], f = m[5], g = m[6], h = m[7], i = m[8];
   double A = e * i - f * h, B = -(d * i - f * g), C = d * h - e * g;
   double det = a * A + b * B + c * C;
@@ -134,6 +134,6 @@ void vr_bradford(const double xyz[3], const double src[3], const double dst[3], 
   mat3(BFD, dst, d);
   mat3(BFD, xyz, c);
   for (int k = 0; k < 3; k++) c[k] *= d[k] / s[k];
-  inverse3(BFD, inv);
+  vr_mat3_inverse(BFD, inv);
   mat3(inv, c, out);
 }

@@ -347,14 +347,6 @@ static void log_perez(ui *u, const vr_scene *s) {
   }
 }
 
-/* Whether the scene has a grid (or points-file) sensor: the annual work
- * plane's default. */
-static bool any_grid(const vr_scene *s) {
-  for (size_t i = 0; i < s->nsensors; i++)
-    if (s->sensors[i].grid) return true;
-  return false;
-}
-
 /* A scene whose sky is a whole weather file: the annual study
  * (vr/annual.h), its two CSV files and a summary. */
 static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_options *opt,
@@ -397,7 +389,7 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
            "%zu point%s)\n",
            a->da_lx, 100 * a->sda_share, 100 * res->sda, a->ase_lx, a->ase_hours, 100 * res->ase,
            a->workplane >= 0 ? scene->sensors[a->workplane].name
-                             : any_grid(scene) ? "every grid" : "every sensor (no grid)",
+                             : vr_scene_has_grid(scene) ? "every grid" : "every sensor (no grid)",
            res->workplane_points, res->workplane_points == 1 ? "" : "s");
     for (size_t p = 0; p < res->npoints; p++) {
       const vr_annual_point *pt = &res->points[p];

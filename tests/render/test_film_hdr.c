@@ -33,6 +33,7 @@
 #include <cmocka.h>
 
 #include "render_test_util.h"
+#include "vr/colour.h"
 #include "vr/film.h"
 #include "vr/rgbe.h"
 
@@ -89,12 +90,10 @@ static void test_rendered_luminance(void **state) {
                                  "-vo 0 -va 0 -vs 0 -vl 0");
   /* Pixels whose colour lies outside Radiance's RGB (a negative component
    * by the inverse of the matrix checked above): the desaturated ones. */
-  double m[9];
+  double m[9], inv[9];
   vr_film_radiance_rgb_matrix(m);
-  double det = m[0] * (m[4] * m[8] - m[5] * m[7]) - m[1] * (m[3] * m[8] - m[5] * m[6]) +
-               m[2] * (m[3] * m[7] - m[4] * m[6]);
-  double rinv[3] = {(m[4] * m[8] - m[5] * m[7]) / det, (m[2] * m[7] - m[1] * m[8]) / det,
-                    (m[1] * m[5] - m[2] * m[4]) / det}; /* the R row of the inverse */
+  vr_mat3_inverse(m, inv);
+  const double *rinv = inv; /* the R row of the inverse */
   size_t lit = 0, outside = 0;
   for (size_t p = 0; p < 40 * 32; p++) {
     const double *xyz = &r->xyz[3 * p];

@@ -56,6 +56,10 @@ void vr_xyz_to_srgb_linear(const double xyz[3], double rgb[3]);
 void vr_srgb_linear_to_xyz(const double rgb[3], double xyz[3]);
 double vr_srgb_encode(double linear);  /* linear [0,1] -> non-linear; sign-symmetric outside */
 double vr_srgb_decode(double encoded);
+
+/* inv = m^-1 (row-major 3 x 3, by cofactors): for colour matrices, which
+ * are far from singular (no check). */
+void vr_mat3_inverse(const double m[9], double inv[9]);
 /* 8-bit sRGB from XYZ (D65): clips to [0, 1] and rounds; returns true if
  * any linear channel lay outside [-0.001, 1.001] (out of gamut beyond the
  * precision of the standard's matrices). */

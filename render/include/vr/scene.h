@@ -440,6 +440,10 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
 vr_status vr_scene_read(const char *path, vr_scene **out, vr_error *err);
 void vr_scene_destroy(vr_scene *s);
 
+/* Whether s has a grid or points-file sensor: the annual study's default
+ * work plane is theirs (vr_scene_annual.workplane). */
+bool vr_scene_has_grid(const vr_scene *s);
+
 /* The spectrum reference light l uses: its own spectrum=, or its kind's
  * default (D65 for lamps, db:ASTM-G173-AM1.5D for the sun). */
 const char *vr_scene_light_spectrum(const vr_scene_light *l);

@@ -91,8 +91,7 @@ static vr_status fill_points(vr_annual_job *j, const vr_render_result *r, vr_err
     at[i] = off;
     off += strlen(s->sensors[i].name) + 1;
   }
-  bool grids = false;
-  for (size_t i = 0; i < s->nsensors; i++) grids |= s->sensors[i].grid;
+  bool grids = vr_scene_has_grid(s);
   for (size_t p = 0; p < j->npoints; p++) {
     const vr_sensor_reading *rd = &r->readings[p];
     vr_annual_point *pt = &res->points[p];

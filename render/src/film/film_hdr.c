@@ -14,23 +14,12 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "vr/colour.h"
 #include "vr/film.h"
 #include "vr/rgbe.h"
 
 #define RADIANCE_EFFICACY 179.0 /* lm/W, Radiance's WHTEFFICACY */
 static const double PRIMARIES[8] = {0.640, 0.330, 0.290, 0.600, 0.150, 0.060, 1.0 / 3, 1.0 / 3};
-
-/* inv = a^-1 (row-major 3 x 3) by cofactors; a is a primaries' matrix,
- * far from singular for any real primaries. */
-static void inverse3(const double a[9], double inv[9]) {
-  double c00 = a[4] * a[8] - a[5] * a[7], c01 = a[5] * a[6] - a[3] * a[8], c02 = a[3] * a[7] - a[4] * a[6];
-  double det = a[0] * c00 + a[1] * c01 + a[2] * c02;
-  inv[0] = c00 / det, inv[3] = c01 / det, inv[6] = c02 / det;
-  inv[1] = (a[2] * a[7] - a[1] * a[8]) / det, inv[4] = (a[0] * a[8] - a[2] * a[6]) / det;
-  inv[7] = (a[1] * a[6] - a[0] * a[7]) / det;
-  inv[2] = (a[1] * a[5] - a[2] * a[4]) / det, inv[5] = (a[2] * a[3] - a[0] * a[5]) / det;
-  inv[8] = (a[0] * a[4] - a[1] * a[3]) / det;
-}
 
 /* m (row-major 3 x 3) = RGB to XYZ for the primaries p and white p[6..7]
  * (the white at Y = 1). */
@@ -41,7 +30,7 @@ static void rgb_to_xyz_matrix(const double p[8], double m[9]) {
     P[0 * 3 + c] = x / y, P[1 * 3 + c] = 1.0, P[2 * 3 + c] = (1 - x - y) / y;
   }
   double W[3] = {p[6] / p[7], 1.0, (1 - p[6] - p[7]) / p[7]}, inv[9], S[3];
-  inverse3(P, inv);
+  vr_mat3_inverse(P, inv);
   for (int r = 0; r < 3; r++) S[r] = inv[3 * r] * W[0] + inv[3 * r + 1] * W[1] + inv[3 * r + 2] * W[2];
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++) m[3 * r + c] = P[3 * r + c] * S[c];
@@ -79,7 +68,7 @@ vr_status vr_film_write_hdr(const vr_render_result *r, const vr_scene_camera *ca
                             const char *path, vr_error *err) {
   double m[9], inv[9];
   rgb_to_xyz_matrix(PRIMARIES, m);
-  inverse3(m, inv);
+  vr_mat3_inverse(m, inv);
   vr_image img = {0};
   vr_status st = vr_image_alloc(&img, r->width, r->height, err);
   if (st) return st;

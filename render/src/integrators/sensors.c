@@ -140,14 +140,13 @@ static vr_status sensor_points(const vr_scene *s, vr_sensor_state *c, vr_render_
       for (int u = 0; u < nu; u++, k++) {
         /* Grid points at the centres of the nu x nv cells of the parallelogram. */
         double fu = se->grid ? (u + 0.5) / nu : 0, fv = se->grid ? (j + 0.5) / nv : 0;
-        for (int a = 0; a < 3; a++) {
-          c->points[k][a] = se->position[a] + fu * se->u[a] + fv * se->v[a];
-          c->points[k][3 + a] = se->normal[a];
-          if (se->pts) { /* a points file: its u-th line */
-            c->points[k][a] = se->pts[6 * (size_t)u + (size_t)a];
-            c->points[k][3 + a] = se->pts[6 * (size_t)u + 3 + (size_t)a];
+        if (se->pts) /* a points file: its u-th line, x y z dx dy dz */
+          memcpy(c->points[k], se->pts + 6 * (size_t)u, 6 * sizeof *se->pts);
+        else
+          for (int a = 0; a < 3; a++) {
+            c->points[k][a] = se->position[a] + fu * se->u[a] + fv * se->v[a];
+            c->points[k][3 + a] = se->normal[a];
           }
-        }
         vr_sensor_reading *rd = &res->readings[k];
         rd->sensor = name;
         rd->i = u;

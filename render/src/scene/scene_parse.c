@@ -280,6 +280,12 @@ static void defaults(vr_scene *s) {
   a->glass = -1, a->control_sensor = -1, a->workplane = -1, a->max = NAN;
 }
 
+bool vr_scene_has_grid(const vr_scene *s) {
+  for (size_t i = 0; i < s->nsensors; i++)
+    if (s->sensors[i].grid) return true;
+  return false;
+}
+
 /* Splits a line into words in place; the rest of the line after '#' is a
  * comment, unless the '#' opens a value ("color=#c8b49a").  A value that
  * opens with '[' ("spectrum=[400 0.1 700 0.5]") runs to its ']', spaces
