@@ -62,6 +62,12 @@ if(NOT YAML_FOUND)
   vr_missing("libyaml" libyaml-dev)
 endif()
 
+# libxml2 (BSDF XML of WINDOW, the IGSDB and genBSDF).
+find_package(LibXml2 QUIET)
+if(NOT LibXml2_FOUND)
+  vr_missing("libxml2" libxml2-dev)
+endif()
+
 # Embree 3 (ray/triangle intersection).
 find_package(embree 3 CONFIG QUIET)
 if(NOT embree_FOUND)
@@ -96,5 +102,5 @@ endif()
 
 message(STATUS "Virtuelium-C dependencies: Ceres ${Ceres_VERSION}, GSL ${GSL_VERSION}, "
                "LAPACKE ${LAPACKE_VERSION}, OpenCV ${OpenCV_VERSION}, OpenEXR ${OpenEXR_VERSION}, "
-               "cmocka ${CMOCKA_VERSION}, SQLite ${SQLite3_VERSION}, libyaml ${YAML_VERSION}, "
+               "cmocka ${CMOCKA_VERSION}, SQLite ${SQLite3_VERSION}, libyaml ${YAML_VERSION}, libxml2 ${LIBXML2_VERSION_STRING}, "
                "Embree ${embree_VERSION}, Assimp ${assimp_VERSION}, MPI ${MPI_C_VERSION} (used: ${VR_MPI}), cairo ${CAIRO_VERSION}")

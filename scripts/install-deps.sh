@@ -8,7 +8,7 @@ packages=(
   build-essential cmake pkg-config python3
   libceres-dev libgsl-dev liblapacke-dev
   libopencv-dev libopencv-contrib-dev libopenexr-dev
-  libcmocka-dev libsqlite3-dev libyaml-dev
+  libcmocka-dev libsqlite3-dev libyaml-dev libxml2-dev
   libembree-dev libassimp-dev libopenmpi-dev openmpi-bin
   iproute2
   libcairo2-dev clang libclang-rt-14-dev

@@ -3,7 +3,11 @@
 #ifndef VR_SPECTRO_CLI_H
 #define VR_SPECTRO_CLI_H
 
+#include <stdbool.h>
+
 #include "vr/args.h"
+#include "vr/glazing.h"
+#include "vr/optical_standard.h"
 #include "vr/matdb.h"
 #include "vr/spectro_data.h"
 
@@ -37,7 +41,27 @@ vr_status spectro_thickness(const vr_args *a, double *nm, vr_error *err);
 vr_status spectro_save(vr_matdb *db, vr_material *m, const char *cmd, const char *path,
                        vr_error *err);
 
+#define SPECTRO_MAX_PANES 16
+
+/* --route auto|physical|coated. */
+vr_status spectro_parse_route(const vr_args *a, vr_angular_route *r, vr_error *err);
+/* The panes a command names: --panes A,B (split in *list, which the caller
+ * frees) or its one operand. */
+vr_status spectro_pane_items(const vr_args *a, char **list, char **items, size_t *n, vr_error *err);
+/* The figures of the panes data[0..n) (outside first) at angle (degrees),
+ * by route; unsolved[i] gains pane i's wavelengths that fit no slab. */
+vr_status spectro_panes_metrics(const vr_standard *std, vr_spectro_data *const *data, char **items,
+                                size_t n, double angle, vr_angular_route route,
+                                vr_glazing_metrics *m, const char **used_route, size_t *unsolved,
+                                vr_error *err);
+
+/* A path vr-spectro reads as BSDF XML (.xml or .xml.gz, any case). */
+bool spectro_is_bsdf_xml(const char *path);
+/* metrics of a BSDF XML file: WINDOW's figures at --angle/--phi. */
+int spectro_metrics_bsdf_xml(vr_args *a, const char *path);
+
 int spectro_cmd_fit(vr_args *a);
+int spectro_cmd_bsdf_xml(vr_args *a);
 int spectro_cmd_metrics(vr_args *a);
 int spectro_cmd_btdf(vr_args *a);
 int spectro_cmd_chromogenic(vr_args *a);

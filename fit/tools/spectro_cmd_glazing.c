@@ -15,7 +15,7 @@
 #include "vr/json.h"
 #include "vr/optical_standard.h"
 
-static vr_status parse_route(const vr_args *a, vr_angular_route *r, vr_error *err) {
+vr_status spectro_parse_route(const vr_args *a, vr_angular_route *r, vr_error *err) {
   const char *s = vr_args_get(a, "route");
   *r = VR_ROUTE_AUTO;
   if (!s || !strcasecmp(s, "auto")) return VR_OK;
@@ -123,74 +123,93 @@ static void print_metrics(const vr_glazing_metrics *m, const vr_standard *std, d
     printf("reflected (front)   %.2f %.2f %.2f\n", m->Rf_lab[0], m->Rf_lab[1], m->Rf_lab[2]);
 }
 
+vr_status spectro_pane_items(const vr_args *a, char **list, char **items, size_t *n, vr_error *err) {
+  *n = 0;
+  *list = NULL;
+  const char *panes_opt = vr_args_get(a, "panes");
+  if (panes_opt) {
+    if (!(*list = strdup(panes_opt))) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+    char *save = NULL;
+    for (char *t = strtok_r(*list, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+      if (*n == SPECTRO_MAX_PANES)
+        return vr_error_set(err, VR_E_ARG, "--panes: at most %d panes", SPECTRO_MAX_PANES);
+      items[(*n)++] = t;
+    }
+  } else if (a->noperands >= 2) {
+    items[(*n)++] = (char *)a->operands[1];
+  }
+  if (*n == 0)
+    return vr_error_set(err, VR_E_ARG, "%s needs a pane: FILE, NAME or --panes A,B", a->operands[0]);
+  return VR_OK;
+}
+
+vr_status spectro_panes_metrics(const vr_standard *std, vr_spectro_data *const *data, char **items,
+                                size_t n, double angle, vr_angular_route route,
+                                vr_glazing_metrics *m, const char **used_route, size_t *unsolved,
+                                vr_error *err) {
+  vr_pane *panes[SPECTRO_MAX_PANES] = {0}, *sys = NULL;
+  vr_status st = VR_OK;
+  *used_route = route_name(VR_ROUTE_AUTO);
+  for (size_t i = 0; i < n && !st; i++) {
+    const vr_spectro_curve *c;
+    if ((st = normal_curve(data[i], items[i], &c, err))) break;
+    double sol = angle > 0 ? solar_T(std, c) : NAN;
+    size_t u = 0;
+    if ((st = vr_pane_from_curve(c, data[i]->thickness_nm, angle, route, sol, &panes[i], &u, err))) {
+      vr_error_prefix(err, "%s: ", items[i]);
+      break;
+    }
+    if (angle > 0) *used_route = route_name(panes[i]->route);
+    unsolved[i] += u;
+  }
+  if (!st) st = vr_pane_combine(panes, n, &sys, err);
+  if (!st && (st = vr_glazing_metrics_compute(std, sys, m, err)) && n == 1)
+    vr_error_prefix(err, "%s: ", items[0]);
+  for (size_t i = 0; i < n; i++) vr_pane_destroy(panes[i]);
+  vr_pane_destroy(sys);
+  return st;
+}
+
 int spectro_cmd_metrics(vr_args *a) {
   vr_error err = {0};
   vr_matdb *db = NULL;
   vr_standard *std = NULL;
-  char *list = NULL, *items[16];
-  size_t n = 0;
-  vr_pane *panes[16] = {0}, *sys = NULL;
-  vr_spectro_data *data[16] = {0};
+  char *list = NULL, *items[SPECTRO_MAX_PANES];
+  size_t n = 0, unsolved[SPECTRO_MAX_PANES] = {0};
+  vr_spectro_data *data[SPECTRO_MAX_PANES] = {0};
   int rc = 1;
   double angle;
   vr_angular_route route;
   const char *stdname = vr_args_get(a, "standard");
-  const char *used_route = route_name(VR_ROUTE_AUTO);
-  if (vr_args_double(a, "angle", 0, &angle, &err) || parse_route(a, &route, &err)) goto out;
+  const char *used_route;
+  if (!vr_args_get(a, "panes") && a->noperands >= 2 && spectro_is_bsdf_xml(a->operands[1]))
+    return spectro_metrics_bsdf_xml(a, a->operands[1]);
+  if (vr_args_get(a, "phi")) {
+    vr_error_set(&err, VR_E_RANGE, "--phi: only for a BSDF XML file (a pane's figures do not depend "
+                                 "on the azimuth)");
+    goto out;
+  }
+  if (vr_args_double(a, "angle", 0, &angle, &err) || spectro_parse_route(a, &route, &err)) goto out;
   if (!(angle >= 0 && angle <= 90)) {
     vr_error_set(&err, VR_E_ARG, "--angle %g: expected 0 to 90 degrees", angle);
     goto out;
   }
   if (vr_standard_open(stdname ? stdname : "nfrc", &std, &err)) goto out;
-  const char *panes_opt = vr_args_get(a, "panes");
-  if (panes_opt) {
-    list = strdup(panes_opt);
-    char *save = NULL;
-    for (char *t = strtok_r(list, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-      if (n == 16) {
-        vr_error_set(&err, VR_E_ARG, "--panes: at most 16 panes");
-        goto out;
-      }
-      items[n++] = t;
-    }
-  } else if (a->noperands >= 2) {
-    items[n++] = (char *)a->operands[1];
-  }
-  if (n == 0) {
-    vr_error_set(&err, VR_E_ARG, "metrics needs a pane: FILE, NAME or --panes A,B");
-    goto out;
-  }
-  for (size_t i = 0; i < n; i++) {
-    const vr_spectro_curve *c;
-    if (spectro_pane_source(a, items[i], &db, &data[i], &err) ||
-        normal_curve(data[i], items[i], &c, &err))
-      goto out;
-    double sol = angle > 0 ? solar_T(std, c) : NAN;
-    size_t unsolved = 0;
-    if (vr_pane_from_curve(c, data[i]->thickness_nm, angle, route, sol, &panes[i], &unsolved, &err)) {
-      vr_error_prefix(&err, "%s: ", items[i]);
-      goto out;
-    }
-    if (angle > 0) used_route = route_name(panes[i]->route);
-    if (unsolved)
-      fprintf(stderr, "vr-spectro: %s: %zu wavelength(s) fit no slab; their index was borrowed "
-                      "from neighbours\n", items[i], unsolved);
-  }
-  if (vr_pane_combine(panes, n, &sys, &err)) goto out;
+  if (spectro_pane_items(a, &list, items, &n, &err)) goto out;
+  for (size_t i = 0; i < n; i++)
+    if (spectro_pane_source(a, items[i], &db, &data[i], &err)) goto out;
   vr_glazing_metrics m;
-  if (vr_glazing_metrics_compute(std, sys, &m, &err)) {
-    if (n == 1) vr_error_prefix(&err, "%s: ", items[0]);
+  if (spectro_panes_metrics(std, data, items, n, angle, route, &m, &used_route, unsolved, &err))
     goto out;
-  }
+  for (size_t i = 0; i < n; i++)
+    if (unsolved[i])
+      fprintf(stderr, "vr-spectro: %s: %zu wavelength(s) fit no slab; their index was borrowed "
+                      "from neighbours\n", items[i], unsolved[i]);
   print_metrics(&m, std, angle, items, n, used_route, vr_args_flag(a, "json"));
   rc = 0;
 out:
   if (rc) rc = spectro_fail(&err);
-  for (size_t i = 0; i < n; i++) {
-    vr_pane_destroy(panes[i]);
-    vr_spectro_destroy(data[i]);
-  }
-  vr_pane_destroy(sys);
+  for (size_t i = 0; i < n; i++) vr_spectro_destroy(data[i]);
   vr_standard_destroy(std);
   vr_matdb_close(db);
   free(list);
@@ -328,7 +347,7 @@ int spectro_cmd_btdf(vr_args *a) {
   const char *stack = vr_args_get(a, "stack"), *ang = vr_args_get(a, "angles"),
              *save = vr_args_get(a, "save"), *scatter = vr_args_get(a, "scatter");
   const char *item = a->noperands >= 2 ? a->operands[1] : NULL;
-  if (parse_route(a, &route, &err) || spectro_thickness(a, &d_nm, &err)) goto out;
+  if (spectro_parse_route(a, &route, &err) || spectro_thickness(a, &d_nm, &err)) goto out;
   if (ang) {
     if (vr_parse_doubles(ang, angles, 64, &na)) {
       vr_error_set(&err, VR_E_ARG, "--angles '%s': expected up to 64 numbers, e.g. 0,30,60", ang);

@@ -26,10 +26,12 @@ static const vr_option OPTIONS[] = {
     {"db", 'd', "FILE", "material database (default: $VR_MATDB, else ./materials.db)"},
     {"json", 'j', NULL, "JSON output"},
     {"table", 0, "FILE.csv", "fit, btdf: write the per-wavelength table"},
-    {"standard", 0, "NAME|FILE", "metrics: nfrc (default), en410, iso9050, or an LBNL .std file"},
+    {"standard", 0, "NAME|FILE", "metrics, bsdf-xml: nfrc (default), en410, iso9050, or an LBNL .std file"},
     {"angle", 'a', "DEG", "metrics: angle of incidence (default 0)"},
-    {"panes", 0, "A,B,...", "metrics: several panes, outside first (files or database names)"},
-    {"route", 0, "ROUTE", "metrics, btdf: angular route auto (default), physical or coated"},
+    {"phi", 0, "DEG", "metrics of a BSDF XML file: azimuth of incidence (default 0)"},
+    {"out", 'o', "FILE.xml", "bsdf-xml: the BSDF XML file to write"},
+    {"panes", 0, "A,B,...", "metrics, bsdf-xml: several panes, outside first (files or database names)"},
+    {"route", 0, "ROUTE", "metrics, btdf, bsdf-xml: angular route auto (default), physical or coated"},
     {"angles", 0, "LIST", "btdf: angles in degrees (default 0,10,...,80,85,90)"},
     {"stack", 0, "FILE.model", "btdf: a coated pane as layers on a substrate (model file)"},
     {"wavelengths", 'w', "FROM:TO:STEP", "btdf: wavelengths for materials and stacks (default 300:2500:10)"},
@@ -48,6 +50,8 @@ static const vr_option OPTIONS[] = {
 static const char USAGE[] =
     "fit FILE [--thickness MM] [--model sellmeier|sellmeier2|cauchy] [--save NAME [--force]] [--json]\n"
     "       vr-spectro metrics FILE|NAME [--standard nfrc|en410|iso9050] [--angle DEG] [--panes A,B] [--json]\n"
+    "       vr-spectro metrics FILE.xml [--angle DEG] [--phi DEG] [--json]\n"
+    "       vr-spectro bsdf-xml FILE|NAME|--panes A,B --out F.xml [--standard S] [--state S]\n"
     "       vr-spectro btdf FILE|NAME|--stack FILE [--angles LIST] [--wavelengths A:B:S] [--scatter FILE] [--save NAME] [--json]\n"
     "       vr-spectro chromogenic FILES... --states LIST [--save NAME] [--json]\n"
     "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T] [--extrapolate]] [--json]";
@@ -64,6 +68,10 @@ static const char ABOUT[] =
     "  several panes with --panes; angles by the physical route (uncoated) or\n"
     "  Windows-CalcEngine's coated-glass polynomials (coated).  R is optional: T alone\n"
     "  gives the T figures (R figures need R).  Data must cover each figure's range.\n"
+    "metrics FILE.xml: a BSDF XML file's (WINDOW, IGSDB, genBSDF; Klems) direct-direct,\n"
+    "  direct-diffuse, direct-hemispherical and diffuse-diffuse T and R, front and back, by band.\n"
+    "bsdf-xml: a pane, several (--panes) or a chromogenic state as a Klems BSDF XML file\n"
+    "  (Visible and Solar under --standard) for WINDOW, Radiance and EnergyPlus.\n"
     "btdf: angle x wavelength tables of T and R (s, p) for the renderer; a measured pane\n"
     "  is resampled onto --wavelengths inside its data, never extrapolated.\n"
     "chromogenic: state model of electrochromic (states: charge 12mC/cm2 or voltage -1V)\n"
@@ -169,8 +177,9 @@ static vr_status guard_outputs(const vr_args *a, vr_error *err) {
     free(list);
   }
   vr_out_guard_database(&g, spectro_db_path(a));
-  const char *table = vr_args_get(a, "table");
-  return table ? vr_out_guard_check(&g, table, "--table", err) : VR_OK;
+  const char *table = vr_args_get(a, "table"), *out = vr_args_get(a, "out");
+  if (table && vr_out_guard_check(&g, table, "--table", err)) return err->status;
+  return out ? vr_out_guard_check(&g, out, "--out", err) : VR_OK;
 }
 
 vr_status spectro_db(const vr_args *a, vr_matdb **db, vr_error *err) {
@@ -362,27 +371,29 @@ static bool foreign_option(const vr_args *a, const char *cmd) {
   static const struct {
     const char *opt, *cmds, *why;
   } TAKES[] = {
-      {"thickness", "fit metrics btdf chromogenic", NULL},
+      {"thickness", "fit metrics btdf chromogenic bsdf-xml", NULL},
       {"model", "fit", NULL},
       {"sigma", "fit chromogenic", NULL},
       {"save", "fit btdf chromogenic", NULL},
       {"table", "fit btdf", "only fit and btdf write a table"},
       {"force", "fit", "only fit accepts a flagged fit"},
-      {"standard", "metrics", NULL},
+      {"standard", "metrics bsdf-xml", NULL},
       {"angle", "metrics", NULL},
-      {"panes", "metrics", NULL},
-      {"route", "metrics btdf", NULL},
+      {"phi", "metrics", NULL},
+      {"out", "bsdf-xml", NULL},
+      {"panes", "metrics bsdf-xml", NULL},
+      {"route", "metrics btdf bsdf-xml", NULL},
       {"angles", "btdf", NULL},
       {"stack", "btdf", NULL},
       {"wavelengths", "btdf", NULL},
       {"scatter", "btdf", NULL},
       {"index", "btdf", NULL},
       {"states", "chromogenic", NULL},
-      {"state", "metrics state", NULL},
-      {"charge", "metrics state", NULL},
-      {"uv", "metrics state", NULL},
-      {"temperature", "metrics state", NULL},
-      {"extrapolate", "metrics state", NULL},
+      {"state", "metrics state bsdf-xml", NULL},
+      {"charge", "metrics state bsdf-xml", NULL},
+      {"uv", "metrics state bsdf-xml", NULL},
+      {"temperature", "metrics state bsdf-xml", NULL},
+      {"extrapolate", "metrics state bsdf-xml", NULL},
   };
   for (size_t i = 0; i < sizeof TAKES / sizeof TAKES[0]; i++) {
     if (!vr_args_get(a, TAKES[i].opt)) continue;
@@ -423,6 +434,7 @@ int main(int argc, char **argv) {
   } CMDS[] = {{"fit", 2, spectro_cmd_fit},
               {"metrics", 1, spectro_cmd_metrics},
               {"btdf", 1, spectro_cmd_btdf},
+              {"bsdf-xml", 1, spectro_cmd_bsdf_xml},
               {"chromogenic", 2, spectro_cmd_chromogenic},
               {"state", 2, spectro_cmd_state}};
   int rc = -1;
@@ -442,7 +454,7 @@ int main(int argc, char **argv) {
       }
     }
   if (rc < 0) {
-    fprintf(stderr, "vr-spectro: expected a command: fit, metrics, btdf, chromogenic or state\n"
+    fprintf(stderr, "vr-spectro: expected a command: fit, metrics, btdf, bsdf-xml, chromogenic or state\n"
                     "Try 'vr-spectro --help'.\n");
     rc = 2;
   }
