@@ -12,7 +12,8 @@
  *   back corners read 1975 lx against 211).  The ground here is 12 x 8 m,
  *   small enough that half the sensor paths end in the photon maps, so the
  *   test reads the maps' light; with the surface rule switched off, floor
- *   points near the wall read up to 23 % high and the test fails;
+ *   points near the wall read up to 23 % high and the test fails (5 % plus
+ *   3 standard errors of the difference is about 15 %);
  * - CIE 171:2006 test case 5.8: in a cube of reflectance rho lit by a point
  *   source of flux Phi inside, the mean indirect illuminance on the walls
  *   is rho Phi / (S_T (1 - rho)) (an energy balance), 104.17 lx for the
@@ -37,26 +38,35 @@ static vr_render_result *render_text(const char *text) { return render_text_with
 static const char GROUND[] =
     "rect center=2,-4,0 normal=0,0,1 size=12,8 material=ground outside=yes\n";
 
-/* Every photon reading within 5 % of the path reading of the same point. */
+/* Every photon reading within 5 % of the path reading of the same point,
+ * beyond what the two estimates' noise explains: 3 standard errors of
+ * their difference, sqrt(se_photon^2 + se_path^2) from the readings'
+ * stderr_lx.  Both are Monte Carlo estimates of 8192 paths a point (about
+ * 3 % standard error each where the room is dim), so a bare 5 % would
+ * fail a point that is right by chance; 5 % is the bias allowed.  The
+ * surface-rule regression below (23 % high) stays well outside it. */
 static void agree_within_5pct(const vr_render_result *ph, const vr_render_result *pa) {
   int bad = 0;
   for (size_t i = 0; i < ph->nreadings; i++) {
     const vr_sensor_reading *a = &ph->readings[i], *b = &pa->readings[i];
-    double dev = (a->illuminance_lx - b->illuminance_lx) / b->illuminance_lx;
+    double diff = a->illuminance_lx - b->illuminance_lx, dev = diff / b->illuminance_lx;
+    double se = sqrt(a->stderr_lx * a->stderr_lx + b->stderr_lx * b->stderr_lx);
     print_message("  %-5s (%d, %d): photon %8.1f +- %6.1f lx, path %8.1f +- %6.1f lx, %+5.1f %%\n",
                   a->sensor, a->i, a->j, a->illuminance_lx, a->stderr_lx, b->illuminance_lx,
                   b->stderr_lx, 100 * dev);
-    bad += fabs(dev) > 0.05;
+    bad += fabs(diff) > 0.05 * b->illuminance_lx + 3 * se;
   }
-  if (bad) fail_msg("%d of 23 points differ from the path estimator by more than 5 %%", bad);
+  if (bad)
+    fail_msg("%d of 23 points differ from the path estimator by more than 5 %% + 3 standard "
+             "errors", bad);
 }
 
 static void compare_room(bool ground, double min_share) {
   char text[4096];
   snprintf(text, sizeof text, DAYLIT_ROOM, ground ? GROUND : "",
-           "sensors=photon photons=2000000 knn=200 sensor_samples=4096");
+           "sensors=photon photons=2000000 knn=200 sensor_samples=8192");
   vr_render_result *ph = render_text(text);
-  snprintf(text, sizeof text, DAYLIT_ROOM, ground ? GROUND : "", "sensors=path sensor_samples=4096");
+  snprintf(text, sizeof text, DAYLIT_ROOM, ground ? GROUND : "", "sensors=path sensor_samples=8192");
   vr_render_result *pa = render_text(text);
   assert_int_equal(ph->nreadings, 23);
   assert_int_equal(pa->nreadings, 23);
@@ -95,9 +105,9 @@ static void daylit_room_portal(void **state) {
   char text[4096], ground[512];
   snprintf(ground, sizeof ground, "%sportal center=2,0,1.5 normal=0,1,0 size=2,1.2\n", GROUND);
   snprintf(text, sizeof text, DAYLIT_ROOM, ground,
-           "sensors=photon photons=2000000 knn=200 sensor_samples=4096 photon_portals=on");
+           "sensors=photon photons=2000000 knn=200 sensor_samples=8192 photon_portals=on");
   vr_render_result *ph = render_text(text);
-  snprintf(text, sizeof text, DAYLIT_ROOM, ground, "sensors=path sensor_samples=4096");
+  snprintf(text, sizeof text, DAYLIT_ROOM, ground, "sensors=path sensor_samples=8192");
   vr_render_result *pa = render_text(text);
   snprintf(text, sizeof text, DAYLIT_ROOM, GROUND,
            "sensors=photon photons=2000000 knn=200 sensor_samples=4096");

@@ -226,6 +226,38 @@ static void test_one_sample_is_uniform(void **state) {
   }
 }
 
+/* One stream taking many more samples than the seed's count (a sensor
+ * point's paths under a camera's spp): the same pair at two depths (a
+ * path's first and second bounce) must be independent, or a path's second
+ * direction is a function of its first and the estimate converges to a
+ * seed-dependent value.  For independent uniforms E[u v] = 1/4 with
+ * variance 1/9 - 1/16 = 7/144; the mean over N samples is held to 5
+ * standard errors, sqrt(7/144/N).  Also a 64-cell chi-square of (u, v),
+ * at the 0.1 % point (103.4). */
+static void test_sobol_depths_independent_over_long_streams(void **state) {
+  (void)state;
+  const uint32_t N = 65536, counts[3] = {1, 16, 12};
+  const uint32_t pairs[3][2] = {{VR_DIM_DIR_U, VR_DIM_DIR_U}, {VR_DIM_DIR_V, VR_DIM_LOBE},
+                                {VR_DIM_LOBE, VR_DIM_LOBE}};
+  for (int c = 0; c < 3; c++)
+    for (int d = 0; d < 3; d++) {
+      double sum = 0;
+      uint32_t cells[64] = {0};
+      for (uint32_t s = 0; s < N; s++) {
+        vr_rng_key k0 = {vr_rng_seed_make(7, VR_SAMPLER_SOBOL, counts[c]), 42, s, 0};
+        vr_rng_key k1 = k0;
+        k1.depth = 1;
+        double u = vr_rng(&k0, pairs[d][0]), v = vr_rng(&k1, pairs[d][1]);
+        sum += u * v;
+        cells[(int)(u * 8) * 8 + (int)(v * 8)]++;
+      }
+      double mean = sum / N, se = sqrt(7.0 / 144.0 / N), x2 = chi2_64(cells, N);
+      if (fabs(mean - 0.25) > 5 * se || x2 > 103.4)
+        fail_msg("count %u, dims %u@0 and %u@1 over %u samples: E[uv] %.5f (1/4 +- %.5f), "
+                 "chi-square %.1f", counts[c], pairs[d][0], pairs[d][1], N, mean, 5 * se, x2);
+    }
+}
+
 /* ---- rendered: an area light over a diffuse plane, direct light only ---- */
 
 /* Configuration factor from a differential area, facing +z, to a parallel
@@ -427,6 +459,7 @@ int main(void) {
       cmocka_unit_test(test_sobol_pixel_pairs_are_nets),
       cmocka_unit_test(test_stratified_cells),
       cmocka_unit_test(test_one_sample_is_uniform),
+      cmocka_unit_test(test_sobol_depths_independent_over_long_streams),
       cmocka_unit_test(test_sobol_lowers_the_noise),
       cmocka_unit_test(test_stratified_antialiases),
   };

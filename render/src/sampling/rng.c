@@ -133,14 +133,24 @@ static uint64_t pair_hash(const vr_rng_key *k, uint32_t pair) {
   return vr_mix64(h ^ ((uint64_t)k->depth << 32 | pair));
 }
 
-/* The sample's index within the stream after the block's permutation:
- * samples q count ... (q + 1) count - 1 are permuted among themselves. */
+/* The sample's index within the stream after the pair's permutation:
+ * samples q count ... (q + 1) count - 1 (block q) are permuted among
+ * themselves, and the blocks too, by a bijection of the first 2^24 block
+ * indices keyed by the pair.  Without the second, a stream that takes
+ * many more samples than count (a sensor point's thousands of paths under
+ * a camera's spp) would give every pair, at every depth, the points of
+ * the same block for the same sample: Owen scrambles with fixed seeds are
+ * bijections, so one pair's numbers would be a function of another's (a
+ * path's second bounce of its first), and the estimate would converge to
+ * a value that depends on the seed.  Every aligned block of 2^m Sobol
+ * points is a (0, m, 2)-net, so a pixel's samples keep that property. */
 static uint64_t permuted_index(const vr_rng_key *k, uint64_t h) {
   uint32_t n = k->seed.count ? k->seed.count : 1, q, r;
   if (n & (n - 1)) q = k->sample / n, r = k->sample % n;
   else q = k->sample >> __builtin_ctz(n), r = k->sample & (n - 1);
-  uint64_t hp = vr_mix64(h ^ (0xB10C0000ull + q));
-  return (uint64_t)q * n + vr_permute(r, n, (uint32_t)(hp ^ hp >> 32));
+  uint64_t hp = vr_mix64(h ^ (0xB10C0000ull + q)), hq = vr_mix64(h ^ 0xB10C4B5Full);
+  uint32_t qb = (q & ~0xFFFFFFu) | vr_permute(q & 0xFFFFFFu, 1u << 24, (uint32_t)(hq ^ hq >> 32));
+  return (uint64_t)qb * n + vr_permute(r, n, (uint32_t)(hp ^ hp >> 32));
 }
 
 static const double BELOW_ONE = 0x1.fffffffffffffp-1;
