@@ -37,6 +37,10 @@
  *                                       the same T and R at normal
  *                                       incidence (back-solved n, k), front
  *                                       and back separately
+ *   bsdf file=F.xml [up=X,Y,Z]          a Klems BSDF XML file's Visible
+ *                                       band, grey, patch by patch
+ *                                       (bsdf_klems.c): glossy reflection
+ *                                       and transmission, not thin
  *   chromogenic                         thin pane whose normal-incidence
  *                                       T, Rf, Rb follow the state s; the
  *                                       angles through the same equivalent
@@ -166,6 +170,9 @@ bool vr_bsdf_sample_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, 
 /* A glTF metallic-roughness material (source pbr): its base colour is
  * inside the BSDF, so a texture reaches it through vr_bsdf_point.base. */
 bool vr_bsdf_is_pbr(const vr_bsdf *b);
+/* A BSDF XML material (bsdf file=F.xml): a window or shade given by its
+ * Klems matrices (VR_LOBE_GLOSSY_R | VR_LOBE_GLOSSY_T). */
+bool vr_bsdf_is_klems(const vr_bsdf *b);
 
 /* Shadow rays: transmittance (unpolarised) of a thin element along a
  * straight line meeting it at cos_theta (either sign), per wavelength.

@@ -74,7 +74,12 @@ typedef struct vr_scene_camera {
  * settings.  Lambertian reflectors may be written in the scene: a constant
  * ("material grey lambert reflectance=0.5", for analytic test scenes) or
  * an inline spectrum ("reflectance=[400:0.12,500:0.35,700:0.7]"). */
-typedef enum vr_mat_source { VR_MATSRC_DB = 0, VR_MATSRC_LAMBERT_CONST, VR_MATSRC_BLACK } vr_mat_source;
+typedef enum vr_mat_source {
+  VR_MATSRC_DB = 0,
+  VR_MATSRC_LAMBERT_CONST,
+  VR_MATSRC_BLACK,
+  VR_MATSRC_BSDF_XML /* a Klems BSDF XML file (bsdf file=F.xml) */
+} vr_mat_source;
 
 typedef enum vr_pane_model {
   VR_PANE_DEFAULT = 0, /* a thin element when the object is a pane-like sheet */
@@ -106,6 +111,11 @@ typedef struct vr_scene_material {
   bool extrapolate;      /* photochromic: evaluate outside the fitted UV and
                             temperature range (extrapolate=yes) */
   char *coating_db;      /* thin-film coating (layered material) name, NULL if none */
+  /* VR_MATSRC_BSDF_XML: the file (resolved against the scene's folder) and
+   * the world direction its azimuth 90 deg points to (up=; NAN: world up
+   * +z, or +y for a horizontal surface). */
+  char *bsdf_file;
+  double bsdf_up[3];
   /* A texture that multiplies the reflectance per point (lambert
    * texture=FILE, or a model's base colour map): a file (resolved against
    * the scene's or the model's folder), or the bytes of an image embedded

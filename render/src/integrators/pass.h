@@ -117,10 +117,12 @@ void vr_surface_f(const void *u, const double wi[3], double *fc);
 void vr_receiver_f(const void *u, const double wi[3], double *fc);
 /* Next-event estimation at x: one shadow ray per light line, one to an
  * emitter, one to the sky (above n_for_sky when not NULL), each carrying
- * beta f(wi) L; depth_key keys their random numbers. */
+ * beta f(wi) L; depth_key keys their random numbers.  lines_only: the
+ * light lines alone (a vertex whose sampled directions count the sky and
+ * the emitters they hit, VR_PF_SPECULAR_LAST). */
 void vr_path_next_event(vr_pass *c, vr_flow_worker *w, const vr_payload *p, const double x[3],
                         const double ng[3], const double *n_for_sky, vr_bsdf_cos_fn f,
-                        const void *fu, uint32_t depth_key);
+                        const void *fu, uint32_t depth_key, bool lines_only);
 /* The surface at a hit seen from wo, and the absorption of the medium the
  * path crossed to reach it (applied to p->beta). */
 vr_surface vr_path_surface(const vr_rscene *rs, const vr_payload *p, const vr_hit *hit,

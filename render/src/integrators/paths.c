@@ -130,7 +130,7 @@ static void shadow_for(vr_flow_worker *w, const vr_payload *p, const double x[3]
 
 void vr_path_next_event(vr_pass *c, vr_flow_worker *w, const vr_payload *p, const double x[3],
                         const double ng[3], const double *n_for_sky, vr_bsdf_cos_fn f,
-                        const void *fu, uint32_t depth_key) {
+                        const void *fu, uint32_t depth_key, bool lines_only) {
   const vr_rscene *rs = c->rs;
   const vr_lights *L = &rs->L;
   vr_rng_key key = {rs->seed, p->stream, p->sample, depth_key};
@@ -141,6 +141,7 @@ void vr_path_next_event(vr_pass *c, vr_flow_worker *w, const vr_payload *p, cons
     if (vr_lights_sample_light(L, i, x, &k2, p->nwl, p->wl, &ls))
       shadow_for(w, p, x, ng, f, fu, &ls, ls.dist, (uint8_t)L->light[i].ops->source);
   }
+  if (lines_only) return;
   if (vr_lights_sample_emitter(L, x, p->nwl, p->wl, &key, &ls))
     shadow_for(w, p, x, ng, f, fu, &ls, ls.dist, VR_SRC_LAMP);
   if (vr_lights_sample_sky(L, x, n_for_sky, p->nwl, p->wl, &key, &ls))
@@ -201,7 +202,11 @@ static bool continue_path(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr
    * nothing: next-event shadow rays cross panes too, so a path going on
    * straight after a diffuse vertex must not count the sky again. */
   if (bs.lobe != VR_LOBE_STRAIGHT) {
-    if (bs.lobe & VR_LOBE_DELTA)
+    /* A BSDF XML window's patches are as narrow as 0.02 sr around the
+     * straight-through direction, which a sky sample seldom finds: its
+     * vertex has no next-event estimate for the sky and the emitters, and
+     * what its sampled direction hits counts instead. */
+    if ((bs.lobe & VR_LOBE_DELTA) || vr_bsdf_is_klems(se->b))
       p->flags |= VR_PF_SPECULAR_LAST;
     else
       p->flags &= (uint16_t)~VR_PF_SPECULAR_LAST;
@@ -314,8 +319,10 @@ void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit
   unsigned lobes = vr_bsdf_lobes(se.b);
   bool diffuse = lobes & VR_LOBE_DIFFUSE;
   bool nondelta = lobes & (VR_LOBE_DIFFUSE | VR_LOBE_GLOSSY_R | VR_LOBE_GLOSSY_T);
-  if (nondelta && p.target == VR_TARGET_SENSOR) {
-    /* This vertex reflects what reaches the sensor from here on. */
+  if (nondelta && p.target == VR_TARGET_SENSOR && !vr_bsdf_is_klems(se.b)) {
+    /* This vertex reflects what reaches the sensor from here on.  A BSDF
+     * XML window does not: light it transmits keeps its component (the sky
+     * seen through a window is the sky component), as through a pane. */
     p.flags |= VR_PF_REFLECTED;
     if (o->outside)
       p.flags |= VR_PF_OUTSIDE_LAST;
@@ -328,7 +335,7 @@ void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit
     if (!(lobes & VR_LOBE_GLOSSY_T) && vr_dot3(nsky, wo) < 0)
       for (int a = 0; a < 3; a++) nsky[a] = -nsky[a];
     vr_path_next_event(c, w, &p, hit->p, hit->ng, (lobes & VR_LOBE_GLOSSY_T) ? NULL : nsky,
-                       vr_surface_f, &se, 1000u + p.depth);
+                       vr_surface_f, &se, 1000u + p.depth, vr_bsdf_is_klems(se.b));
   }
   if (diffuse && c->at_diffuse && c->at_diffuse(c, w, &p, hit, &se, wo)) {
     /* The integrator took the diffuse part; a pbr surface's specular part

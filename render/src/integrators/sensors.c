@@ -54,7 +54,7 @@ static void generate(void *ctx, vr_flow_worker *w, long unit) {
     /* Each batch's illuminance is a mean over its own samples. */
     p.weight = 1.0 / per;
     for (int k = 0; k < p.nwl; k++) p.beta[k] = 1.0;
-    vr_path_next_event(c, w, &p, x, n, n, vr_receiver_f, n, 0);
+    vr_path_next_event(c, w, &p, x, n, n, vr_receiver_f, n, 0, false);
     double u1 = vr_rng(&key, VR_DIM_DIR_U), u2 = vr_rng(&key, VR_DIM_DIR_V);
     vr_ray r = {0};
     vr_sample_cosine(n, u1, u2, r.dir);

@@ -45,7 +45,7 @@ static void generate(void *ctx, vr_flow_worker *w, long unit) {
       p.weight = 1.0 / UV_SAMPLES;
       for (int k = 0; k < p.nwl; k++) p.beta[k] = 1.0;
       /* Every sample draws the lights and the sky; each carries 1/M. */
-      vr_path_next_event(c, w, &p, x, n, n, vr_receiver_f, n, 0);
+      vr_path_next_event(c, w, &p, x, n, n, vr_receiver_f, n, 0, false);
     }
   }
 }

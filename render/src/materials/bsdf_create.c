@@ -295,6 +295,7 @@ static vr_status build(vr_bsdf *b, const vr_scene_material *sm, const vr_materia
   }
   if (sm->source == VR_MATSRC_LAMBERT_CONST)
     return sm->pbr ? make_pbr(b, sm, err) : make_lambert(b, sm, NULL, err);
+  if (sm->source == VR_MATSRC_BSDF_XML) return vr_bsdfi_klems_create(b, sm, err);
   if (!m) return vr_error_set(err, VR_E_ARG, "the database material was not resolved");
   vr_status st = check_settings(sm, m->kind, err);
   if (st) return st;
@@ -373,6 +374,7 @@ void vr_bsdf_destroy(vr_bsdf *b) {
   double *arrays[] = {b->refl, b->n,   b->k,  b->sigma_a, b->T,   b->Rf,  b->Rb,
                       b->T0,   b->dOD, b->Rf0, b->dRf,    b->Rb0, b->dRb};
   for (size_t i = 0; i < sizeof arrays / sizeof *arrays; i++) free(arrays[i]);
+  vr_bsdfi_klems_destroy(b->klems);
   free(b);
 }
 
@@ -383,6 +385,7 @@ bool vr_bsdf_is_photochromic(const vr_bsdf *b) {
   return b->kind == VR_BK_CHROMO && b->photochromic;
 }
 bool vr_bsdf_is_pbr(const vr_bsdf *b) { return b->kind == VR_BK_PBR; }
+bool vr_bsdf_is_klems(const vr_bsdf *b) { return b->kind == VR_BK_KLEMS; }
 bool vr_bsdf_is_thin(const vr_bsdf *b) { return b->kind == VR_BK_PANE || b->kind == VR_BK_CHROMO; }
 double vr_bsdf_default_state(const vr_bsdf *b) { return b->default_state; }
 bool vr_bsdf_extrapolated(const vr_bsdf *b) { return b->extrapolated; }

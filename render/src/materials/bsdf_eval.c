@@ -6,25 +6,10 @@
 
 #include "materials/bsdf_internal.h"
 
-/* The shading frame around the unit normal n (vr_frame3, vr/vec3.h). */
-typedef struct vr_shading_frame {
-  vr_vec3 s, t, n;
-} vr_shading_frame;
-
 static vr_shading_frame vr_shading_frame_of(vr_vec3 n) {
   double a[3] = {n.x, n.y, n.z}, t[3], b[3];
   vr_frame3(a, t, b);
   return (vr_shading_frame){{t[0], t[1], t[2]}, {b[0], b[1], b[2]}, n};
-}
-
-static vr_vec3 to_local(const vr_shading_frame *f, vr_vec3 v) {
-  return (vr_vec3){vr_vec3_dot(v, f->s), vr_vec3_dot(v, f->t), vr_vec3_dot(v, f->n)};
-}
-
-static vr_vec3 to_world(const vr_shading_frame *f, vr_vec3 v) {
-  return (vr_vec3){v.x * f->s.x + v.y * f->t.x + v.z * f->n.x,
-                   v.x * f->s.y + v.y * f->t.y + v.z * f->n.y,
-                   v.x * f->s.z + v.y * f->t.z + v.z * f->n.z};
 }
 
 /* Opaque reflectors work from wo's side: mirror z when wo is below. */
@@ -53,8 +38,12 @@ void vr_bsdf_eval_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, vr
   for (int w = 0; w < nwl; w++) f[w] = 0.0;
   if (pdf) *pdf = 0.0;
   if (pt && pt->only && !(b->lobes & pt->only)) return;
+  if (b->kind == VR_BK_KLEMS) { /* its own frame: the file's azimuths are fixed to up= */
+    vr_bsdfi_klems_eval(b, n, wo, wi, nwl, mode, f, pdf);
+    return;
+  }
   vr_shading_frame fr = vr_shading_frame_of(n);
-  vr_vec3 o = to_local(&fr, wo), i = to_local(&fr, wi);
+  vr_vec3 o = vr_bsdfi_to_local(&fr, wo), i = vr_bsdfi_to_local(&fr, wi);
   switch (b->kind) {
   case VR_BK_LAMBERT:
     if (o.z * i.z > 0.0) {
@@ -113,8 +102,15 @@ bool vr_bsdf_sample_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, 
                        double u2, double u3, vr_bsdf_sample *out) {
   nwl = clamp_nwl(nwl);
   if (nwl == 0) return false;
+  if (b->kind == VR_BK_KLEMS) {
+    if (!vr_bsdfi_klems_sample(b, n, wo, nwl, mode, u1, u2, u3, out) ||
+        (pt && pt->only && !(out->lobe & pt->only)))
+      return false;
+    for (int w = nwl; w < VR_BSDF_MAX_WAVELENGTHS; w++) out->weight[w] = 0.0;
+    return true;
+  }
   vr_shading_frame fr = vr_shading_frame_of(n);
-  vr_vec3 o = to_local(&fr, wo);
+  vr_vec3 o = vr_bsdfi_to_local(&fr, wo);
   bool ok = false;
   switch (b->kind) {
   case VR_BK_BLACK:
@@ -135,6 +131,8 @@ bool vr_bsdf_sample_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, 
   case VR_BK_CHROMO:
     ok = vr_bsdfi_pane_sample(b, state, o, nwl, nm, u3, out);
     break;
+  case VR_BK_KLEMS: /* handled above */
+    return false;
   case VR_BK_PBR: {
     vr_bsdfi_pbr q;
     vr_bsdfi_pbr_setup(b, pt, nwl, nm, &q);
@@ -146,7 +144,7 @@ bool vr_bsdf_sample_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, 
   }
   if (!ok || (pt && pt->only && !(out->lobe & pt->only))) return false;
   for (int w = nwl; w < VR_BSDF_MAX_WAVELENGTHS; w++) out->weight[w] = 0.0;
-  out->wi = to_world(&fr, out->wi);
+  out->wi = vr_bsdfi_to_world(&fr, out->wi);
   return true;
 }
 
@@ -182,6 +180,9 @@ void vr_bsdf_rta(const vr_bsdf *b, double state, double cos_theta, double nm, do
   case VR_BK_PANE:
   case VR_BK_CHROMO:
     vr_bsdfi_pane_rt(b, state, cos_theta, nm, &r, &t);
+    break;
+  case VR_BK_KLEMS:
+    vr_bsdfi_klems_rt(b, cos_theta, &r, &t);
     break;
   }
   *R = r;

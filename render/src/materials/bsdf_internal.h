@@ -27,8 +27,11 @@ typedef enum vr_bsdf_kind {
   VR_BK_INTERFACE, /* refracting dielectric interface, smooth or GGX */
   VR_BK_PANE,      /* thin element from tables over (cos, wavelength) */
   VR_BK_CHROMO,    /* thin element whose normal-incidence T, R follow the state */
-  VR_BK_PBR        /* glTF metallic-roughness (bsdf_pbr.c) */
+  VR_BK_PBR,       /* glTF metallic-roughness (bsdf_pbr.c) */
+  VR_BK_KLEMS      /* a Klems BSDF XML file (bsdf_klems.c) */
 } vr_bsdf_kind;
+
+typedef struct vr_klems_bsdf vr_klems_bsdf;
 
 struct vr_bsdf {
   vr_bsdf_kind kind;
@@ -56,7 +59,24 @@ struct vr_bsdf {
    * optional Rf0, dRf, Rb0, dRb (NULL when not stored; Rb falls back to
    * Rf, a missing Rf to an uncoated face of index 1.52). */
   double *T0, *dOD, *Rf0, *dRf, *Rb0, *dRb;
+
+  vr_klems_bsdf *klems;   /* VR_BK_KLEMS */
 };
+
+/* A shading frame: s, t in the surface, n its normal (right-handed). */
+typedef struct vr_shading_frame {
+  vr_vec3 s, t, n;
+} vr_shading_frame;
+
+static inline vr_vec3 vr_bsdfi_to_local(const vr_shading_frame *f, vr_vec3 v) {
+  return (vr_vec3){vr_vec3_dot(v, f->s), vr_vec3_dot(v, f->t), vr_vec3_dot(v, f->n)};
+}
+
+static inline vr_vec3 vr_bsdfi_to_world(const vr_shading_frame *f, vr_vec3 v) {
+  return (vr_vec3){v.x * f->s.x + v.y * f->t.x + v.z * f->n.x,
+                   v.x * f->s.y + v.y * f->t.y + v.z * f->n.y,
+                   v.x * f->s.z + v.y * f->t.z + v.z * f->n.z};
+}
 
 /* Where a wavelength falls on the grid: node i and fraction t to i + 1. */
 typedef struct vr_bsdf_at {
@@ -158,6 +178,17 @@ void vr_bsdfi_pbr_eval(const vr_bsdfi_pbr *q, vr_vec3 wo, vr_vec3 wi, int nwl, d
 bool vr_bsdfi_pbr_sample(const vr_bsdfi_pbr *q, vr_vec3 wo, int nwl, double u1, double u2,
                          double u3, vr_bsdf_sample *out);
 double vr_bsdfi_pbr_albedo(const vr_bsdf *b, double nm, double cos_i);
+
+/* bsdf_klems.c: a BSDF XML file's Visible band as a grey BSDF, evaluated
+ * and sampled patch by patch in its own frame (z the normal n, y the
+ * settings' up direction in the surface), from world vectors. */
+vr_status vr_bsdfi_klems_create(vr_bsdf *b, const vr_scene_material *sm, vr_error *err);
+void vr_bsdfi_klems_destroy(vr_klems_bsdf *k);
+void vr_bsdfi_klems_eval(const vr_bsdf *b, vr_vec3 n, vr_vec3 wo, vr_vec3 wi, int nwl,
+                         vr_transport mode, double *f, double *pdf);
+bool vr_bsdfi_klems_sample(const vr_bsdf *b, vr_vec3 n, vr_vec3 wo, int nwl, vr_transport mode,
+                           double u1, double u2, double u3, vr_bsdf_sample *out);
+void vr_bsdfi_klems_rt(const vr_bsdf *b, double cos_i, double *R, double *T);
 
 bool vr_bsdfi_pane_sample(const vr_bsdf *b, double state, vr_vec3 wo, int nwl, const double *nm,
                           double u3, vr_bsdf_sample *out);

@@ -104,7 +104,7 @@ vr_status scn_camera(vr_scn_stmt *t) {
 vr_status scn_material(vr_scn_stmt *t) {
   vr_scn_parser *p = t->p;
   vr_scene *s = p->s;
-  vr_status st = scn_positional(t, 2, "a name and a source: db:NAME, lambert, pbr or black");
+  vr_status st = scn_positional(t, 2, "a name and a source: db:NAME, lambert, pbr, bsdf or black");
   if (st) return st;
   for (size_t i = 0; i < s->nmaterials; i++)
     if (!strcmp(s->materials[i].name, t->w[1]))
@@ -115,6 +115,7 @@ vr_status scn_material(vr_scn_stmt *t) {
   m->loc = scn_loc(p, t->w[0]);
   m->roughness = m->thickness_m = m->state = m->charge_mC_cm2 = m->temperature_K = NAN;
   m->alpha_cutoff = 0.5, m->tile[0] = m->tile[1] = 1, m->normal_scale = 1;
+  m->bsdf_up[0] = m->bsdf_up[1] = m->bsdf_up[2] = NAN;
   const char *src = t->w[2];
   t->what = "a material";
   bool pbr = !strcmp(src, "pbr");
@@ -150,8 +151,20 @@ vr_status scn_material(vr_scn_stmt *t) {
     m->source = VR_MATSRC_BLACK;
     return scn_options(t, 3, NONE);
   }
+  if (!strcmp(src, "bsdf")) {
+    /* A measured or simulated layer as WINDOW, the IGSDB or genBSDF write it. */
+    static const char *const BSDF[] = {"file", "up", NULL};
+    const vr_scn_opt *f, *up;
+    t->what = "a BSDF XML material";
+    m->source = VR_MATSRC_BSDF_XML;
+    if ((st = scn_options(t, 3, BSDF)) || (st = scn_need(t, "file", &f))) return st;
+    if (!(m->bsdf_file = scn_resolve(s, f->val))) return scn_nomem(p);
+    if ((up = scn_get(t, "up")) && (st = scn_direction(p, up->word, up->val, m->bsdf_up))) return st;
+    return VR_OK;
+  }
   if (strncmp(src, "db:", 3))
-    return scn_fail(p, src, "unknown material source \"%s\" (db:NAME, lambert, pbr, black)", src);
+    return scn_fail(p, src, "unknown material source \"%s\" (db:NAME, lambert, pbr, bsdf, black)",
+                    src);
   if (!src[3]) return scn_fail(p, src, "db: needs a material name");
   static const char *const DB[] = {"roughness", "thickness",   "model",   "state",
                                    "charge",    "temperature", "coating", "texture",
