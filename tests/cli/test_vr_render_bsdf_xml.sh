@@ -13,10 +13,12 @@
 #     shade's diffuse-diffuse back transmittance over the pane's Tvis
 #     (WinCalc's figures, test_bsdf_xml.c), within 1 % and 4 standard
 #     errors;
+#   - the same image on 1 and 8 sub-domains through genBSDF's louvres;
 #   - refusals (docs/bad-input.md).
 set -u
 bin="$(cd "$VR_BIN" && pwd)/vr-render"
 spectro="$(cd "$VR_SPECTRO_BIN" && pwd)/vr-spectro"
+cmp="$(cd "$VR_TEST_BIN" && pwd)/vr-test-exr-compare"
 matdb="$(cd "$VR_MATDB_BIN" && pwd)/vr-matdb"
 source "$(dirname "$0")/harness.sh"
 data="$VR_SOURCE_DIR/tests/data"
@@ -91,6 +93,18 @@ print("# shade over clear pane at the centre: %.4f, expected %.4f (+- %.4f)" % (
 assert abs(ratio - want) <= 0.01 * want + 4 * se
 PY
 check "a clear pane through its BSDF XML reads as the pane; the IGSDB shade as its figures say" test $? -eq 0
+
+# The decomposition: the same image through the louvres on 1 and 8
+# sub-domains (rays cross cells between the window's vertices).
+zcat "$data/bsdf/SquareSlat_genBSDF.xml.gz" > louvres.xml
+{ scene "material window bsdf file=louvres.xml" | sed -e 's/material black black/material black lambert reflectance=0.5/' -e '/^render /d'
+  echo "light sun altitude=60 azimuth=0 illuminance=90000lx"
+  echo "camera pinhole from=2,0.3,1.5 to=2,2,2.9 fov=70 resolution=32x24"
+  echo "render integrator=path spp=4 sensor_samples=1024"; } > img.scn
+"$bin" img.scn -o one --quiet --subdomains 1 && "$bin" img.scn -o eight --quiet --subdomains 8
+"$cmp" one.exr eight.exr > cmp.txt 2>&1
+check "the same image on 1 and 8 sub-domains" grep -q "largest relative difference 0 " cmp.txt
+check "and the same sensors" cmp -s one.sensors.csv eight.sensors.csv
 
 # Refusals.
 scene "material window bsdf" > nofile.scn
