@@ -19,7 +19,8 @@ bool spectro_is_bsdf_xml(const char *path) {
 
 /* Options metrics takes for a pane but not for a BSDF XML file. */
 static vr_status refuse_pane_options(const vr_args *a, vr_error *err) {
-  static const char *PANE_ONLY[] = {"standard", "panes", "route", "thickness", "state", "charge", "uv"};
+  static const char *PANE_ONLY[] = {"standard", "panes",  "route",       "thickness",  "state",
+                                    "charge",   "uv",     "temperature", "extrapolate"};
   for (size_t i = 0; i < sizeof PANE_ONLY / sizeof PANE_ONLY[0]; i++)
     if (vr_args_get(a, PANE_ONLY[i]))
       return vr_error_set(err, VR_E_RANGE,
@@ -187,8 +188,9 @@ int spectro_cmd_bsdf_xml(vr_args *a) {
     size_t len = 0;
     for (size_t i = 0; i < n; i++) {
       const char *slash = strrchr(items[i], '/');
-      len += (size_t)snprintf(x->name + len, len < sizeof x->name ? sizeof x->name - len : 0, "%s%s",
-                              i ? " | " : "", slash ? slash + 1 : items[i]);
+      if (len >= sizeof x->name - 1) break; /* the name is full */
+      len += (size_t)snprintf(x->name + len, sizeof x->name - len, "%s%s", i ? " | " : "",
+                              slash ? slash + 1 : items[i]);
     }
     snprintf(x->manufacturer, sizeof x->manufacturer, "vr-spectro (%s)", std->name);
     snprintf(x->device_type, sizeof x->device_type, "Other");

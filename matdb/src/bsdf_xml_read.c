@@ -15,6 +15,7 @@
 
 #include <libxml/parser.h>
 #include <libxml/tree.h>
+#include <libxml/xmlversion.h>
 
 typedef struct reader {
   const char *path;
@@ -103,11 +104,23 @@ static vr_status read_basis(reader *r, const xmlNode *ab, vr_klems_basis *b) {
   if (bounds && bounds != b->nrings)
     return fail(r, ab, VR_E_PARSE, "<AngleBasis> '%s': %d of %d blocks give <ThetaBounds>", b->name,
                 bounds, b->nrings);
-  if (!bounds) /* old files give only the centres: the rings meet half-way */
-    for (int k = 0; k < b->nrings; k++) {
-      b->theta_lo[k] = k ? 0.5 * (b->theta_c[k - 1] + b->theta_c[k]) : 0;
-      b->theta_hi[k] = k + 1 < b->nrings ? 0.5 * (b->theta_c[k] + b->theta_c[k + 1]) : 90;
-    }
+  if (!bounds) {
+    /* Without bounds, a basis LBNL defines is known by its name (as
+     * Radiance reads it); any other needs its <ThetaBounds>. */
+    vr_klems_basis known;
+    if (!vr_klems_named(b->name, &known))
+      return fail(r, ab, VR_E_PARSE,
+                  "<AngleBasis> '%s' gives no <ThetaBounds>, and is not a basis known by name "
+                  "(LBNL/Klems Full, Half or Quarter)", b->name);
+    if (known.nrings != b->nrings)
+      return fail(r, ab, VR_E_PARSE, "<AngleBasis> '%s' has %d blocks; that basis has %d rings",
+                  b->name, b->nrings, known.nrings);
+    for (int k = 0; k < b->nrings; k++)
+      if (known.nphi[k] != b->nphi[k])
+        return fail(r, ab, VR_E_PARSE, "<AngleBasis> '%s': ring %d has %d azimuths; that basis has %d",
+                    b->name, k + 1, b->nphi[k], known.nphi[k]);
+    *b = known;
+  }
   vr_error e = {0};
   if (vr_klems_finish(b, &e)) return fail(r, ab, e.status, "%s", e.message);
   return VR_OK;
@@ -218,10 +231,12 @@ static vr_status read_block(reader *r, vr_bsdf_xml *x, vr_bsdf_band *band, const
   const char *bases[2] = {"ColumnAngleBasis", "RowAngleBasis"};
   for (int i = 0; i < 2; i++) {
     xmlNode *c = child(blk, bases[i]);
-    if (c && strcasecmp(text(c, buf, sizeof buf), x->basis.name))
-      return fail(r, c, VR_E_PARSE,
-                  "<%s> '%s': the file defines the basis '%s'; a block on another basis (or "
-                  "different incident and exiting bases) is not read", bases[i], buf, x->basis.name);
+    char name[sizeof x->basis.name]; /* cut as the basis's own name was */
+    if (!c || !strcasecmp(text(c, name, sizeof name), x->basis.name)) continue;
+    text(c, buf, sizeof buf);
+    return fail(r, c, VR_E_PARSE,
+                "<%s> '%s': the file defines the basis '%s'; a block on another basis (or "
+                "different incident and exiting bases) is not read", bases[i], buf, x->basis.name);
   }
   xmlNode *type = child(blk, "ScatteringDataType");
   if (type) {
@@ -312,7 +327,7 @@ static vr_status finish(xmlParserCtxtPtr ctxt, xmlDocPtr doc, const char *path, 
                         vr_error *err) {
   vr_status st;
   if (!doc) {
-    xmlErrorPtr e = xmlCtxtGetLastError(ctxt);
+    const xmlError *e = xmlCtxtGetLastError(ctxt);
     st = vr_error_at(err, VR_E_PARSE, path, e ? e->line : 0, 0, "malformed XML: %s",
                      e && e->message ? e->message : "unreadable");
     size_t len = err ? strlen(err->message) : 0;
@@ -335,9 +350,19 @@ static vr_status finish(xmlParserCtxtPtr ctxt, xmlDocPtr doc, const char *path, 
 }
 
 /* No network, line numbers past 65535, errors kept in the context rather
- * than printed.  Some (encoding errors) go to libxml2's generic handler
- * whatever the options: it is silenced for the parse, then restored. */
-#define PARSE_OPTIONS (XML_PARSE_NONET | XML_PARSE_BIG_LINES | XML_PARSE_NOERROR | XML_PARSE_NOWARNING)
+ * than printed, gzip-compressed files read.  Some errors (encoding) go to
+ * libxml2's generic handler whatever the options: it is silenced for the
+ * parse, then restored.  That handler is per thread in libxml2 2.9 (its
+ * globals are thread-local), so parses on other threads are untouched.
+ * Debian 12's libxml2 (2.9.14) is built with zlib; a libxml2 built
+ * without it reads no .xml.gz (the file is then refused as malformed). */
+#if LIBXML_VERSION >= 21400 /* gzip is read only when asked from 2.14 on */
+#define PARSE_UNZIP XML_PARSE_UNZIP
+#else
+#define PARSE_UNZIP 0
+#endif
+#define PARSE_OPTIONS \
+  (XML_PARSE_NONET | XML_PARSE_BIG_LINES | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | PARSE_UNZIP)
 
 static void quiet(void *ctx, const char *msg, ...) {
   (void)ctx;

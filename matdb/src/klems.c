@@ -4,23 +4,46 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
 /* LBNL/Klems Full as WINDOW writes it in every file's AngleBasis (ring
  * centres, bounds and azimuth counts); 145 patches. */
-void vr_klems_full(vr_klems_basis *b) {
-  static const double c[] = {0, 10, 20, 30, 40, 50, 60, 70, 82.5};
-  static const double bound[] = {0, 5, 15, 25, 35, 45, 55, 65, 75, 90};
-  static const int nphi[] = {1, 8, 16, 20, 24, 24, 24, 16, 12};
+/* The three Klems bases LBNL defines, ring bounds and azimuth counts (as
+ * WINDOW writes them, and Radiance's src/common/bsdf_m.c tabulates them);
+ * a ring's nominal angle is the middle of its bounds, 0 for the first. */
+static const struct {
+  const char *name;
+  int nrings;
+  double bound[10];
+  int nphi[9];
+} NAMED[] = {
+    {"LBNL/Klems Full", 9, {0, 5, 15, 25, 35, 45, 55, 65, 75, 90}, {1, 8, 16, 20, 24, 24, 24, 16, 12}},
+    {"LBNL/Klems Half", 7, {0, 6.5, 19.5, 32.5, 45.5, 58.5, 71.5, 90}, {1, 8, 12, 16, 20, 12, 8}},
+    {"LBNL/Klems Quarter", 5, {0, 9, 27, 45, 63, 90}, {1, 8, 12, 12, 8}},
+};
+
+static void named(vr_klems_basis *b, int k) {
   memset(b, 0, sizeof *b);
-  snprintf(b->name, sizeof b->name, "LBNL/Klems Full");
-  b->nrings = 9;
-  for (int r = 0; r < 9; r++) {
-    b->theta_c[r] = c[r];
-    b->theta_lo[r] = bound[r];
-    b->theta_hi[r] = bound[r + 1];
-    b->nphi[r] = nphi[r];
+  snprintf(b->name, sizeof b->name, "%s", NAMED[k].name);
+  b->nrings = NAMED[k].nrings;
+  for (int r = 0; r < b->nrings; r++) {
+    b->theta_lo[r] = NAMED[k].bound[r];
+    b->theta_hi[r] = NAMED[k].bound[r + 1];
+    b->theta_c[r] = r ? 0.5 * (b->theta_lo[r] + b->theta_hi[r]) : 0;
+    b->nphi[r] = NAMED[k].nphi[r];
   }
   vr_klems_finish(b, NULL);
+}
+
+void vr_klems_full(vr_klems_basis *b) { named(b, 0); }
+
+bool vr_klems_named(const char *name, vr_klems_basis *b) {
+  for (int k = 0; k < (int)(sizeof NAMED / sizeof NAMED[0]); k++)
+    if (!strcasecmp(name, NAMED[k].name)) {
+      named(b, k);
+      return true;
+    }
+  return false;
 }
 
 vr_status vr_klems_finish(vr_klems_basis *b, vr_error *err) {
@@ -47,6 +70,11 @@ vr_status vr_klems_finish(vr_klems_basis *b, vr_error *err) {
     b->first[r] = n;
     n += b->nphi[r];
   }
+  if (n > VR_KLEMS_MAX_PATCHES)
+    return vr_error_set(err, VR_E_RANGE,
+                        "angle basis '%s': %d patches; at most %d are read (a Klems full basis "
+                        "has 145), so that a file cannot ask for gigabytes",
+                        b->name, n, VR_KLEMS_MAX_PATCHES);
   if (!(fabs(b->theta_hi[b->nrings - 1] - 90) < 1e-9))
     return vr_error_set(err, VR_E_RANGE, "angle basis '%s': the rings end at %g degrees, not 90",
                         b->name, b->theta_hi[b->nrings - 1]);

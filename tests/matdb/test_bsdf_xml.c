@@ -259,28 +259,70 @@ static void rows_and_columns(void **state) {
   vr_bsdf_xml_destroy(r);
 }
 
-/* Old files give only the ring centres: rings meet half-way (as Radiance reads them). */
+/* Files that give only the ring centres: a basis LBNL defines is known by
+ * its name (Radiance's src/common/bsdf_m.c tabulates the same three, and
+ * refuses any other without bounds); Klems Half's rings are 0-6.5-19.5-
+ * 32.5-45.5-58.5-71.5-90 deg with 1, 8, 12, 16, 20, 12, 8 azimuths (77
+ * patches).  Another name without bounds is refused. */
 static void basis_without_bounds(void **state) {
+  (void)state;
+  char text[4096], blocks[512] = "";
+  const char *head =
+      "<WindowElement><Optical><Layer><DataDefinition>"
+      "<IncidentDataStructure>Columns</IncidentDataStructure><AngleBasis><AngleBasisName>%s"
+      "</AngleBasisName>";
+  static const double C[7] = {0, 13, 26, 39, 52, 65, 80.75};
+  static const int P[7] = {1, 8, 12, 16, 20, 12, 8};
+  for (int k = 0; k < 7; k++)
+    snprintf(blocks + strlen(blocks), sizeof blocks - strlen(blocks),
+             "<AngleBasisBlock><Theta>%g</Theta><nPhis>%d</nPhis></AngleBasisBlock>", C[k], P[k]);
+  const char *tail =
+      "</AngleBasis></DataDefinition><WavelengthData><Wavelength unit=\"Nanometer\">550</Wavelength>"
+      "<WavelengthDataBlock><WavelengthDataDirection>Transmission Back</WavelengthDataDirection>"
+      "<ScatteringData>0</ScatteringData></WavelengthDataBlock></WavelengthData>"
+      "</Layer></Optical></WindowElement>";
+  int len = snprintf(text, sizeof text, head, "LBNL/Klems Half");
+  snprintf(text + len, sizeof text - (size_t)len, "%s%s", blocks, tail);
+  vr_bsdf_xml *x;
+  vr_error err = {0};
+  /* The data hold one value: the basis is read first, then the count refused. */
+  assert_int_equal(parse(text, &x, &err), VR_E_PARSE);
+  assert_contains(err.message, "a 77-patch basis needs 77 x 77");
+  vr_klems_basis b;
+  assert_true(vr_klems_named("lbnl/klems half", &b));
+  assert_int_equal(b.n, 77);
+  assert_near(b.theta_lo[3], 32.5, 0);
+  assert_near(b.theta_hi[6], 90, 0);
+  double sum = 0;
+  for (int p = 0; p < b.n; p++) sum += vr_klems_lambda(&b, p);
+  assert_near(sum, M_PI, 1e-12);
+  assert_true(vr_klems_named("LBNL/Klems Quarter", &b));
+  assert_int_equal(b.n, 41);
+  len = snprintf(text, sizeof text, head, "my basis");
+  snprintf(text + len, sizeof text - (size_t)len, "%s%s", blocks, tail);
+  assert_int_equal(parse(text, &x, &err), VR_E_PARSE);
+  assert_contains(err.message, "gives no <ThetaBounds>");
+}
+
+/* A basis of more patches than VR_KLEMS_MAX_PATCHES is refused before any
+ * matrix is allocated (a small file could otherwise ask for terabytes). */
+static void huge_basis_refused(void **state) {
   (void)state;
   const char *text =
       "<WindowElement><Optical><Layer><DataDefinition>"
-      "<IncidentDataStructure>Columns</IncidentDataStructure>"
-      "<AngleBasis><AngleBasisName>b</AngleBasisName>"
-      "<AngleBasisBlock><Theta>0</Theta><nPhis>1</nPhis></AngleBasisBlock>"
-      "<AngleBasisBlock><Theta>60</Theta><nPhis>1</nPhis></AngleBasisBlock></AngleBasis>"
-      "</DataDefinition><WavelengthData><Wavelength unit=\"Nanometer\">550</Wavelength>"
-      "<WavelengthDataBlock><WavelengthDataDirection>Transmission Back</WavelengthDataDirection>"
-      "<ScatteringData>0 0 0 0</ScatteringData></WavelengthDataBlock></WavelengthData>"
+      "<IncidentDataStructure>Columns</IncidentDataStructure><AngleBasis><AngleBasisName>big"
+      "</AngleBasisName><AngleBasisBlock><Theta>0</Theta><nPhis>1</nPhis><ThetaBounds>"
+      "<LowerTheta>0</LowerTheta><UpperTheta>10</UpperTheta></ThetaBounds></AngleBasisBlock>"
+      "<AngleBasisBlock><Theta>50</Theta><nPhis>100000</nPhis><ThetaBounds><LowerTheta>10"
+      "</LowerTheta><UpperTheta>90</UpperTheta></ThetaBounds></AngleBasisBlock></AngleBasis>"
+      "</DataDefinition><WavelengthData><Wavelength unit=\"Integral\">Visible</Wavelength>"
+      "<WavelengthDataBlock><WavelengthDataDirection>Transmission Front</WavelengthDataDirection>"
+      "<ScatteringData>0</ScatteringData></WavelengthDataBlock></WavelengthData>"
       "</Layer></Optical></WindowElement>";
   vr_bsdf_xml *x;
   vr_error err = {0};
-  if (parse(text, &x, &err)) fail_msg("%s", err.message);
-  assert_near(x->basis.theta_hi[0], 30, 0);
-  assert_near(x->basis.theta_lo[1], 30, 0);
-  assert_near(x->basis.theta_hi[1], 90, 0);
-  assert_near(x->bands[0].nm, 550, 0);
-  assert_true(isnan(x->thickness_mm));
-  vr_bsdf_xml_destroy(x);
+  assert_int_equal(parse(text, &x, &err), VR_E_RANGE);
+  assert_contains(err.message, "100001 patches; at most 1024");
 }
 
 /* ---------------------------------------------------------------------- */
@@ -403,6 +445,7 @@ int main(void) {
       cmocka_unit_test(real_file_metadata),     cmocka_unit_test(lambertian_layer),
       cmocka_unit_test(rows_and_columns),       cmocka_unit_test(basis_without_bounds),
       cmocka_unit_test(bad_files),              cmocka_unit_test(write_read_round_trip),
+      cmocka_unit_test(huge_basis_refused),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -13,7 +13,7 @@
  *   small enough that half the sensor paths end in the photon maps, so the
  *   test reads the maps' light; with the surface rule switched off, floor
  *   points near the wall read up to 23 % high and the test fails (5 % plus
- *   3 standard errors of the difference is about 15 %);
+ *   3 standard errors of the difference is about 18 % there);
  * - CIE 171:2006 test case 5.8: in a cube of reflectance rho lit by a point
  *   source of flux Phi inside, the mean indirect illuminance on the walls
  *   is rho Phi / (S_T (1 - rho)) (an energy balance), 104.17 lx for the
@@ -40,17 +40,21 @@ static const char GROUND[] =
 
 /* Every photon reading within 5 % of the path reading of the same point,
  * beyond what the two estimates' noise explains: 3 standard errors of
- * their difference, sqrt(se_photon^2 + se_path^2) from the readings'
- * stderr_lx.  Both are Monte Carlo estimates of 8192 paths a point (about
- * 3 % standard error each where the room is dim), so a bare 5 % would
- * fail a point that is right by chance; 5 % is the bias allowed.  The
- * surface-rule regression below (23 % high) stays well outside it. */
+ * their difference.  Both are Monte Carlo estimates of 8192 paths a point
+ * (about 3 % standard error each where the room is dim), so a bare 5 %
+ * would fail a point that is right by chance; 5 % is the bias allowed.
+ * The noise is taken as the path reading's stderr_lx for both, sqrt(2)
+ * se_path: a photon reading's stderr_lx also holds its bias estimate,
+ * which grows exactly when the maps go wrong, so it must not widen the
+ * bound (the photon estimate's own noise is below the path one's: its
+ * paths end in the maps).  With the surface rule below switched off, floor
+ * point (3, 0) reads 23 % high against an allowance of about 18 %. */
 static void agree_within_5pct(const vr_render_result *ph, const vr_render_result *pa) {
   int bad = 0;
   for (size_t i = 0; i < ph->nreadings; i++) {
     const vr_sensor_reading *a = &ph->readings[i], *b = &pa->readings[i];
     double diff = a->illuminance_lx - b->illuminance_lx, dev = diff / b->illuminance_lx;
-    double se = sqrt(a->stderr_lx * a->stderr_lx + b->stderr_lx * b->stderr_lx);
+    double se = sqrt(2.0) * b->stderr_lx;
     print_message("  %-5s (%d, %d): photon %8.1f +- %6.1f lx, path %8.1f +- %6.1f lx, %+5.1f %%\n",
                   a->sensor, a->i, a->j, a->illuminance_lx, a->stderr_lx, b->illuminance_lx,
                   b->stderr_lx, 100 * dev);

@@ -258,6 +258,33 @@ static void test_sobol_depths_independent_over_long_streams(void **state) {
     }
 }
 
+/* The block shuffle keeps distinct samples on distinct Sobol points: a
+ * stream of 2^22 samples at spp 1024 (blocks of 2^10 points, so 2^22 of
+ * them fit the 32-bit index) gives 2^22 distinct 2D points, as the
+ * unshuffled sequence does (a (0,2)-sequence has no repeated point). */
+static int cmp_u64(const void *a, const void *b) {
+  uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+  return x < y ? -1 : x > y;
+}
+
+static void test_sobol_long_streams_distinct(void **state) {
+  (void)state;
+  const uint32_t N = 1u << 22;
+  uint64_t *v = malloc(N * sizeof *v);
+  assert_non_null(v);
+  for (uint32_t s = 0; s < N; s++) {
+    vr_rng_key k = {vr_rng_seed_make(3, VR_SAMPLER_SOBOL, 1024), 7, s, 2};
+    uint64_t a = (uint64_t)(vr_rng(&k, VR_DIM_DIR_U) * 4294967296.0);
+    uint64_t b = (uint64_t)(vr_rng(&k, VR_DIM_DIR_V) * 4294967296.0);
+    v[s] = a << 32 | b;
+  }
+  qsort(v, N, sizeof *v, cmp_u64);
+  uint32_t dup = 0;
+  for (uint32_t s = 1; s < N; s++) dup += v[s] == v[s - 1];
+  free(v);
+  assert_int_equal(dup, 0);
+}
+
 /* ---- rendered: an area light over a diffuse plane, direct light only ---- */
 
 /* Configuration factor from a differential area, facing +z, to a parallel
@@ -460,6 +487,7 @@ int main(void) {
       cmocka_unit_test(test_stratified_cells),
       cmocka_unit_test(test_one_sample_is_uniform),
       cmocka_unit_test(test_sobol_depths_independent_over_long_streams),
+      cmocka_unit_test(test_sobol_long_streams_distinct),
       cmocka_unit_test(test_sobol_lowers_the_noise),
       cmocka_unit_test(test_stratified_antialiases),
   };

@@ -35,6 +35,7 @@
 #ifndef VR_BSDF_XML_H
 #define VR_BSDF_XML_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include "vr/error.h"
 
@@ -43,6 +44,7 @@ extern "C" {
 #endif
 
 #define VR_KLEMS_MAX_RINGS 32
+#define VR_KLEMS_MAX_PATCHES 1024
 
 typedef struct vr_klems_basis {
   char name[64];
@@ -56,8 +58,12 @@ typedef struct vr_klems_basis {
 
 /* LBNL/Klems Full: 145 patches (WINDOW's and Radiance's definition). */
 void vr_klems_full(vr_klems_basis *b);
+/* LBNL/Klems Full, Half (77 patches) or Quarter (41) by name (any case);
+ * false for another name. */
+bool vr_klems_named(const char *name, vr_klems_basis *b);
 /* Checks a basis read from a file (rings contiguous from 0 to 90 degrees,
- * nphi >= 1, at most VR_KLEMS_MAX_RINGS) and fills first[] and n. */
+ * nphi >= 1, at most VR_KLEMS_MAX_RINGS rings and VR_KLEMS_MAX_PATCHES
+ * patches) and fills first[] and n. */
 vr_status vr_klems_finish(vr_klems_basis *b, vr_error *err);
 /* Projected solid angle of a patch (sr). */
 double vr_klems_lambda(const vr_klems_basis *b, int patch);

@@ -206,10 +206,20 @@ static bool continue_path(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr
      * straight-through direction, which a sky sample seldom finds: its
      * vertex has no next-event estimate for the sky and the emitters, and
      * what its sampled direction hits counts instead. */
-    if ((bs.lobe & VR_LOBE_DELTA) || vr_bsdf_is_klems(se->b))
+    if ((bs.lobe & VR_LOBE_DELTA) ||
+        (vr_bsdf_is_klems(se->b) && !(p->flags & VR_PF_CAUSTIC_TAKEN)))
       p->flags |= VR_PF_SPECULAR_LAST;
     else
       p->flags &= (uint16_t)~VR_PF_SPECULAR_LAST;
+  }
+  /* What a BSDF XML layer reflects towards a sensor is reflected light
+   * (what it transmits keeps its component, vr_path_closest). */
+  if (vr_bsdf_is_klems(se->b) && (bs.lobe & VR_LOBE_GLOSSY_R) && p->target == VR_TARGET_SENSOR) {
+    p->flags |= VR_PF_REFLECTED;
+    if (rs->obj[hit->object].outside)
+      p->flags |= VR_PF_OUTSIDE_LAST;
+    else
+      p->flags &= (uint16_t)~VR_PF_OUTSIDE_LAST;
   }
   if (bs.lobe & (VR_LOBE_SPECULAR_T | VR_LOBE_GLOSSY_T))
     p->medium = vr_dot3(wi, hit->ng) < 0 ? (int32_t)hit->object : -1;
@@ -322,20 +332,26 @@ void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit
   if (nondelta && p.target == VR_TARGET_SENSOR && !vr_bsdf_is_klems(se.b)) {
     /* This vertex reflects what reaches the sensor from here on.  A BSDF
      * XML window does not: light it transmits keeps its component (the sky
-     * seen through a window is the sky component), as through a pane. */
+     * seen through a window is the sky component), as through a pane; its
+     * reflections are marked when sampled (continue_path).  The sun it
+     * passes to the sensor by its next-event estimate counts as sun, even
+     * through a diffusing shade. */
     p.flags |= VR_PF_REFLECTED;
     if (o->outside)
       p.flags |= VR_PF_OUTSIDE_LAST;
     else
       p.flags &= (uint16_t)~VR_PF_OUTSIDE_LAST;
   }
-  if (nondelta) {
+  /* After a photon sensor's sparse vertex took the caustic map, light
+   * through a BSDF XML layer is the map's: none estimated here. */
+  bool klems = vr_bsdf_is_klems(se.b);
+  if (nondelta && !(klems && (p.flags & VR_PF_CAUSTIC_TAKEN))) {
     double nsky[3];
     memcpy(nsky, hit->ng, sizeof nsky);
     if (!(lobes & VR_LOBE_GLOSSY_T) && vr_dot3(nsky, wo) < 0)
       for (int a = 0; a < 3; a++) nsky[a] = -nsky[a];
     vr_path_next_event(c, w, &p, hit->p, hit->ng, (lobes & VR_LOBE_GLOSSY_T) ? NULL : nsky,
-                       vr_surface_f, &se, 1000u + p.depth, vr_bsdf_is_klems(se.b));
+                       vr_surface_f, &se, 1000u + p.depth, klems);
   }
   if (diffuse && c->at_diffuse && c->at_diffuse(c, w, &p, hit, &se, wo)) {
     /* The integrator took the diffuse part; a pbr surface's specular part

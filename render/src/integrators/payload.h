@@ -26,7 +26,9 @@ enum {
   VR_PF_HAS_DIFFUSE = 2,     /* photons: a diffuse bounce before */
   VR_PF_HAS_SPECULAR = 4,    /* photons: a specular or glossy bounce before */
   VR_PF_TERMINATED = 8,      /* a dispersive refraction kept the hero wavelength only */
-  VR_PF_PHOTON_GATHER = 16,  /* a photon sensor's gather path */
+  VR_PF_CAUSTIC_TAKEN = 16,  /* a photon sensor's path added the caustic map at a sparse
+                                diffuse vertex: what reaches it through a BSDF XML layer
+                                is the map's (those photons are caustic ones) */
   VR_PF_REFLECTED = 32,      /* a sensor path met a non-delta vertex */
   VR_PF_OUTSIDE_LAST = 64,   /* ... and the last one was an exterior surface */
   VR_PF_FAR_DIRECT = 128,    /* a far source's usual photon, not yet scattered (portals) */

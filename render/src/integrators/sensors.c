@@ -111,6 +111,7 @@ static bool photon_at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, cons
    * lamp through a specular bounce); the path takes the rest. */
   vr_photon_maps_radiance(m, c->rs, hit, wo, se, p, VR_MAP_CAUSTIC, m->knn, m->radius, L, NULL);
   vr_path_deliver(c, p, L);
+  p->flags |= VR_PF_CAUSTIC_TAKEN;
   return false;
 }
 

@@ -188,6 +188,9 @@ void vr_bsdfi_klems_eval(const vr_bsdf *b, vr_vec3 n, vr_vec3 wo, vr_vec3 wi, in
                          vr_transport mode, double *f, double *pdf);
 bool vr_bsdfi_klems_sample(const vr_bsdf *b, vr_vec3 n, vr_vec3 wo, int nwl, vr_transport mode,
                            double u1, double u2, double u3, vr_bsdf_sample *out);
+/* R and T for light from the patch at cos_i and azimuth 0 (the
+ * directional-hemispherical figures of vr_bsdf_rta, which take no
+ * azimuth: exact for layers the same at every azimuth). */
 void vr_bsdfi_klems_rt(const vr_bsdf *b, double cos_i, double *R, double *T);
 
 bool vr_bsdfi_pane_sample(const vr_bsdf *b, double state, vr_vec3 wo, int nwl, const double *nm,

@@ -136,7 +136,7 @@ static uint64_t pair_hash(const vr_rng_key *k, uint32_t pair) {
 /* The sample's index within the stream after the pair's permutation:
  * samples q count ... (q + 1) count - 1 (block q) are permuted among
  * themselves, and the blocks too, by a bijection of the first 2^24 block
- * indices keyed by the pair.  Without the second, a stream that takes
+ * indices (fewer when spp is above 256) keyed by the pair.  Without the second, a stream that takes
  * many more samples than count (a sensor point's thousands of paths under
  * a camera's spp) would give every pair, at every depth, the points of
  * the same block for the same sample: Owen scrambles with fixed seeds are
@@ -149,7 +149,15 @@ static uint64_t permuted_index(const vr_rng_key *k, uint64_t h) {
   if (n & (n - 1)) q = k->sample / n, r = k->sample % n;
   else q = k->sample >> __builtin_ctz(n), r = k->sample & (n - 1);
   uint64_t hp = vr_mix64(h ^ (0xB10C0000ull + q)), hq = vr_mix64(h ^ 0xB10C4B5Full);
-  uint32_t qb = (q & ~0xFFFFFFu) | vr_permute(q & 0xFFFFFFu, 1u << 24, (uint32_t)(hq ^ hq >> 32));
+  /* The blocks permuted are those whose points fit the 32-bit index: with
+   * n up to 2^m, 2^min(24, 32 - m) of them (a larger shuffle would wrap
+   * blocks onto one another). */
+  int m = n > 1 ? 32 - __builtin_clz(n - 1) : 0, bits = 32 - m < 24 ? 32 - m : 24;
+  uint32_t qb = q;
+  if (bits > 0) {
+    uint32_t low = bits == 32 ? ~0u : (1u << bits) - 1;
+    qb = (q & ~low) | vr_permute(q & low, low + 1, (uint32_t)(hq ^ hq >> 32));
+  }
   return (uint64_t)qb * n + vr_permute(r, n, (uint32_t)(hp ^ hp >> 32));
 }
 
