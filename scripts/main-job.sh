@@ -39,6 +39,11 @@ build/fit/vr-spectro chromogenic $g/electrochromic/ec_states.csv --save electroc
 build/fit/vr-spectro chromogenic $g/photochromic/pc_states.csv --save photochromic-glass
 build/fit/vr-spectro metrics electrochromic-glass --state 1 | tee out/electrochromic_dark.txt
 build/fit/vr-spectro state photochromic-glass --uv 40 --temperature 25C > out/photochromic_40Wm2.csv
+# The clear pane and the tinted electrochromic state as BSDF XML (for WINDOW,
+# Radiance, EnergyPlus), read back for their figures.
+build/fit/vr-spectro bsdf-xml $g/clear_float/CLEAR_3.DAT --out out/clear_float.xml
+build/fit/vr-spectro bsdf-xml electrochromic-glass --state 1 --out out/electrochromic_dark.xml
+build/fit/vr-spectro metrics out/electrochromic_dark.xml --angle 30 | tee out/electrochromic_dark_bsdf.txt
 
 echo "== reflectance spectra from photos under four lights (vr-rgb2spec)"
 build/acquire/vr-rgb2spec samples/photos/*.png --save-prefix photo- --report out/photos.html \
@@ -67,4 +72,4 @@ echo "== the same room's sensors on 2 MPI ranks that share its 8 sub-domains (mp
 mpi=(mpirun --oversubscribe -np 2)
 [ "$(id -u)" -eq 0 ] && mpi=(mpirun --oversubscribe --allow-run-as-root -np 2)
 "${mpi[@]}" build/render/vr-render samples/room.scn -o out/room_ranks --threads 1 --subdomains 8 --sensors-only --stats out/room_ranks_stats.json
-echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/photo_texture.exr (the photos' spectral texture, the room's rug), out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room), out/room_budget.sensors.csv and out/room_budget_stats.json (its sensors under a memory budget), out/room_ranks.sensors.csv and out/room_ranks_stats.json (on 2 MPI ranks), out/office_ec.annual*.csv and out/office_pc.annual*.csv (a year of daylight through switchable glazing)"
+echo "main job done: out/materials.db, out/NFRC-102-clear.csv, out/*.html (ellipsometry reports), out/*nfrc* and out/*btdf.csv (glazing), out/clear_float.xml and out/electrochromic_dark.xml (BSDF XML), out/photos.html (spectral recovery), out/colorchecker_D65.txt, out/colorchecker_A.json, out/photo_texture.exr (the photos' spectral texture, the room's rug), out/room.png, out/room.exr, out/room.spectral.exr, out/room.sensors.csv and out/room_stats.json (the rendered room), out/room_budget.sensors.csv and out/room_budget_stats.json (its sensors under a memory budget), out/room_ranks.sensors.csv and out/room_ranks_stats.json (on 2 MPI ranks), out/office_ec.annual*.csv and out/office_pc.annual*.csv (a year of daylight through switchable glazing)"
