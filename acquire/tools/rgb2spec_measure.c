@@ -125,6 +125,7 @@ typedef struct reader {
   pthread_mutex_t lock;
   vr_status st;
   vr_error err;
+  size_t failed; /* the photo whose error st and err hold */
 } reader;
 
 static void *read_worker(void *arg) {
@@ -140,8 +141,11 @@ static void *read_worker(void *arg) {
      * would be 576 MB to convert and fault in. */
     vr_status st = vr_image_read_codes(rd->run->photo[l]->path, &rd->img[l], &e);
     if (st) {
+      /* The first photo's error in the manifest's order, whichever thread
+       * failed first: photos are handed out in order, so every photo before
+       * a failing one was taken and is read to its end. */
       pthread_mutex_lock(&rd->lock);
-      if (!rd->st) rd->st = st, rd->err = e;
+      if (!rd->st || l < rd->failed) rd->st = st, rd->err = e, rd->failed = l;
       pthread_mutex_unlock(&rd->lock);
     }
   }
@@ -200,7 +204,8 @@ vr_status rg_measure_photos(rg_run *run, const vr_image *img, int threads, vr_er
 }
 
 /* Decoding a 12-megapixel PNG takes a third of a second: the photos are
- * read on several threads. */
+ * read on several threads.  An error is the first failing photo's, as one
+ * thread would report it (the message must not depend on timing). */
 vr_status rg_read_photos(rg_run *run, vr_image *img, int threads, vr_error *err) {
   reader rd = {.run = run, .img = img, .count = run->nphotos};
   pthread_mutex_init(&rd.lock, NULL);
