@@ -15,8 +15,10 @@ echo "== vr-render built without MPI (it must build and run alone)"
 [ -f build-nompi/CMakeCache.txt ] ||
   cmake -S . -B build-nompi -DVR_MPI=OFF -DVR_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
 # vr-rgb2spec too: the textures test makes its spectral texture with it;
-# vr-spectro: the tint study of cli_vr_render fits its glass with it.
-cmake --build build-nompi -j "$(nproc)" --target vr-render vr-test-exr-compare vr-hotel vr-rgb2spec vr-spectro > /dev/null
+# vr-spectro: the tint study of cli_vr_render fits its glass with it;
+# vr-matdb and vr-spectro: the BSDF XML test imports a pane and writes it.
+cmake --build build-nompi -j "$(nproc)" --target vr-render vr-test-exr-compare vr-hotel vr-rgb2spec vr-spectro \
+  vr-matdb > /dev/null
 (cd build-nompi && ctest --output-on-failure -R '^cli_vr_render')
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build"
