@@ -93,7 +93,7 @@ typedef enum vr_bsdf_side {
 const char *vr_bsdf_side_name(vr_bsdf_side s);
 
 typedef struct vr_bsdf_band {
-  char name[32];  /* "Visible", "Solar", "NIR", ... or the wavelength as written */
+  char name[64];  /* "Visible", "Solar", "NIR", ... or the wavelength as written */
   double nm;      /* a spectral band's wavelength (nm), else NAN */
   char detector[64]; /* DetectorSpectrum when given ("ASTM E308 1931 Y.dsp"), else "" */
   double *m[VR_BSDF_SIDES]; /* m[out * n + in], 1/sr; NULL where the file has no such block */
