@@ -48,7 +48,7 @@ sky cie type=5 illuminance=10000
 sensor centre point position=2,2,0.8 normal=0,0,1
 sensor off    point position=2.8,2.4,0.8 normal=0,0,1
 sensor tilted point position=1.5,1.8,1.2 normal=0.3,0,0.954
-render integrator=path spp=1 sensor_samples=2097152
+render integrator=path spp=1 sensor_samples=524288
 SCN
 }
 scene "material window db:clear3" > pane.scn
@@ -130,7 +130,7 @@ for mode in path photon; do
 sensor centre point position=2,2,0.8 normal=0,0,1
 sensor wall point position=3.9,2,1.5 normal=-1,0,0
 sensor low point position=0.5,0.5,0.3 normal=0,0,1
-render integrator=path spp=1 sensors=$mode photons=1000000 sensor_samples=65536 $knn
+render integrator=path spp=1 sensors=$mode photons=500000 sensor_samples=32768 $knn
 SCN
   "$bin" diff_$mode.scn -o diff_$mode --sensors-only --quiet
 done
