@@ -94,59 +94,6 @@ assert abs(ratio - want) <= 0.01 * want + 4 * se
 PY
 check "a clear pane through its BSDF XML reads as the pane; the IGSDB shade as its figures say" test $? -eq 0
 
-# Photon sensors under a diffusing BSDF XML skylight (T 0.5/pi and R
-# 0.1/pi everywhere, written here) in a grey room: the same light as path
-# sensors, within 5 % plus 3 standard errors of the difference.  Photons
-# through the layer are caustic ones; a photon sensor whose path took the
-# caustic map at a diffuse vertex where the global map was sparse used to
-# count the light through the layer again by its path: +15 to +40 % here,
-# where sensor_knn=100000 makes every diffuse vertex a sparse one.
-python3 - <<'PY'
-import math
-rings = [(0, 5, 1, 0), (5, 15, 8, 10), (15, 25, 16, 20), (25, 35, 20, 30), (35, 45, 24, 40),
-         (45, 55, 24, 50), (55, 65, 24, 60), (65, 75, 16, 70), (75, 90, 12, 82.5)]
-n = sum(r[2] for r in rings)
-def block(side, v):
-    row = ", ".join(["%.9g" % v] * n)
-    return ('<WavelengthData><Wavelength unit="Integral">Visible</Wavelength><WavelengthDataBlock>'
-            '<WavelengthDataDirection>%s</WavelengthDataDirection><ScatteringData>\n%s\n'
-            '</ScatteringData></WavelengthDataBlock></WavelengthData>\n' % (side, "\n".join([row] * n)))
-basis = "".join("<AngleBasisBlock><Theta>%g</Theta><nPhis>%d</nPhis><ThetaBounds><LowerTheta>%g"
-                "</LowerTheta><UpperTheta>%g</UpperTheta></ThetaBounds></AngleBasisBlock>\n" % (c, k, lo, hi)
-                for lo, hi, k, c in rings)
-open("diffuser.xml", "w").write(
-    '<WindowElement xmlns="http://windows.lbl.gov"><Optical><Layer><DataDefinition>'
-    "<IncidentDataStructure>Columns</IncidentDataStructure><AngleBasis>"
-    "<AngleBasisName>LBNL/Klems Full</AngleBasisName>\n" + basis + "</AngleBasis></DataDefinition>\n" +
-    block("Transmission Front", 0.5 / math.pi) + block("Transmission Back", 0.5 / math.pi) +
-    block("Reflection Front", 0.1 / math.pi) + block("Reflection Back", 0.1 / math.pi) +
-    "</Layer></Optical></WindowElement>\n")
-PY
-for mode in path photon; do
-  knn=; [ $mode = photon ] && knn=sensor_knn=100000 # every diffuse vertex sparse
-  scene "material window bsdf file=diffuser.xml" | sed -e 's/material black black/material black lambert reflectance=0.5/' \
-    -e '/^sensor /d' -e '/^render /d' > diff_$mode.scn
-  cat >> diff_$mode.scn <<SCN
-sensor centre point position=2,2,0.8 normal=0,0,1
-sensor wall point position=3.9,2,1.5 normal=-1,0,0
-sensor low point position=0.5,0.5,0.3 normal=0,0,1
-render integrator=path spp=1 sensors=$mode photons=500000 sensor_samples=32768 $knn
-SCN
-  "$bin" diff_$mode.scn -o diff_$mode --sensors-only --quiet
-done
-python3 - diff_path.sensors.csv diff_photon.sensors.csv <<'PY'
-import csv, math, sys
-pa, ph = [{r["sensor"]: (float(r["illuminance_lx"]), float(r["stderr_lx"])) for r in csv.DictReader(open(f))}
-          for f in sys.argv[1:3]]
-for name in pa:
-    (a, sa), (b, sb) = pa[name], ph[name]
-    tol = 0.05 * a + 3 * math.hypot(sa, sb)
-    print("# %s: path %.1f +- %.1f lx, photon %.1f +- %.1f lx (%+.1f %%, allowed %.1f %%)"
-          % (name, a, sa, b, sb, 100 * (b / a - 1), 100 * tol / a))
-    assert abs(b - a) <= tol, name
-PY
-check "photon sensors under a diffusing BSDF XML skylight read as path sensors" test $? -eq 0
-
 # The decomposition: the same image through the louvres on 1 and 8
 # sub-domains (rays cross cells between the window's vertices).
 zcat "$data/bsdf/SquareSlat_genBSDF.xml.gz" > louvres.xml
