@@ -113,14 +113,15 @@ void vr_klems_direction(const vr_klems_basis *b, int patch, double *theta_deg, d
 
 void vr_klems_figures_of(const vr_klems_basis *b, const double *m, int in, vr_klems_figures *f) {
   int n = b->n;
-  double hemi = 0, dd = 0;
-  for (int o = 0; o < n; o++) hemi += m[(size_t)o * n + in] * vr_klems_lambda(b, o);
+  double lam[VR_KLEMS_MAX_PATCHES], hemi = 0, dd = 0; /* each patch's Lambda, once */
+  for (int p = 0; p < n; p++) lam[p] = vr_klems_lambda(b, p);
+  for (int o = 0; o < n; o++) hemi += m[(size_t)o * n + in] * lam[o];
   for (int i = 0; i < n; i++) {
-    double li = vr_klems_lambda(b, i), s = 0;
-    for (int o = 0; o < n; o++) s += m[(size_t)o * n + i] * vr_klems_lambda(b, o);
-    dd += s * li;
+    double s = 0;
+    for (int o = 0; o < n; o++) s += m[(size_t)o * n + i] * lam[o];
+    dd += s * lam[i];
   }
-  f->direct_direct = m[(size_t)in * n + in] * vr_klems_lambda(b, in);
+  f->direct_direct = m[(size_t)in * n + in] * lam[in];
   f->direct_hemispherical = hemi;
   f->direct_diffuse = hemi - f->direct_direct;
   f->diffuse_diffuse = dd / M_PI;
