@@ -65,8 +65,6 @@ typedef struct run_out {
 
 static char *launcher_words[16];
 static int nlauncher;
-/* More options for every render (NULL-terminated), e.g. a resolution. */
-static char *extra_args[4];
 
 static run_out render(const char *vr_render, const char *scene, const char *db, const char *cache,
                       const char *prefix, int R, int T, int S, bool image_space,
@@ -90,7 +88,6 @@ static run_out render(const char *vr_render, const char *scene, const char *db, 
   n = bench_render_args(argv, n, &ro);
   if (image_space) argv[n++] = "--image-space";
   if (batch > 0) argv[n++] = "--send-batch", argv[n++] = bt;
-  for (int i = 0; extra_args[i]; i++) argv[n++] = extra_args[i];
   argv[n] = NULL;
   unlink(stats);
   run_out o = {0};
@@ -223,14 +220,13 @@ static void pair_study(const char *db, const char *hdir, const char *dir, const 
 }
 
 /* The queues of 2 ranks without a budget as the work grows: the sample
- * room at 160 x 120 from 4 to 256 samples per pixel (issue 31: flow
- * control bounds them at any spp). */
+ * room at its own 320 x 240 (where issue 31 measured them) from 4 to 256
+ * samples per pixel (flow control bounds them at any spp). */
 static void queue_study(const char *db, const char *room, const char *dir, int S) {
   char vr_render[4300], cache[4300], pre[4400];
   snprintf(vr_render, sizeof vr_render, "%s/render/vr-render", VR_BINARY_DIR);
   snprintf(cache, sizeof cache, "%s/cache", dir);
-  extra_args[0] = "--resolution", extra_args[1] = "160x120", extra_args[2] = NULL;
-  printf("### Queue memory on 2 ranks without a budget (room, 160 x 120, S = %d)\n\n", S);
+  printf("### Queue memory on 2 ranks without a budget (room, 320 x 240, S = %d)\n\n", S);
   printf("| spp | wall | largest rank's peak queues | rays sent | waits for credit |\n|---|---|---|---|---|\n");
   const char *spps[] = {"4", "16", "64", "256"};
   for (int k = 0; k < 4; k++) {
@@ -244,7 +240,6 @@ static void queue_study(const char *db, const char *room, const char *dir, int S
            o.credit_waits);
     fflush(stdout);
   }
-  extra_args[0] = NULL;
   printf("\n");
 }
 

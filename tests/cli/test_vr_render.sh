@@ -109,7 +109,9 @@ head -1 "$tmp/o/s.sensors.csv" | grep -q ",E_405,"; check "--sensors-only table 
 
 # Only the effects a scene calls for, read from --stats: a diffuse room with
 # photon mapping runs the global photon map but no caustic and no UV pass; a
-# mirror added makes the caustic pass run, naming the material.
+# mirror added makes the caustic pass run, naming the material; a mirror
+# in a closed box no light reaches makes it store nothing, and then it is
+# reported skipped, with the reason, and its map is not read.
 cat > "$tmp/diffuse.scn" <<'EOF'
 camera pinhole from=0,-1.5,1 to=0,0,1 fov=70 resolution=16x12
 material grey lambert reflectance=0.5
@@ -118,8 +120,10 @@ light point position=0,0,2 intensity=500lm
 render integrator=photon spp=1 photons=20000 caustic_photons=20000 knn=20
 EOF
 sed 's/^render/material mirror db:Ag\nsphere center=0.5,0.5,0.4 radius=0.3 material=mirror\nrender/' "$tmp/diffuse.scn" > "$tmp/mirror.scn"
+sed 's/^render/material mirror db:Ag\nbox min=5,5,0 max=7,7,2 material=grey\nsphere center=6,6,0.5 radius=0.3 material=mirror\nrender/' "$tmp/diffuse.scn" > "$tmp/dark.scn"
 (cd "$tmp" && VR_MATDB="$tmp/m.db" "$bin" diffuse.scn --stats diffuse.json --quiet && \
-   VR_MATDB="$tmp/m.db" "$bin" mirror.scn --stats mirror.json --quiet) > /dev/null 2>&1
+   VR_MATDB="$tmp/m.db" "$bin" mirror.scn --stats mirror.json --quiet && \
+   VR_MATDB="$tmp/m.db" "$bin" dark.scn --stats dark.json --quiet) > /dev/null 2>&1
 check "diffuse and mirror scenes render" test $? -eq 0
 python3 - "$tmp" <<'PY'
 import json, sys
@@ -132,8 +136,14 @@ assert "no specular" in a["caustic photons"]["reason"], a["caustic photons"]
 assert not a["uv"]["ran"] and "photochromic" in a["uv"]["reason"], a["uv"]
 assert b["caustic photons"]["ran"] and "mirror" in b["caustic photons"]["reason"], b["caustic photons"]
 assert not a["dispersion"]["ran"] and not b["dispersion"]["ran"]
+assert json.load(open(d + "/mirror.json"))["photons"]["caustic"] > 0
+c = passes("dark.json")
+assert not c["caustic photons"]["ran"], c["caustic photons"]
+assert "not lit" in c["caustic photons"]["reason"] and "mirror" in c["caustic photons"]["reason"], c
+assert json.load(open(d + "/dark.json"))["photons"]["caustic"] == 0
+assert c["global photons"]["ran"]
 PY
-check "--stats: caustic pass only with a mirror, no UV pass without photochromic glass" test $? -eq 0
+check "--stats: caustic pass only with a lit mirror, no UV pass without photochromic glass" test $? -eq 0
 
 # The film keeps its spectral bins only for the spectral EXR: --outputs
 # exr,png gives the same EXR with 3 doubles a pixel in the film's sums

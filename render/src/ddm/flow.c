@@ -285,7 +285,11 @@ static void *queued_worker(vr_flow_worker *w) {
     if (atomic_load_explicit(&f->failed, memory_order_relaxed)) break;
     long waiting = atomic_load_explicit(&f->queued, memory_order_relaxed) +
                    atomic_load_explicit(&f->outbox_rays, memory_order_relaxed);
-    bool low = waiting < f->max_pending &&
+    /* Room for a whole unit's rays below the cap (a unit's size, the most
+     * one has made so far, grows with the spp up to the camera's wave):
+     * the queues' peak is the cap whatever the spp. */
+    long unit_rays = atomic_load_explicit(&f->unit_rays, memory_order_relaxed);
+    bool low = (waiting == 0 || waiting + unit_rays < f->max_pending) &&
                (!f->budget || vr_flow_loaded_pending(f) < f->low_water);
     long u = -1;
     if (low && atomic_load_explicit(&f->next_unit, memory_order_relaxed) < f->units) {
@@ -296,7 +300,12 @@ static void *queued_worker(vr_flow_worker *w) {
       end_idle(w, &idle_since);
       double tg = f->profile ? clock_s() : 0;
       w->cur = -1;
+      long made = w->st.created;
       f->ops->generate(f->ctx, w, unit_of(f, u));
+      made = w->st.created - made;
+      for (long m = atomic_load_explicit(&f->unit_rays, memory_order_relaxed);
+           made > m && !atomic_compare_exchange_weak(&f->unit_rays, &m, made);)
+        ;
       flush(w);
       if (f->profile) {
         atomic_fetch_add(&f->profile->gen_ns, (uint64_t)((clock_s() - tg) * 1e9));

@@ -88,6 +88,7 @@ typedef struct vr_flow {
   int *prefetch_left;          /* scratch of the scheduler: per rank, cells no rank holds */
   _Atomic long put_rays;       /* rays this rank handed to queues or other ranks in this run */
   _Atomic long outbox_rays;    /* rays in the outboxes, waiting to be sent */
+  _Atomic long unit_rays;      /* the most rays one generated unit has made */
   /* Cells are loaded when rays need them, not all before the run (several
    * ranks without a budget: each loads what its rays need). */
   bool lazy;

@@ -7,6 +7,7 @@
  * every map where they land.  Each pass is decided from what the scene's
  * materials call for, and said. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "integrators/integrator.h"
@@ -141,6 +142,16 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
     st = vr_photon_maps_trace(r, &c, &ps.maps, need_global ? job->photons : job->caustic_photons,
                               need_caustic, need_global, need_global && ps.final_gather, err);
     t_photons = vr_run_now() - t0;
+  }
+  if (!st && need_caustic && vr_photon_set_count(ps.maps.caustic) == 0) {
+    /* Specular surfaces exist but no photon reached a diffuse one through
+     * them (they are not lit): nothing to read, and the pass says so. */
+    rc->ran = false;
+    snprintf(rc->reason, sizeof rc->reason,
+             "no photon reached a diffuse surface through a specular one (material '%s' is not "
+             "lit): the caustic map is empty and not read", nd->specular_example);
+    vr_photon_set_destroy(ps.maps.caustic);
+    ps.maps.caustic = NULL;
   }
   if (!st) st = vr_integrator_camera(job, &c, &camera_ops, err);
   vr_photon_maps_free(r, &ps.maps);
