@@ -51,7 +51,7 @@ static const vr_option OPTIONS[] = {
     {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
     {"stats", 0, "FILE.json", "write statistics (passes, rays, photons, sensors, memory, time) as JSON, one of the set of outputs"},
     {"flow-profile", 0, NULL, "with --stats, alone, not in image space: record each pass's rays cell by cell (their time by kind, the moves between cells, the units' generation; every ray timed, rays wait in queues even between loaded cells) as the statistics' flow_profile, for the model of the decomposition (bench/bench_ddm_sim.c)"},
-    {"tonemap", 0, "NAME", "PNG tone mapping: clip (default) or reinhard"},
+    {"tonemap", 0, "NAME", "PNG tone mapping: filmic (default: Narkowicz's fit of the ACES film curve), clip or reinhard"},
     {"falsecolour", 0, "LO,HI", "also write PREFIX.falsecolour.png: the luminance map on a log scale from LO to HI cd/m2, with a labelled legend (needs a camera)"},
     {"sensors-only", 0, NULL, "evaluate the sensors only: no camera pass, no images"},
     {"json", 0, NULL, "print the results (sensors, grids, glare, timings, output files) as one JSON object on stdout instead of the text summary"},
@@ -64,7 +64,7 @@ static const char USAGE[] =
     "SCENE.scn [-o PREFIX] [--outputs LIST] [--db FILE] [--subdomains S] [--memory-budget SIZE]\n"
     "                 [--cache DIR] [--threads P] [--image-space] [--send-batch N] [--send-credit N]\n"
     "                 [--resolution WxH] [--spp N] [--seed N] [--photons N] [--exposure EV|auto]\n"
-    "                 [--set NAME.state=S]... [--stats FILE.json [--flow-profile]] [--tonemap clip|reinhard]\n"
+    "                 [--set NAME.state=S]... [--stats FILE.json [--flow-profile]] [--tonemap filmic|clip|reinhard]\n"
     "                 [--falsecolour LO,HI] [--sensors-only] [--json] [--quiet]\n"
     "       vr-render --verify PREFIX";
 static const char ABOUT[] =
@@ -473,10 +473,15 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
       (!vr_args_get(a, "stats") || vr_args_flag(a, "image-space") || vr_comm_size(comm) > 1))
     return render_usage_error("--flow-profile records one process's queued flow into the statistics: "
                               "it needs --stats, and neither --image-space nor mpirun");
+  /* The PNG's default is the film curve: a daylit interior's walls (100 to
+   * 600 cd/m2) and its windows keep their gradation at the camera's EV
+   * instead of burning out above 100 cd/m2 (docs/vr-render.md, "Exposure
+   * and tone mapping"). */
   const char *tonemap = vr_args_get(a, "tonemap");
+  if (!tonemap) tonemap = "filmic";
   vr_tonemap tm = VR_TONEMAP_CLIP;
   if (vr_tonemap_parse(tonemap, &tm, NULL))
-    return render_usage_error("--tonemap '%s': expected clip or reinhard", tonemap);
+    return render_usage_error("--tonemap '%s': expected clip, reinhard or filmic", tonemap);
   vr_film_options fo = {.tonemap = tonemap};
   const char *fc = vr_args_get(a, "falsecolour");
   if (fc) {

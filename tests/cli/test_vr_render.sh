@@ -23,8 +23,9 @@ check "no scene is a usage error (2)" test $rc -eq 2
 "$bin" --threads zero "$tmp/x.scn" > /dev/null 2> "$tmp/err"; rc=$?
 check "bad --threads is a usage error (2)" test $rc -eq 2
 check "bad --threads is named" grep -q -- "--threads 'zero'" "$tmp/err"
-"$bin" --tonemap filmic "$tmp/x.scn" > /dev/null 2> "$tmp/err"; rc=$?
+"$bin" --tonemap aces "$tmp/x.scn" > /dev/null 2> "$tmp/err"; rc=$?
 check "bad --tonemap is a usage error (2)" test $rc -eq 2
+check "bad --tonemap names the choices" grep -q "expected clip, reinhard or filmic" "$tmp/err"
 "$bin" "$tmp/none.scn" > /dev/null 2> "$tmp/err"; rc=$?
 check "missing scene exits 1" test $rc -eq 1
 check "missing scene is named" grep -q "^vr-render: .*none.scn" "$tmp/err"
@@ -481,12 +482,16 @@ for k, want in (("min_lx", lo), ("mean_lx", avg), ("max_lx", hi), ("u0", lo / av
 PY
 check "grid summary: Emin, Eavg, Emax, U0, Emin/Emax as the sensor table gives them" test $? -eq 0
 
-# --exposure auto maps the log-average luminance to mid grey (PNG 118): a
-# dim lamp's render, near black at the camera's EV 0, comes near it.
+# --exposure auto maps the log-average luminance to mid grey (PNG 118 with
+# --tonemap clip): a dim lamp's render, near black at the camera's EV 0,
+# comes near it; the default film curve lifts the mid-tones (0.18 becomes
+# 0.267, PNG 141).
 sed 's/intensity=1000cd/intensity=10cd/' "$tmp/point.scn" > "$tmp/dim.scn"
 "$bin" "$tmp/dim.scn" -o "$tmp/dim0" --quiet && "$bin" "$tmp/dim.scn" -o "$tmp/dima" --exposure auto > "$tmp/dima.out" 2> /dev/null
 check "--exposure auto runs" test $? -eq 0
 check "--exposure auto is reported" grep -q "^image .*exposure +[0-9.]* EV (auto" "$tmp/dima.out"
+"$bin" "$tmp/dim.scn" -o "$tmp/dimc" --exposure auto --tonemap clip --quiet
+check "--tonemap clip runs" test $? -eq 0
 python3 - "$tmp" <<'PY'
 import struct, sys, zlib
 def png_mean(path):
@@ -519,11 +524,13 @@ def png_mean(path):
         prev = row
     return sum(vals) / len(vals)
 d = sys.argv[1]
-m0, ma = png_mean(d + "/dim0.png"), png_mean(d + "/dima.png")
+m0, ma, mc = png_mean(d + "/dim0.png"), png_mean(d + "/dima.png"), png_mean(d + "/dimc.png")
+print(f"# PNG means: EV 0 {m0:.1f}, auto clip {mc:.1f}, auto filmic {ma:.1f}")
 assert m0 < 20, m0
-assert 90 <= ma <= 150, ma
+assert 90 <= mc <= 150, mc
+assert mc + 10 <= ma <= mc + 40, (mc, ma)
 PY
-check "--exposure auto brings a dark render's PNG mean near mid grey (118)" test $? -eq 0
+check "--exposure auto brings a dark render's PNG mean near mid grey (118 clipped); the film curve lifts it" test $? -eq 0
 
 # --set NAME.state=S: one scene file for a tint study.  Errors name the
 # material or the parameter.

@@ -124,6 +124,52 @@ static void png_ev_minus_one_is_half(void **state) {
   vr_image_free(&img);
 }
 
+/* --tonemap filmic: Narkowicz's fit of the ACES curve (K. Narkowicz,
+ * "ACES Filmic Tone Mapping Curve", 2016), f(x) = x (2.51 x + 0.03) /
+ * (x (2.43 x + 0.59) + 0.14), on each channel of rgb x 2^EV / 100; the
+ * values below are that formula worked by hand.  100 cd/m2 at EV 0: x = 1,
+ * f = 2.54 / 3.16 = 0.803797 (PNG 232 after the sRGB curve); mid grey
+ * 0.18 gives 0.266899; the shoulder reaches 1 at x = 7.2417. */
+static void filmic_follows_the_aces_fit(void **state) {
+  (void)state;
+  owned_result o;
+  make_result(&o, 100);
+  vr_error err = {0};
+  assert_int_equal(vr_film_write(&o.r, in_dir("fm"), "filmic", &err), VR_OK);
+  vr_image img = {0};
+  read_png(in_dir("fm.png"), &img);
+  for (int i = 0; i < W * H * 3; i++) assert_near(img.data[i] * 255.0, 232, 1.0 + 1e-3);
+  vr_image_free(&img);
+  double grey[3] = {100, 100, 100}, out[3];
+  vr_film_display(grey, 100, 0, VR_TONEMAP_FILMIC, out);
+  for (int c = 0; c < 3; c++) assert_near(out[c], 2.54 / 3.16, 1e-12);
+  double mid[3] = {18, 18, 18};
+  vr_film_display(mid, 18, 0, VR_TONEMAP_FILMIC, out);
+  assert_near(out[1], 0.2668989203894968, 1e-12);
+  /* The exposure scales the input: 50 cd/m2 at EV +1 is 100 at EV 0. */
+  double half[3] = {50, 50, 50};
+  vr_film_display(half, 50, 1, VR_TONEMAP_FILMIC, out);
+  assert_near(out[0], 2.54 / 3.16, 1e-12);
+  /* Per channel: a saturated orange x = 4, 2.5, 1 goes towards white. */
+  double rgb[3] = {400, 250, 100};
+  vr_film_display(rgb, 300, 0, VR_TONEMAP_FILMIC, out);
+  assert_near(out[0], 0.9734171097148379, 1e-12);
+  assert_near(out[1], 0.9381044487427465, 1e-12);
+  assert_near(out[2], 0.8037974683544302, 1e-12);
+  /* The shoulder: just below x = 7.2417 under 1, above it 1; negative
+   * (out of gamut), zero and infinite channels give 0, 0 and 1. */
+  double below[3] = {724, 0, -5}, above[3] = {725, 1e300, INFINITY};
+  vr_film_display(below, 300, 0, VR_TONEMAP_FILMIC, out);
+  assert_true(out[0] < 1.0 && out[0] > 0.9999);
+  assert_near(out[1], 0, 0);
+  assert_near(out[2], 0, 0);
+  vr_film_display(above, 300, 0, VR_TONEMAP_FILMIC, out);
+  for (int c = 0; c < 3; c++) assert_near(out[c], 1.0, 0);
+  vr_tonemap tm;
+  assert_int_equal(vr_tonemap_parse("FILMIC", &tm, &err), VR_OK);
+  assert_int_equal(tm, VR_TONEMAP_FILMIC);
+}
+
 static void reinhard_maps_100_cd_to_half(void **state) {
   (void)state;
   owned_result o;
@@ -148,9 +194,9 @@ static void reinhard_maps_100_cd_to_half(void **state) {
   vr_film_display(black, 0, 0, VR_TONEMAP_REINHARD, out);
   assert_near(out[0] + out[1] + out[2], 0, 0);
   vr_tonemap tm;
-  assert_int_equal(vr_tonemap_parse("filmic", &tm, &err), VR_E_ARG);
-  assert_contains(err.message, "'filmic'");
-  assert_int_equal(vr_film_write(&o.r, in_dir("bad"), "filmic", &err), VR_E_ARG);
+  assert_int_equal(vr_tonemap_parse("aces", &tm, &err), VR_E_ARG);
+  assert_contains(err.message, "'aces'");
+  assert_int_equal(vr_film_write(&o.r, in_dir("bad"), "aces", &err), VR_E_ARG);
   assert_false(exists(in_dir("bad.exr")));
 }
 
@@ -638,6 +684,7 @@ int main(void) {
       cmocka_unit_test(falsecolour_map),
       cmocka_unit_test(png_ev_minus_one_is_half),
       cmocka_unit_test(reinhard_maps_100_cd_to_half),
+      cmocka_unit_test(filmic_follows_the_aces_fit),
       cmocka_unit_test(exr_holds_linear_srgb_in_cd_m2),
       cmocka_unit_test(spectral_exr_has_bins_and_rgb),
       cmocka_unit_test(sensor_table_has_one_row_per_point),

@@ -294,7 +294,7 @@ static void test_termination_many_spawned(void **state) {
  * under a cap of 3500 hold no more rays at once than units of one ray
  * (which fill the queues to the cap one at a time).  Before the rule a
  * unit started while fewer than 3500 waited, so the queues held up to
-X
+ * 6000 rays: 2.18 MB against the small units' 1.32 MB (1.65 times). */
 static long g_unit_rays;
 
 static void flat_generate(void *ctx, vr_flow_worker *w, long unit) {

@@ -42,10 +42,11 @@ extern "C" {
 
 typedef enum vr_tonemap {
   VR_TONEMAP_CLIP = 0, /* channels clamped to [0, 1] */
-  VR_TONEMAP_REINHARD  /* luminance L -> L / (1 + L), chromaticity kept, then clamped */
+  VR_TONEMAP_REINHARD, /* luminance L -> L / (1 + L), chromaticity kept, then clamped */
+  VR_TONEMAP_FILMIC    /* each channel by Narkowicz's fit of the ACES film curve */
 } vr_tonemap;
 
-/* "clip" or "reinhard" (case-insensitive); NULL gives clip.  VR_E_ARG
+/* "clip", "reinhard" or "filmic" (case-insensitive); NULL gives clip.  VR_E_ARG
  * naming the text and the choices otherwise. */
 vr_status vr_tonemap_parse(const char *text, vr_tonemap *out, vr_error *err);
 
@@ -56,7 +57,7 @@ void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonem
                      double out[3]);
 
 /* Writes the files above for prefix (a path without extension; its folder
- * must exist).  tonemap: "clip", "reinhard" or NULL (clip).  A NaN or
+ * must exist).  tonemap: "clip", "reinhard", "filmic" or NULL (clip).  A NaN or
  * -infinity in the film's XYZ or spectral bins, or in the sensors' values,
  * is VR_E_RANGE naming the pixel (x, y from the top-left) or the sensor, and
  * nothing is written.  Errors on files name the path. */
@@ -82,7 +83,7 @@ typedef struct vr_film_options {
    * and nothing is written.  PNG, TIFF and JPEG load OpenCV (vr/image.h):
    * a set without them never does. */
   unsigned outputs;
-  const char *tonemap;         /* "clip" (NULL), "reinhard" */
+  const char *tonemap;         /* "clip" (NULL), "reinhard", "filmic" */
   double falsecolour_lo_cd_m2; /* both > 0: PREFIX.falsecolour.png on that log scale; */
   double falsecolour_hi_cd_m2; /* 0: none */
   const char *stats_path;      /* non-NULL: the statistics (vr_stats_write_json), one of the set */

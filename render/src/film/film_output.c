@@ -40,11 +40,23 @@ static const char EMISSIVE_UNITS[] = VR_SPECTRAL_EMISSIVE_UNITS;
 vr_status vr_tonemap_parse(const char *text, vr_tonemap *out, vr_error *err) {
   if (!text || !strcasecmp(text, "clip")) *out = VR_TONEMAP_CLIP;
   else if (!strcasecmp(text, "reinhard")) *out = VR_TONEMAP_REINHARD;
-  else return vr_error_set(err, VR_E_ARG, "tone mapping '%s': expected clip or reinhard", text);
+  else if (!strcasecmp(text, "filmic")) *out = VR_TONEMAP_FILMIC;
+  else
+    return vr_error_set(err, VR_E_ARG, "tone mapping '%s': expected clip, reinhard or filmic", text);
   return VR_OK;
 }
 
 static double clamp01(double v) { return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0; }
+
+/* Narkowicz's rational fit of the ACES film response (RRT and sRGB ODT;
+ * K. Narkowicz, "ACES Filmic Tone Mapping Curve", 2016):
+ * x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14).  A toe below 0.1, about
+ * linear through the mid-tones, a shoulder that reaches 1 at x = 7.24. */
+static double filmic(double x) {
+  if (!(x > 0)) return 0.0;
+  if (x > 1e6) return 1.0; /* above the shoulder, and x^2 would overflow near 1e154 */
+  return clamp01(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14));
+}
 
 void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonemap tm,
                      double out[3]) {
@@ -61,6 +73,11 @@ void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonem
     /* Scaling all three channels by L'/L keeps the chromaticity; channels
      * of saturated colours may still pass 1 and are clamped below. */
     if (L > 0) s = k / (1.0 + L);
+  } else if (tm == VR_TONEMAP_FILMIC) {
+    /* Per channel, as the ACES output transforms are: a bright saturated
+     * colour goes towards white instead of staying a clipped hue. */
+    for (int c = 0; c < 3; c++) out[c] = filmic(rgb[c] * k);
+    return;
   }
   for (int c = 0; c < 3; c++) out[c] = clamp01(rgb[c] * s);
 }
