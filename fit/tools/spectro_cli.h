@@ -55,6 +55,10 @@ vr_status spectro_panes_metrics(const vr_standard *std, vr_spectro_data *const *
                                 vr_glazing_metrics *m, const char **used_route, size_t *unsolved,
                                 vr_error *err);
 
+/* --wavelengths FROM:TO:STEP (default 300:2500:10 nm) as a grid the caller
+ * frees. */
+vr_status spectro_wavelengths(const vr_args *a, double **nm, size_t *n, vr_error *err);
+
 /* A path vr-spectro reads as BSDF XML (.xml or .xml.gz, any case). */
 bool spectro_is_bsdf_xml(const char *path);
 /* metrics of a BSDF XML file: WINDOW's figures at --angle/--phi. */

@@ -9,6 +9,7 @@
 #include <strings.h>
 
 #include "vr/bsdf_xml.h"
+#include "vr/btdf_table.h"
 #include "vr/json.h"
 
 bool spectro_is_bsdf_xml(const char *path) {
@@ -150,6 +151,63 @@ static void turn_round(vr_spectro_data **data, char **items, size_t n) {
   }
 }
 
+/* Ring r of the basis on the diagonal: entry (i, i) = figure / Lambda_i for
+ * each patch i of the ring, fig[band][side]. */
+static void set_ring(vr_bsdf_xml *x, const vr_klems_basis *basis, int r,
+                     const double fig[2][VR_BSDF_SIDES]) {
+  for (int k = 0; k < basis->nphi[r]; k++) {
+    int p = basis->first[r] + k;
+    double lam = vr_klems_lambda(basis, p);
+    for (int b = 0; b < 2; b++)
+      for (int s = 0; s < VR_BSDF_SIDES; s++)
+        x->bands[b].m[s][(size_t)p * basis->n + p] = fig[b][s] / lam;
+  }
+}
+
+/* bsdf-xml --stack: a coated pane given as its layer stack, by thin-film
+ * optics at each ring's angle (vr_btdf_from_model, s and p), weighted by
+ * the standard.  A stack's transmittance is the same from both sides
+ * (reciprocity), its reflectances are not. */
+static vr_status stack_rings(const vr_args *a, const char *stack, const vr_standard *std,
+                             const vr_klems_basis *basis, vr_bsdf_xml *x, vr_error *err) {
+  vr_matdb *db = NULL;
+  vr_sample_model *model = NULL;
+  vr_btdf_table t = {0};
+  double *nm = NULL, angles[VR_KLEMS_MAX_RINGS];
+  size_t nl = 0;
+  for (int r = 0; r < basis->nrings; r++) angles[r] = basis->theta_c[r];
+  vr_status st = spectro_db(a, &db, err);
+  if (!st) st = vr_model_read(stack, db, &model, err);
+  if (!st) st = spectro_wavelengths(a, &nm, &nl, err);
+  if (!st) {
+    st = vr_btdf_from_model(model, angles, (size_t)basis->nrings, nm, nl, &t, err);
+    if (st == VR_E_RANGE && err) {
+      char why[sizeof err->message];
+      snprintf(why, sizeof why, "%s", err->message);
+      vr_error_set(err, st, "%s: %.200s (give --wavelengths inside every layer's data)", stack, why);
+    }
+  }
+  for (int r = 0; !st && r < basis->nrings; r++) {
+    const size_t o = (size_t)r * t.nl;
+    vr_pane p = {.n = t.nl, .nm = t.nm, .coated = true, .has_R = true,
+                 .T = {t.q[VR_BT_TS] + o, t.q[VR_BT_TP] + o},
+                 .Rf = {t.q[VR_BT_RFS] + o, t.q[VR_BT_RFP] + o},
+                 .Rb = {t.q[VR_BT_RBS] + o, t.q[VR_BT_RBP] + o}};
+    vr_glazing_metrics m;
+    st = vr_glazing_metrics_compute(std, &p, &m, err);
+    if (st) break;
+    const double fig[2][VR_BSDF_SIDES] = {{m.Tvis, m.Tvis, m.Rvis_front, m.Rvis_back},
+                                          {m.Tsol, m.Tsol, m.Rsol_front, m.Rsol_back}};
+    set_ring(x, basis, r, fig);
+  }
+  if (!st && t.thickness_nm > 0) x->thickness_mm = t.thickness_nm * 1e-6;
+  vr_btdf_table_free(&t);
+  free(nm);
+  vr_model_destroy(model);
+  vr_matdb_close(db);
+  return st;
+}
+
 /* bsdf-xml: the panes' figures at each ring's nominal angle of the Klems
  * full basis, on the diagonal (specular glazing scatters nothing): entry
  * (i, i) = figure / Lambda_i, as WINDOW writes a specular layer. */
@@ -163,6 +221,7 @@ int spectro_cmd_bsdf_xml(vr_args *a) {
   vr_spectro_data *data[SPECTRO_MAX_PANES] = {0};
   vr_angular_route route;
   const char *stdname = vr_args_get(a, "standard"), *outp = vr_args_get(a, "out"), *used;
+  const char *stack = vr_args_get(a, "stack");
   int rc = 1;
   if (!outp) {
     vr_error_set(&err, VR_E_RANGE, "--out FILE.xml: bsdf-xml needs it");
@@ -172,9 +231,20 @@ int spectro_cmd_bsdf_xml(vr_args *a) {
     vr_error_set(&err, VR_E_RANGE, "--out '%s': expected a name ending in .xml", outp);
     goto out;
   }
-  if (spectro_parse_route(a, &route, &err) || vr_standard_open(stdname ? stdname : "nfrc", &std, &err) ||
-      spectro_pane_items(a, &list, items, &n, &err))
+  if (stack && (a->noperands > 1 || vr_args_get(a, "panes") || vr_args_get(a, "route") ||
+                vr_args_get(a, "state") || vr_args_get(a, "charge") || vr_args_get(a, "uv"))) {
+    vr_error_set(&err, VR_E_RANGE, "--stack %s is the pane: give no FILE, NAME, --panes, --route or "
+                 "state with it (thin-film optics needs no angular route)", stack);
     goto out;
+  }
+  if (!stack && vr_args_get(a, "wavelengths")) {
+    vr_error_set(&err, VR_E_RANGE, "--wavelengths: only with --stack (a measured pane keeps its own "
+                 "wavelengths)");
+    goto out;
+  }
+  if (spectro_parse_route(a, &route, &err) || vr_standard_open(stdname ? stdname : "nfrc", &std, &err))
+    goto out;
+  if (!stack && spectro_pane_items(a, &list, items, &n, &err)) goto out;
   for (size_t i = 0; i < n; i++)
     if (spectro_pane_source(a, items[i], &db, &data[i], &err)) goto out;
   vr_klems_basis basis;
@@ -184,7 +254,13 @@ int spectro_cmd_bsdf_xml(vr_args *a) {
   snprintf(x->bands[0].detector, sizeof x->bands[0].detector, "ASTM E308 1931 Y.dsp");
   snprintf(x->bands[1].name, sizeof x->bands[1].name, "Solar");
   snprintf(x->bands[1].detector, sizeof x->bands[1].detector, "None");
-  {
+  if (stack) {
+    const char *slash = strrchr(stack, '/');
+    snprintf(x->name, sizeof x->name, "%s", slash ? slash + 1 : stack);
+    snprintf(x->manufacturer, sizeof x->manufacturer, "vr-spectro (%s, thin-film stack)", std->name);
+    snprintf(x->device_type, sizeof x->device_type, "Other");
+    if (stack_rings(a, stack, std, &basis, x, &err)) goto out;
+  } else {
     size_t len = 0;
     for (size_t i = 0; i < n; i++) {
       const char *slash = strrchr(items[i], '/');
@@ -198,7 +274,7 @@ int spectro_cmd_bsdf_xml(vr_args *a) {
     for (size_t i = 0; i < n; i++) th += data[i]->thickness_nm;
     if (n == 1 && th > 0) x->thickness_mm = th * 1e-6;
   }
-  for (int r = 0; r < basis.nrings; r++) {
+  for (int r = 0; !stack && r < basis.nrings; r++) {
     /* Front figures, then the back's transmittance with the panes turned
      * round: at an angle the physical route solves each side from its own
      * reflectance, so T seen from the back differs slightly (as in WINDOW). */
@@ -219,13 +295,7 @@ int spectro_cmd_bsdf_xml(vr_args *a) {
     }
     const double fig[2][VR_BSDF_SIDES] = {{m.Tvis, back.Tvis, m.Rvis_front, m.Rvis_back},
                                           {m.Tsol, back.Tsol, m.Rsol_front, m.Rsol_back}};
-    for (int k = 0; k < basis.nphi[r]; k++) {
-      int p = basis.first[r] + k;
-      double lam = vr_klems_lambda(&basis, p);
-      for (int b = 0; b < 2; b++)
-        for (int s = 0; s < VR_BSDF_SIDES; s++)
-          x->bands[b].m[s][(size_t)p * basis.n + p] = fig[b][s] / lam;
-    }
+    set_ring(x, &basis, r, fig);
   }
   for (size_t i = 0; i < n; i++)
     if (unsolved[i])

@@ -217,7 +217,7 @@ out:
 }
 
 /* --wavelengths FROM:TO:STEP (default 300:2500:10). */
-static vr_status wavelengths(const vr_args *a, double **nm, size_t *n, vr_error *err) {
+vr_status spectro_wavelengths(const vr_args *a, double **nm, size_t *n, vr_error *err) {
   const char *w = vr_args_get(a, "wavelengths");
   double v[3] = {300, 2500, 10};
   char tail;
@@ -360,7 +360,7 @@ int spectro_cmd_btdf(vr_args *a) {
   }
   if (stack) {
     if (spectro_db(a, &db, &err) || vr_model_read(stack, db, &model, &err) ||
-        wavelengths(a, &nm, &nl, &err) || vr_btdf_from_model(model, angles, na, nm, nl, &t, &err))
+        spectro_wavelengths(a, &nm, &nl, &err) || vr_btdf_from_model(model, angles, na, nm, nl, &t, &err))
       goto out;
     item = stack;
   } else if (!item) {
@@ -378,7 +378,7 @@ int spectro_cmd_btdf(vr_args *a) {
       double sol = solar_T(std, c);
       vr_standard_destroy(std);
       if (vr_args_get(a, "wavelengths")) {
-        if (wavelengths(a, &nm, &nl, &err) || resample_curve(c, nm, nl, item, &grid, &err)) goto out;
+        if (spectro_wavelengths(a, &nm, &nl, &err) || resample_curve(c, nm, nl, item, &grid, &err)) goto out;
         c = &grid;
       }
       if (vr_btdf_from_curve(c, d->thickness_nm, route, sol, angles, na, &t, &err)) goto out;
@@ -393,7 +393,7 @@ int spectro_cmd_btdf(vr_args *a) {
         double sol = solar_T(std, c);
         vr_standard_destroy(std);
         if (vr_args_get(a, "wavelengths")) {
-          if (wavelengths(a, &nm, &nl, &err) || resample_curve(c, nm, nl, item, &grid, &err))
+          if (spectro_wavelengths(a, &nm, &nl, &err) || resample_curve(c, nm, nl, item, &grid, &err))
             goto out;
           c = &grid;
         }
@@ -401,7 +401,7 @@ int spectro_cmd_btdf(vr_args *a) {
       } else {
         const vr_property *th = vr_material_property(src, "thickness");
         if (isnan(d_nm) && th && th->value > 0) d_nm = th->value * 1e6;
-        if (wavelengths(a, &nm, &nl, &err) ||
+        if (spectro_wavelengths(a, &nm, &nl, &err) ||
             vr_btdf_from_material(src, d_nm, angles, na, nm, nl, &t, &err))
           goto out;
       }

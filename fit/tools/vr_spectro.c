@@ -33,8 +33,8 @@ static const vr_option OPTIONS[] = {
     {"panes", 0, "A,B,...", "metrics, bsdf-xml: several panes, outside first (files or database names)"},
     {"route", 0, "ROUTE", "metrics, btdf, bsdf-xml: angular route auto (default), physical or coated"},
     {"angles", 0, "LIST", "btdf: angles in degrees (default 0,10,...,80,85,90)"},
-    {"stack", 0, "FILE.model", "btdf: a coated pane as layers on a substrate (model file)"},
-    {"wavelengths", 'w', "FROM:TO:STEP", "btdf: wavelengths for materials and stacks (default 300:2500:10)"},
+    {"stack", 0, "FILE.model", "btdf, bsdf-xml: a coated pane as layers on a substrate (model file)"},
+    {"wavelengths", 'w', "FROM:TO:STEP", "btdf, bsdf-xml --stack: wavelengths for materials and stacks (default 300:2500:10)"},
     {"scatter", 0, "FILE.csv", "btdf: angle-resolved scattered transmittance to fit a GGX roughness"},
     {"index", 0, "N", "btdf: glass index for --scatter (default 1.52)"},
     {"states", 0, "LIST", "chromogenic: one state per spectrum (see --help text)"},
@@ -51,7 +51,7 @@ static const char USAGE[] =
     "fit FILE [--thickness MM] [--model sellmeier|sellmeier2|cauchy] [--save NAME [--force]] [--json]\n"
     "       vr-spectro metrics FILE|NAME [--standard nfrc|en410|iso9050] [--angle DEG] [--panes A,B] [--json]\n"
     "       vr-spectro metrics FILE.xml [--angle DEG] [--phi DEG] [--json]\n"
-    "       vr-spectro bsdf-xml FILE|NAME|--panes A,B --out F.xml [--standard S] [--state S]\n"
+    "       vr-spectro bsdf-xml FILE|NAME|--panes A,B|--stack FILE.model --out F.xml [--standard S] [--state S]\n"
     "       vr-spectro btdf FILE|NAME|--stack FILE [--angles LIST] [--wavelengths A:B:S] [--scatter FILE] [--save NAME] [--json]\n"
     "       vr-spectro chromogenic FILES... --states LIST [--save NAME] [--json]\n"
     "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T] [--extrapolate]] [--json]";
@@ -384,8 +384,8 @@ static bool foreign_option(const vr_args *a, const char *cmd) {
       {"panes", "metrics bsdf-xml", NULL},
       {"route", "metrics btdf bsdf-xml", NULL},
       {"angles", "btdf", NULL},
-      {"stack", "btdf", NULL},
-      {"wavelengths", "btdf", NULL},
+      {"stack", "btdf bsdf-xml", NULL},
+      {"wavelengths", "btdf bsdf-xml", NULL},
       {"scatter", "btdf", NULL},
       {"index", "btdf", NULL},
       {"states", "chromogenic", NULL},

@@ -122,6 +122,49 @@ assert t1 < 0.5 * t0, (t1, t0)
 PY
 check "electrochromic tinted state as BSDF XML" test $? -eq 0
 
+# A coated pane from its layer stack (the sample low-e: ZnO/Ag/ZnO on 4 mm
+# soda-lime): thin-film optics at each ring's angle, s and p, whose
+# spectra test_vr_spectro.sh checks against an independent computation
+# (tests/cli/thin_film_check.py, within 1e-5 at 0, 45 and 80 degrees).
+# Each ring of the file must carry the standard's figures of those spectra
+# at the ring's angle: at 0 and 60 degrees, the figures of the btdf table
+# at that angle (unpolarised: the mean of s and p) read as a measured pane
+# by metrics, to the table's 8 digits (1e-7).  The stack's T is the same
+# from both sides (reciprocity), its R is not.  And the stack at 60 degrees
+# against WINDOW's coated-glazing polynomials from the same normal spectra
+# (bsdf-xml lowe.csv): they differ, which is why the stack is worth giving.
+"$bin" bsdf-xml --stack "$g/lowe/lowe.model" --wavelengths 310:2500:10 --out "$tmp/lowe.xml" 2> /dev/null
+check "bsdf-xml --stack writes a coated pane" test $? -eq 0
+"$bin" btdf --stack "$g/lowe/lowe.model" --angles 0,60 --wavelengths 310:2500:10 --table "$tmp/lowe_bt.csv" > /dev/null
+"$bin" bsdf-xml "$g/lowe/lowe.csv" --out "$tmp/lowe_poly.xml" 2> /dev/null
+python3 - "$tmp" <<'PY'
+import json, subprocess, sys, os
+t, b = sys.argv[1], os.environ["VR_BIN"] + "/vr-spectro"
+def run(*args):
+    return json.loads(subprocess.run([b, *args, "--json"], capture_output=True, text=True, check=True).stdout)
+rows = [list(map(float, l.split(","))) for l in open(t + "/lowe_bt.csv").readlines()[1:]]
+for angle in (0, 60):
+    with open(f"{t}/at{angle}.csv", "w") as f:
+        f.write("# thickness: 4 mm\nwavelength_nm,T,Rf,Rb\n")
+        for a, nm, ts, tp, rfs, rfp, rbs, rbp in rows:
+            if a == angle:
+                f.write(f"{nm:g},{(ts + tp) / 2:.9f},{(rfs + rfp) / 2:.9f},{(rbs + rbp) / 2:.9f}\n")
+    want = run("metrics", f"{t}/at{angle}.csv")
+    got = {x["band"]: x for x in run("metrics", t + "/lowe.xml", "--angle", str(angle))["bands"]}
+    for band, key, side in (("Visible", "Tvis", "Transmission Front"), ("Visible", "Tvis", "Transmission Back"),
+                            ("Visible", "Rvis_front", "Reflection Front"), ("Visible", "Rvis_back", "Reflection Back"),
+                            ("Solar", "Tsol", "Transmission Front"), ("Solar", "Rsol_front", "Reflection Front"),
+                            ("Solar", "Rsol_back", "Reflection Back")):
+        g = got[band][side]["direct_direct"]
+        assert abs(g - want[key]) < 1e-7, (angle, band, side, g, want[key])
+    if angle == 60:
+        poly = {x["band"]: x for x in run("metrics", t + "/lowe_poly.xml", "--angle", "60")["bands"]}
+        tv, tp = got["Visible"]["Transmission Front"]["direct_direct"], poly["Visible"]["Transmission Front"]["direct_direct"]
+        print(f"# 60 deg: Tvis {tv:.6f} by the stack, {tp:.6f} by WINDOW's coated polynomials")
+        assert abs(tv - tp) > 1e-3, (tv, tp)
+PY
+check "bsdf-xml --stack: each ring holds the standard's figures of the stack at that angle" test $? -eq 0
+
 # Bad input: docs/bad-input.md's rows.
 printf '<?xml version="1.0"?>\n<WindowElement>\n<Optical>\n<Layer>\n' > "$tmp/cut.xml"
 refuse spectro-bsdf-xml-malformed "$bin" metrics "$tmp/cut.xml"
@@ -135,6 +178,9 @@ refuse spectro-bsdf-xml-tensor-tree "$bin" metrics "$tmp/tt.xml"
 refuse spectro-bsdf-xml-pane-option "$bin" metrics "$x/SquareSlat_genBSDF.xml.gz" --standard en410
 refuse spectro-phi-for-pane "$bin" metrics "$g/clear_float/CLEAR_3.DAT" --phi 90
 refuse spectro-bsdf-xml-no-out "$bin" bsdf-xml "$g/clear_float/CLEAR_3.DAT"
+refuse spectro-bsdf-xml-stack-and-pane "$bin" bsdf-xml "$g/clear_float/CLEAR_3.DAT" --stack "$g/lowe/lowe.model" --out "$tmp/o.xml"
+refuse spectro-bsdf-xml-wavelengths "$bin" bsdf-xml "$g/clear_float/CLEAR_3.DAT" --wavelengths 400:800:10 --out "$tmp/o.xml"
+check "refused bsdf-xml runs wrote nothing" test ! -e "$tmp/o.xml"
 refuse spectro-bsdf-xml-out-name "$bin" bsdf-xml "$g/clear_float/CLEAR_3.DAT" --out "$tmp/pane.txt"
 printf 'wavelength_nm,T\n' > "$tmp/t_only.csv"
 for w in $(seq 300 5 2500); do echo "$w,0.85"; done >> "$tmp/t_only.csv"
