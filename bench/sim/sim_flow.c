@@ -46,6 +46,7 @@ typedef struct rank_st {
   int node;
   long units, next;
   double *q, queued, outbox, put, reserved, debt;
+  double generating; /* rays of the units being generated (vr_flow's reservation) */
   double *routed;
   unsigned char *loaded, *loading, *known; /* known: S x R, what this rank knows others hold */
   int *pins;
@@ -324,8 +325,15 @@ static void decide(sim *m, int rank, int wi) {
   const sim_pass *ps = m->ps;
   int S = m->S;
   for (;;) {
-    if (r->next < r->units && r->queued + r->outbox < MAX_PENDING) {
+    /* As vr_flow: a unit starts when its rays (at most half the cap) fit
+     * below the cap with those waiting and being generated, or when
+     * nothing waits. */
+    double unit = 0, waiting = r->queued + r->outbox + r->generating;
+    for (int b = 0; b < S; b++) unit += ps->out[(size_t)S * (size_t)S + (size_t)b];
+    if (unit > MAX_PENDING / 2) unit = MAX_PENDING / 2;
+    if (r->next < r->units && (waiting <= 0 || waiting + unit < MAX_PENDING)) {
       r->next++;
+      r->generating += unit;
       start(m, rank, wi, ACT_GEN, -1, 0, ps->units > 0 ? ps->gen_s / (double)ps->units : 0);
       return;
     }
@@ -392,6 +400,9 @@ static void done(sim *m, ev *e) {
   const sim_pass *ps = m->ps;
   int S = m->S;
   if (w->act == ACT_GEN) {
+    double unit = 0;
+    for (int b = 0; b < S; b++) unit += ps->out[(size_t)S * (size_t)S + (size_t)b];
+    r->generating -= unit > MAX_PENDING / 2 ? MAX_PENDING / 2 : unit;
     for (int b = 0; b < S; b++) route(m, e->rank, b, sround(m, ps->out[(size_t)S * (size_t)S + (size_t)b]));
   } else if (w->act == ACT_TRACE) {
     int c = w->cell;

@@ -2,7 +2,8 @@
  * (render/src/ddm/flow*.c), driven by a recorded flow profile
  * (sim_profile.h): what the paper's Table 1 would be on machines this one
  * cannot be.  It follows the scheduler as coded:
- *   - a rank generates a unit while fewer than max_pending rays wait, else
+ *   - a rank generates a unit while its rays (at most half the cap) fit
+ *     below max_pending with those waiting and being generated, else
  *     traces a batch of the loaded cell with the most waiting rays, else
  *     sends the rays of a cell it does not hold to a rank that holds it
  *     (or the cell's home rank) unless the cell is hot here, else loads

@@ -181,10 +181,11 @@ static vr_status stack_rings(const vr_args *a, const char *stack, const vr_stand
   if (!st) st = spectro_wavelengths(a, &nm, &nl, err);
   if (!st) {
     st = vr_btdf_from_model(model, angles, (size_t)basis->nrings, nm, nl, &t, err);
-    if (st == VR_E_RANGE && err) {
+    if (st == VR_E_RANGE && err && !vr_args_get(a, "wavelengths")) {
       char why[sizeof err->message];
       snprintf(why, sizeof why, "%s", err->message);
-      vr_error_set(err, st, "%s: %.200s (give --wavelengths inside every layer's data)", stack, why);
+      vr_error_set(err, st, "%s: %.200s (the default is 300:2500:10 nm: give --wavelengths inside "
+                   "every layer's data)", stack, why);
     }
   }
   for (int r = 0; !st && r < basis->nrings; r++) {
@@ -195,7 +196,12 @@ static vr_status stack_rings(const vr_args *a, const char *stack, const vr_stand
                  .Rb = {t.q[VR_BT_RBS] + o, t.q[VR_BT_RBP] + o}};
     vr_glazing_metrics m;
     st = vr_glazing_metrics_compute(std, &p, &m, err);
-    if (st) break;
+    if (st) {
+      char why[sizeof err->message];
+      snprintf(why, sizeof why, "%s", err->message);
+      vr_error_set(err, st, "%s at --wavelengths %g:%g: %.200s", stack, t.nm[0], t.nm[t.nl - 1], why);
+      break;
+    }
     const double fig[2][VR_BSDF_SIDES] = {{m.Tvis, m.Tvis, m.Rvis_front, m.Rvis_back},
                                           {m.Tsol, m.Tsol, m.Rsol_front, m.Rsol_back}};
     set_ring(x, basis, r, fig);
@@ -232,9 +238,11 @@ int spectro_cmd_bsdf_xml(vr_args *a) {
     goto out;
   }
   if (stack && (a->noperands > 1 || vr_args_get(a, "panes") || vr_args_get(a, "route") ||
-                vr_args_get(a, "state") || vr_args_get(a, "charge") || vr_args_get(a, "uv"))) {
-    vr_error_set(&err, VR_E_RANGE, "--stack %s is the pane: give no FILE, NAME, --panes, --route or "
-                 "state with it (thin-film optics needs no angular route)", stack);
+                vr_args_get(a, "thickness") || vr_args_get(a, "state") || vr_args_get(a, "charge") ||
+                vr_args_get(a, "uv"))) {
+    vr_error_set(&err, VR_E_RANGE, "--stack %s is the pane: give no FILE, NAME, --panes, --route, "
+                 "--thickness or state with it (the model holds the layers and the substrate; "
+                 "thin-film optics needs no angular route)", stack);
     goto out;
   }
   if (!stack && vr_args_get(a, "wavelengths")) {

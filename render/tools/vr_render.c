@@ -46,7 +46,7 @@ static const vr_option OPTIONS[] = {
     {"resolution", 0, "WxH", "image size in pixels, overriding the camera line's resolution="},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
     {"seed", 0, "N", "random seed in [0, 2^64-1], overriding the scene's render seed= (same seed, same image)"},
-    {"exposure", 0, "EV|auto", "PNG exposure in EV, overriding the camera line's exposure=; auto: the image's log-average luminance Ylog = exp(mean ln Y) over its lit pixels to mid grey (PNG 118), EV = log2(18 cd/m2 / Ylog)"},
+    {"exposure", 0, "EV|auto", "PNG exposure in EV, overriding the camera line's exposure=; auto: the image's log-average luminance Ylog = exp(mean ln Y) over its lit pixels to mid grey 0.18 before the tone curve (PNG 141 with filmic, 118 with clip), EV = log2(18 cd/m2 / Ylog)"},
     {"set", 0, "NAME.state=S", "a material's tint state S in [0, 1], overriding the scene (repeat for several materials)"},
     {"photons", 0, "N", "photons per pass, overriding the scene's render line"},
     {"stats", 0, "FILE.json", "write statistics (passes, rays, photons, sensors, memory, time) as JSON, one of the set of outputs"},
@@ -79,8 +79,9 @@ static const char ABOUT[] =
     "material= takes its file's materials, colours and base colour textures; db:NAME of a\n"
     "spectral texture saved by vr-rgb2spec --texture renders per texel (texture=none: its mean).\n"
     "Outputs: PREFIX.exr (linear sRGB, Y in cd/m2), PREFIX.spectral.exr (spectral radiance\n"
-    "in W/(m2 sr nm), Fichet-Pacanowski-Wilkie layout), PREFIX.png (8-bit sRGB: 100 cd/m2\n"
-    "is white at EV 0, times 2^exposure of the scene's camera), and PREFIX.sensors.csv\n"
+    "in W/(m2 sr nm), Fichet-Pacanowski-Wilkie layout), PREFIX.png (8-bit sRGB of Y x\n"
+    "2^exposure / 100 cd/m2 through the tone curve: with filmic 100 cd/m2 is 0.80 at EV 0\n"
+    "and white 724 cd/m2), and PREFIX.sensors.csv\n"
     "(illuminance in lx and spectral irradiance in W/(m2 nm)) when the scene has sensors;\n"
     "--outputs chooses among them (e.g. --outputs exr,sensors).\n"
     "The outputs appear together or not at all, with PREFIX.manifest.json (the run's id, each\n"

@@ -140,7 +140,7 @@ assert not a["dispersion"]["ran"] and not b["dispersion"]["ran"]
 assert json.load(open(d + "/mirror.json"))["photons"]["caustic"] > 0
 c = passes("dark.json")
 assert not c["caustic photons"]["ran"], c["caustic photons"]
-assert "not lit" in c["caustic photons"]["reason"] and "mirror" in c["caustic photons"]["reason"], c
+assert "none of 20000 photons stored" in c["caustic photons"]["reason"] and "mirror" in c["caustic photons"]["reason"], c
 assert json.load(open(d + "/dark.json"))["photons"]["caustic"] == 0
 assert c["global photons"]["ran"]
 PY

@@ -55,17 +55,18 @@ check "per-wavelength table written" test "$(wc -l < "$tmp/nk.csv")" -gt 100
 # btdf from the fitted material and from a stack; saved tables are read back.
 "$bin" btdf clear-nk --angles 0,30,60,90 --wavelengths 400:800:10 --save clear-btdf > "$tmp/bt"; rc=$?
 check "btdf of a fitted material" test $rc -eq 0
-"$bin" btdf --stack "$g/lowe/lowe.model" --angles 0,45,80 --wavelengths 400:2400:100 --save lowe-btdf \
+"$bin" btdf --stack "$g/lowe/lowe.model" --angles 0,45,80,90 --wavelengths 400:2400:100 --save lowe-btdf \
   --table "$tmp/lowe_bt.csv" > /dev/null
 check "btdf of a coated stack" test $? -eq 0
-# Its T, Rf and Rb at 0, 45 and 80 degrees, s and p, against an
+# Its T, Rf and Rb at 0, 45 and 80 degrees, s and p (and T = 0, R = 1 at
+# 90), against an
 # independent thin-film computation in Python (tests/cli/thin_film_check.py:
 # Macleod's characteristic matrices with tilted admittances, an incoherent
 # 4 mm substrate) from the same refractiveindex.info files: within 1e-5
 # (the two differ by 3.6e-6 at most).
 python3 "$src/tests/cli/thin_film_check.py" "$g/lowe" "$tmp/lowe_bt.csv" 1e-5 21 > "$tmp/tmm.txt"
 rc=$?
-check "coated stack at 0, 45, 80 deg, s and p = an independent thin-film computation within 1e-5 (21 wavelengths)" test $rc -eq 0
+check "coated stack at 0, 45, 80, 90 deg, s and p = an independent thin-film computation within 1e-5 (21 wavelengths each)" test $rc -eq 0
 [ $rc -eq 0 ] || sed 's/^/# /' "$tmp/tmm.txt"
 "$matdb" show lowe-btdf | grep -q "btdf"; check "stack table saved as btdf" test $? -eq 0
 

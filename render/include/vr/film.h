@@ -11,8 +11,9 @@
  *                          Fichet, Pacanowski and Wilkie (JCGT 2021), spectral
  *                          radiance in W.m^-2.sr^-1.nm^-1, with the same R, G, B;
  *   out/room.png           8-bit sRGB for the eye: linear sRGB times
- *                          2^exposure_ev / 100 (100 cd/m² of the white maps to
- *                          1 at EV 0), tone mapped, sRGB encoded;
+ *                          2^exposure_ev / 100 (100 cd/m² maps to 1 at EV 0),
+ *                          tone mapped (clip unless told: vr-render asks
+ *                          for filmic), sRGB encoded;
  *   out/room.sensors.csv   one row per sensor point, when there are readings;
  *   out/room.falsecolour.png  with vr_film_write_with and a false-colour
  *                          scale: the luminance map of vr/falsecolour.h;
@@ -46,7 +47,8 @@ typedef enum vr_tonemap {
   VR_TONEMAP_FILMIC    /* each channel by Narkowicz's fit of the ACES film curve */
 } vr_tonemap;
 
-/* "clip", "reinhard" or "filmic" (case-insensitive); NULL gives clip.  VR_E_ARG
+/* "clip", "reinhard" or "filmic" (case-insensitive); NULL gives clip (the
+ * library's default; vr-render's is filmic).  VR_E_ARG
  * naming the text and the choices otherwise. */
 vr_status vr_tonemap_parse(const char *text, vr_tonemap *out, vr_error *err);
 

@@ -167,7 +167,8 @@ typedef struct vr_flow_options {
    * resident memory stays within the budget, not only the counted bytes. */
   long long rss_base;
   const char *spill_dir;  /* where queues spill (NULL: $TMPDIR, else /tmp) */
-  long max_pending;       /* rays waiting before no more units are generated (0: default) */
+  long max_pending;       /* rays waiting, with a unit's, above which no unit is generated
+                             (0: default) */
   /* Several ranks (docs/ddm.md, "Ranks"): comm, and the rays a message
    * carries at most (0: 256).  Each rank generates the units whose index
    * modulo the number of ranks is its rank; any rank may load any cell,

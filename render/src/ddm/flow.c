@@ -284,11 +284,20 @@ static void *queued_worker(vr_flow_worker *w) {
   for (;;) {
     if (atomic_load_explicit(&f->failed, memory_order_relaxed)) break;
     long waiting = atomic_load_explicit(&f->queued, memory_order_relaxed) +
-                   atomic_load_explicit(&f->outbox_rays, memory_order_relaxed);
+                   atomic_load_explicit(&f->outbox_rays, memory_order_relaxed) +
+                   atomic_load_explicit(&f->generating, memory_order_relaxed);
     /* Room for a whole unit's rays below the cap (a unit's size, the most
-     * one has made so far, grows with the spp up to the camera's wave):
-     * the queues' peak is the cap whatever the spp. */
+     * one has made so far, grows with the spp up to the camera's wave),
+     * counting the units other workers are generating: the queues' peak is
+     * the cap whatever the spp (for units up to half the cap; two workers
+     * that both find the queues empty may still start together).  Before
+     * any unit is done its size is unknown and half the cap is reserved.
+     * A unit larger than half the cap (a sensor point's batch of many
+     * paths) reserves half, so that the next one overlaps the last one's
+     * tail instead of waiting for empty queues: such units may pass the
+     * cap by what they hold beyond half of it. */
     long unit_rays = atomic_load_explicit(&f->unit_rays, memory_order_relaxed);
+    if (unit_rays == 0 || unit_rays > f->max_pending / 2) unit_rays = f->max_pending / 2;
     bool low = (waiting == 0 || waiting + unit_rays < f->max_pending) &&
                (!f->budget || vr_flow_loaded_pending(f) < f->low_water);
     long u = -1;
@@ -297,6 +306,7 @@ static void *queued_worker(vr_flow_worker *w) {
       if (u >= f->units) u = -1;
     }
     if (u >= 0) {
+      atomic_fetch_add_explicit(&f->generating, unit_rays, memory_order_relaxed);
       end_idle(w, &idle_since);
       double tg = f->profile ? clock_s() : 0;
       w->cur = -1;
@@ -307,6 +317,7 @@ static void *queued_worker(vr_flow_worker *w) {
            made > m && !atomic_compare_exchange_weak(&f->unit_rays, &m, made);)
         ;
       flush(w);
+      atomic_fetch_sub_explicit(&f->generating, unit_rays, memory_order_relaxed);
       if (f->profile) {
         atomic_fetch_add(&f->profile->gen_ns, (uint64_t)((clock_s() - tg) * 1e9));
         atomic_fetch_add(&f->profile->units, 1);

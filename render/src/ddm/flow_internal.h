@@ -15,8 +15,9 @@
 /* Rays a worker gathers per cell before handing them to the cell's queue
  * in one locked step (fewer under a tight budget: flow.batch). */
 #define VR_FLOW_BATCH 256
-/* Generate more work only while fewer rays than this wait in the queues:
- * it bounds memory whatever the image size. */
+/* Generate more work only while a unit's rays fit with those waiting in the
+ * queues below this (flow.c, queued_worker): it bounds memory whatever the
+ * image size and the spp. */
 #define VR_FLOW_LOW_WATER 65536
 /* Under a memory budget, work is generated until this many rays wait
  * (in memory or spilled) when the loaded cells run dry: the more rays wait
@@ -89,6 +90,7 @@ typedef struct vr_flow {
   _Atomic long put_rays;       /* rays this rank handed to queues or other ranks in this run */
   _Atomic long outbox_rays;    /* rays in the outboxes, waiting to be sent */
   _Atomic long unit_rays;      /* the most rays one generated unit has made */
+  _Atomic long generating;     /* rays reserved by the units being generated */
   /* Cells are loaded when rays need them, not all before the run (several
    * ranks without a budget: each loads what its rays need). */
   bool lazy;

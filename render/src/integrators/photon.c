@@ -145,11 +145,13 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
   }
   if (!st && need_caustic && vr_photon_set_count(ps.maps.caustic) == 0) {
     /* Specular surfaces exist but no photon reached a diffuse one through
-     * them (they are not lit): nothing to read, and the pass says so. */
+     * them (they are not lit, or too small for the photons traced):
+     * nothing to read, and the pass says so. */
     rc->ran = false;
     snprintf(rc->reason, sizeof rc->reason,
-             "no photon reached a diffuse surface through a specular one (material '%s' is not "
-             "lit): the caustic map is empty and not read", nd->specular_example);
+             "none of %ld photons stored: no specular surface (e.g. '%.24s') lit a diffuse one; "
+             "map not read (%.2f s)",
+             need_global ? job->photons : job->caustic_photons, nd->specular_example, t_photons);
     vr_photon_set_destroy(ps.maps.caustic);
     ps.maps.caustic = NULL;
   }
