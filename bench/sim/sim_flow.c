@@ -319,6 +319,14 @@ static int prefetch(sim *m, int rank) {
   return own >= 0 ? own : other;
 }
 
+/* The rays a generated unit reserves, as vr_flow does: its rays, at most
+ * half the cap. */
+static double unit_reserve(const sim *m) {
+  double unit = 0;
+  for (int b = 0; b < m->S; b++) unit += m->ps->out[(size_t)m->S * (size_t)m->S + (size_t)b];
+  return unit > MAX_PENDING / 2 ? MAX_PENDING / 2 : unit;
+}
+
 /* A free worker of rank chooses what to do (vr_flow's worker loop). */
 static void decide(sim *m, int rank, int wi) {
   rank_st *r = &m->r[rank];
@@ -328,9 +336,7 @@ static void decide(sim *m, int rank, int wi) {
     /* As vr_flow: a unit starts when its rays (at most half the cap) fit
      * below the cap with those waiting and being generated, or when
      * nothing waits. */
-    double unit = 0, waiting = r->queued + r->outbox + r->generating;
-    for (int b = 0; b < S; b++) unit += ps->out[(size_t)S * (size_t)S + (size_t)b];
-    if (unit > MAX_PENDING / 2) unit = MAX_PENDING / 2;
+    double unit = unit_reserve(m), waiting = r->queued + r->outbox + r->generating;
     if (r->next < r->units && (waiting <= 0 || waiting + unit < MAX_PENDING)) {
       r->next++;
       r->generating += unit;
@@ -400,9 +406,7 @@ static void done(sim *m, ev *e) {
   const sim_pass *ps = m->ps;
   int S = m->S;
   if (w->act == ACT_GEN) {
-    double unit = 0;
-    for (int b = 0; b < S; b++) unit += ps->out[(size_t)S * (size_t)S + (size_t)b];
-    r->generating -= unit > MAX_PENDING / 2 ? MAX_PENDING / 2 : unit;
+    r->generating -= unit_reserve(m);
     for (int b = 0; b < S; b++) route(m, e->rank, b, sround(m, ps->out[(size_t)S * (size_t)S + (size_t)b]));
   } else if (w->act == ACT_TRACE) {
     int c = w->cell;

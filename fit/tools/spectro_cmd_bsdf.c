@@ -181,12 +181,9 @@ static vr_status stack_rings(const vr_args *a, const char *stack, const vr_stand
   if (!st) st = spectro_wavelengths(a, &nm, &nl, err);
   if (!st) {
     st = vr_btdf_from_model(model, angles, (size_t)basis->nrings, nm, nl, &t, err);
-    if (st == VR_E_RANGE && err && !vr_args_get(a, "wavelengths")) {
-      char why[sizeof err->message];
-      snprintf(why, sizeof why, "%s", err->message);
-      vr_error_set(err, st, "%s: %.200s (the default is 300:2500:10 nm: give --wavelengths inside "
-                   "every layer's data)", stack, why);
-    }
+    if (st == VR_E_RANGE && !vr_args_get(a, "wavelengths"))
+      vr_error_prefix(err, "%s at the default --wavelengths 300:2500:10 (give them inside every "
+                      "layer's data): ", stack);
   }
   for (int r = 0; !st && r < basis->nrings; r++) {
     const size_t o = (size_t)r * t.nl;
@@ -197,9 +194,7 @@ static vr_status stack_rings(const vr_args *a, const char *stack, const vr_stand
     vr_glazing_metrics m;
     st = vr_glazing_metrics_compute(std, &p, &m, err);
     if (st) {
-      char why[sizeof err->message];
-      snprintf(why, sizeof why, "%s", err->message);
-      vr_error_set(err, st, "%s at --wavelengths %g:%g: %.200s", stack, t.nm[0], t.nm[t.nl - 1], why);
+      vr_error_prefix(err, "%s at --wavelengths %g:%g: ", stack, t.nm[0], t.nm[t.nl - 1]);
       break;
     }
     const double fig[2][VR_BSDF_SIDES] = {{m.Tvis, m.Tvis, m.Rvis_front, m.Rvis_back},

@@ -74,8 +74,9 @@ void vr_film_display(const double rgb[3], double Y, double exposure_ev, vr_tonem
      * of saturated colours may still pass 1 and are clamped below. */
     if (L > 0) s = k / (1.0 + L);
   } else if (tm == VR_TONEMAP_FILMIC) {
-    /* Per channel, as the ACES output transforms are: a bright saturated
-     * colour goes towards white instead of staying a clipped hue. */
+    /* Per channel on linear sRGB, as the fit is commonly used (not ACES's
+     * own transforms in AP1): a bright saturated colour goes towards white
+     * instead of staying a clipped hue. */
     for (int c = 0; c < 3; c++) out[c] = filmic(rgb[c] * k);
     return;
   }
