@@ -432,7 +432,26 @@ vr_status vr_image_write_exr_with(const char *path, const vr_image *img,
   vr_status st = vr_image_check(img, path, err);
   if (st == VR_OK) st = vr_exr_colour_check(path, colour, err);
   if (st != VR_OK) return st;
-  return vr_image_write_exr_as(path, img, 0, colour, err);
+  return vr_image_write_exr_as(path, img, 0, colour, NULL, 0, err);
+}
+
+vr_status vr_image_write_exr_channels(const char *path, const vr_image *img,
+                                      const vr_exr_colour *colour, const vr_exr_channel *extra,
+                                      size_t nextra, vr_error *err) {
+  if (!path) return vr_error_set(err, VR_E_ARG, "vr_image_write_exr: path is NULL");
+  vr_status st = vr_image_check(img, path, err);
+  if (st == VR_OK) st = vr_exr_colour_check(path, colour, err);
+  if (st != VR_OK) return st;
+  for (size_t i = 0; i < nextra; i++) {
+    const char *n = extra[i].name;
+    if (!n || !*n || !extra[i].data || !strcmp(n, "R") || !strcmp(n, "G") || !strcmp(n, "B"))
+      return vr_error_at(err, VR_E_ARG, path, 0, 0,
+                         "extra channel %zu: needs a name other than R, G, B and its data", i);
+    for (size_t j = 0; j < i; j++)
+      if (!strcmp(n, extra[j].name))
+        return vr_error_at(err, VR_E_ARG, path, 0, 0, "extra channel '%s' given twice", n);
+  }
+  return vr_image_write_exr_as(path, img, 0, colour, extra, nextra, err);
 }
 
 /* Lower-case extension including the dot ("" when there is none). */
@@ -467,7 +486,7 @@ vr_status vr_image_write(const char *path, const vr_image *img, int bits, vr_err
                          "OpenEXR bit depth %d: must be 16 (half) or 32 (float)", bits);
     vr_status st = vr_image_check(img, path, err);
     if (st != VR_OK) return st;
-    return vr_image_write_exr_as(path, img, bits == 16, NULL, err);
+    return vr_image_write_exr_as(path, img, bits == 16, NULL, NULL, 0, err);
   }
   return vr_error_at(err, VR_E_ARG, path, 0, 0,
                      "unknown image extension '%s': use .png, .tif, .tiff, .jpg, .jpeg or .exr",

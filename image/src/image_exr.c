@@ -170,7 +170,8 @@ vr_status vr_image_decode_exr(const unsigned char *buf, size_t len, const char *
   return VR_OK;
 }
 
-static exr_result_t encode_pixels(exr_context_t ctxt, int part, const vr_image *img) {
+static exr_result_t encode_pixels(exr_context_t ctxt, int part, const vr_image *img,
+                                  const vr_exr_channel *extra, size_t nextra) {
   int32_t lines = 0;
   exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, part, &lines);
   if (rv != EXR_ERR_SUCCESS) return rv;
@@ -187,6 +188,19 @@ static exr_result_t encode_pixels(exr_context_t ctxt, int part, const vr_image *
     for (int c = 0; c < enc.channel_count; c++) {
       exr_coding_channel_info_t *ci = &enc.channels[c];
       const char *n = ci->channel_name;
+      const vr_exr_channel *x = NULL;
+      for (size_t e = 0; e < nextra && !x; e++)
+        if (!strcmp(n, extra[e].name)) x = &extra[e];
+      if (x) {
+        /* 4 bytes a value either way: uint32 or float. */
+        const unsigned char *base = x->data;
+        ci->encode_from_ptr = base + (size_t)y * (size_t)img->width * 4;
+        ci->user_pixel_stride = 4;
+        ci->user_line_stride = 4 * img->width;
+        ci->user_bytes_per_element = 4;
+        ci->user_data_type = x->is_uint ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
+        continue;
+      }
       int k = strcmp(n, "R") == 0 ? 0 : strcmp(n, "G") == 0 ? 1 : 2;
       ci->encode_from_ptr = (const uint8_t *)(row + k);
       ci->user_pixel_stride = 3 * (int32_t)sizeof(float);
@@ -205,7 +219,8 @@ static exr_result_t encode_pixels(exr_context_t ctxt, int part, const vr_image *
 }
 
 vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half,
-                                const vr_exr_colour *colour, vr_error *err) {
+                                const vr_exr_colour *colour, const vr_exr_channel *extra,
+                                size_t nextra, vr_error *err) {
   vr_atomic_file af;
   vr_status st = vr_atomic_file_open(&af, path, err);
   if (st != VR_OK) return st;
@@ -225,9 +240,12 @@ vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half,
   static const char *const names[3] = {"R", "G", "B"};
   for (int k = 0; k < 3 && rv == EXR_ERR_SUCCESS; k++)
     rv = exr_add_channel(ctxt, part, names[k], type, EXR_PERCEPTUALLY_LINEAR, 1, 1);
+  for (size_t e = 0; e < nextra && rv == EXR_ERR_SUCCESS; e++)
+    rv = exr_add_channel(ctxt, part, extra[e].name, extra[e].is_uint ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT,
+                         EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1); /* not colour: no pLinear hint */
   if (rv == EXR_ERR_SUCCESS) rv = vr_exr_colour_set(ctxt, part, colour);
   if (rv == EXR_ERR_SUCCESS) rv = exr_write_header(ctxt);
-  if (rv == EXR_ERR_SUCCESS) rv = encode_pixels(ctxt, part, img);
+  if (rv == EXR_ERR_SUCCESS) rv = encode_pixels(ctxt, part, img, extra, nextra);
   if (ctxt) {
     /* exr_finish writes the chunk offset table: its result counts too. */
     exr_result_t fin = exr_finish(&ctxt);

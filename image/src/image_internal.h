@@ -45,7 +45,8 @@ vr_status vr_exr_colour_check(const char *path, const vr_exr_colour *c, vr_error
 /* Writes an RGB OpenEXR of float (half = 0) or half (half = 1) channels,
  * with the attributes of colour (NULL: none; checked by the caller). */
 vr_status vr_image_write_exr_as(const char *path, const vr_image *img, int half,
-                                const vr_exr_colour *colour, vr_error *err);
+                                const vr_exr_colour *colour, const vr_exr_channel *extra,
+                                size_t nextra, vr_error *err);
 
 #ifdef __cplusplus
 }

@@ -28,6 +28,28 @@ void vr_render_options_default(vr_render_options *o) {
   o->threads = 1;
 }
 
+/* An adaptive film's sums (summed over the ranks) into means, each pixel
+ * divided by its own samples, and each pixel's variance of its mean
+ * luminance from its halves (adaptive.c). */
+static vr_status adaptive_film(vr_render_result *res, vr_accum *acc, vr_camera_job *job,
+                               size_t fb, vr_error *err) {
+  size_t px = (size_t)job->W * (size_t)job->H;
+  res->pixel_variance = malloc((px ? px : 1) * sizeof *res->pixel_variance);
+  if (!res->pixel_variance) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t p = 0; p < px; p++) {
+    double n = job->pixel_samples[p], inv = n > 0 ? 1.0 / n : 0.0;
+    double S = res->xyz[3 * p + 1], B = vr_atomic_get(&acc->half_xyz[3 * p + 1]);
+    double d = n > 0 ? 2 * B / n - 2 * (S - B) / n : 0.0;
+    res->pixel_variance[p] = d * d / 4;
+    for (int k = 0; k < 3; k++) res->xyz[3 * p + (size_t)k] *= inv;
+    for (size_t b = 0; b < fb; b++) res->spectral[p * fb + b] *= inv;
+  }
+  res->pixel_samples = job->pixel_samples;
+  job->pixel_samples = NULL;
+  res->adaptive = job->adaptive_summary;
+  return VR_OK;
+}
+
 /* The camera image by the scene's integrator, read out into the result
  * (summed over the ranks, divided by its passes, with what it kept apart). */
 static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_scene_needs *nd,
@@ -45,6 +67,7 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
                        .caustic_photons = opt->photons > 0 ? opt->photons : set->caustic_photons,
                        .needs = *nd,
                        .lights_exist = rs->L.nsources > 0 && rs->L.total_power > 0};
+  job.adaptive = opt->target_error > 0 || opt->time_limit_s > 0;
   /* The film's spectral bins only when an output needs them. */
   size_t fb = opt->film_without_bins ? 0 : rs->nbins;
   vr_status st = vr_accum_create(&acc, W, H, fb, rs->film_lo, rs->film_step, 0, 1, 0, err);
@@ -60,8 +83,15 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
     for (int c = 0; c < vr_domains_count(rs->d); c++) vr_domains_unload(rs->d, c);
     malloc_trim(0);
   }
-  vr_pass_record *pc = vr_run_record(r, "camera", true, "%d x %d pixels, %d samples per pixel, %s",
-                                     W, H, job.spp, ig->what);
+  vr_pass_record *pc;
+  const struct vr_adaptive_summary *as = &job.adaptive_summary;
+  if (job.adaptive)
+    pc = vr_run_record(r, "camera", true,
+                       "%d x %d pixels, %u to %u samples per pixel (mean %.1f, %d rounds; %s), %s",
+                       W, H, as->spp_min, as->spp_max, as->spp_mean, as->rounds, as->stop, ig->what);
+  else
+    pc = vr_run_record(r, "camera", true, "%d x %d pixels, %d samples per pixel, %s", W, H,
+                       job.spp, ig->what);
   if (pc) pc->seconds = job.seconds;
   res->width = W;
   res->height = H;
@@ -73,6 +103,7 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   /* The sums become the result where they lie: no copy of the film. */
   res->xyz = vr_accum_take_mean(&acc.xyz, px * 3, job.passes);
   res->spectral = fb ? vr_accum_take_mean(&acc.bins, px * fb, job.passes) : NULL;
+  if (job.adaptive && (st = adaptive_film(res, &acc, &job, fb, err))) goto done;
   if (job.add_film) job.add_film(job.state, res->xyz, res->spectral);
   if (s->camera.model == VR_CAM_FISHEYE) {
     /* The vertical illuminance at the lens and the glare probability from
@@ -89,6 +120,7 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   }
 done:
   if (job.free_state) job.free_state(job.state);
+  free(job.pixel_samples);
   vr_accum_destroy(&acc);
   r->film_bytes = 0;
   return st;
@@ -256,6 +288,33 @@ static void domain_stats(const vr_rscene *rs, vr_render_result *res) {
   }
 }
 
+/* Adaptive sampling's options: their ranges, and an integrator that can. */
+static vr_status check_adaptive(const vr_scene *s, const vr_render_options *opt,
+                                const vr_integrator_ops *ig, vr_error *err) {
+  if (!(opt->target_error >= 0 && opt->target_error < 1))
+    return vr_error_set(err, VR_E_ARG, "target error %g: must be in [0, 1) (relative; 0: none)",
+                        opt->target_error);
+  if (!(opt->time_limit_s >= 0) || isinf(opt->time_limit_s))
+    return vr_error_set(err, VR_E_ARG, "time limit %g s: must be finite and >= 0 (0: none)",
+                        opt->time_limit_s);
+  if (opt->max_spp < 0)
+    return vr_error_set(err, VR_E_ARG, "max spp %d: must be >= 0 (0: 65536)", opt->max_spp);
+  if (opt->target_error == 0 && opt->time_limit_s == 0) return VR_OK;
+  if (opt->no_camera || !s->camera.given)
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: a target error or time limit applies to the camera image's pixels, "
+                        "and this render has no camera pass", s->path ? s->path : "<scene>");
+  if (!ig->adaptive)
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: integrator=%s cannot sample adaptively (a pixel's estimate is not its "
+                        "own samples' mean: %s); use path, photon or whitted",
+                        s->path ? s->path : "<scene>", ig->name,
+                        strcmp(ig->name, "bdpt") == 0
+                            ? "light paths land on any pixel"
+                            : "its photon statistics are shared by every pixel over iterations");
+  return VR_OK;
+}
+
 vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_options *opt,
                           vr_render_result **out, vr_error *err) {
   *out = NULL;
@@ -280,13 +339,14 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   if (!res) return vr_error_set(err, VR_E_NOMEM, "out of memory");
   res->eye_illuminance_lx = res->glare.dgp = NAN; /* set by a fisheye camera pass */
   vr_run r = {.opt = opt, .res = res, .comm = opt->comm, .rank = vr_comm_rank(opt->comm),
-              .nranks = vr_comm_size(opt->comm)};
+              .nranks = vr_comm_size(opt->comm), .t_start = t_start};
   int S = opt->image_space ? 1 : (opt->subdomains > 0 ? opt->subdomains : 1);
   res->subdomains = S;
   res->memory_budget = opt->memory_budget;
   /* What the integrator cannot do is refused before any work. */
   const vr_integrator_ops *ig = vr_integrator_ops_of((size_t)s->settings.integrator);
   vr_status st = ig->check ? ig->check(s, opt, r.nranks, err) : VR_OK;
+  if (!st) st = check_adaptive(s, opt, ig, err);
   if (!st) st = vr_rscene_create(s, db, opt, S, &r.rs, err);
   if (!st && opt->memory_budget) {
     /* Under a budget the resident memory is watched, from here: the
@@ -330,6 +390,8 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
 void vr_render_result_destroy(vr_render_result *r) {
   if (!r) return;
   free(r->xyz);
+  free(r->pixel_samples);
+  free(r->pixel_variance);
   free(r->bin_nm);
   free(r->spectral);
   free(r->readings);

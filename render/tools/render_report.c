@@ -62,6 +62,14 @@ void render_summary_text(const vr_scene *s, const vr_render_result *r, const ren
       printf(", %zu bins %g-%g nm", r->nbins, r->bin_nm[0], r->bin_nm[r->nbins - 1]);
     printf(", exposure %+g EV%s\n", r->exposure_ev,
            rep->exposure_auto ? " (auto: the log-average luminance to mid grey)" : "");
+    if (r->pixel_samples) {
+      const struct vr_adaptive_summary *a = &r->adaptive;
+      printf("adaptive %d rounds, %u to %u samples a pixel (mean %.1f); ", a->rounds, a->spp_min,
+             a->spp_max, a->spp_mean);
+      if (!isnan(a->converged_share))
+        printf("%.1f %% of pixels at the target, ", 100 * a->converged_share);
+      printf("95 %% of pixels within %.3g relative error; stopped: %s\n", a->error_p95, a->stop);
+    }
   }
   for (size_t i = 0; i < r->npasses && i < VR_MAX_PASSES; i++) {
     const vr_pass_record *p = &r->passes[i];
@@ -149,7 +157,9 @@ void render_summary_json(const vr_scene *s, const vr_render_result *r, const ren
     fprintf(f, "{\"width\": %d, \"height\": %d, \"bins\": %zu, \"exposure_ev\": ", r->width,
             r->height, r->nbins);
     num(r->exposure_ev);
-    fprintf(f, ", \"exposure_auto\": %s},\n", rep->exposure_auto ? "true" : "false");
+    fprintf(f, ", \"exposure_auto\": %s, \"adaptive\": ", rep->exposure_auto ? "true" : "false");
+    vr_adaptive_write_json(f, r);
+    fputs("},\n", f);
   } else {
     fputs("null,\n", f);
   }

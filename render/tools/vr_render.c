@@ -45,6 +45,9 @@ static const vr_option OPTIONS[] = {
     {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
     {"resolution", 0, "WxH", "image size in pixels, overriding the camera line's resolution="},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
+    {"target-error", 0, "E", "adaptive sampling (integrators path, photon, whitted): rounds that double a pixel's samples until its estimated relative standard error (from two independent halves of its samples, over its 3x3 neighbourhood) is at most E, e.g. 0.02 or 2%; the first round takes 2 max(spp, 4) samples; the EXR gains layers samples.N and variance.Y"},
+    {"time-limit", 0, "SECONDS", "adaptive sampling: start no round that would end past SECONDS from the start of the render (predicted from the last round); alone, every pixel takes samples until then"},
+    {"max-spp", 0, "N", "adaptive sampling: at most N samples a pixel (default 65536)"},
     {"seed", 0, "N", "random seed in [0, 2^64-1], overriding the scene's render seed= (same seed, same image)"},
     {"exposure", 0, "EV|auto", "PNG exposure in EV, overriding the camera line's exposure=; auto: the image's log-average luminance Ylog = exp(mean ln Y) over its lit pixels to mid grey 0.18 before the tone curve (PNG 141 with filmic, 118 with clip), EV = log2(18 cd/m2 / Ylog)"},
     {"set", 0, "NAME.state=S", "a material's tint state S in [0, 1], overriding the scene (repeat for several materials)"},
@@ -64,6 +67,7 @@ static const char USAGE[] =
     "SCENE.scn [-o PREFIX] [--outputs LIST] [--db FILE] [--subdomains S] [--memory-budget SIZE]\n"
     "                 [--cache DIR] [--threads P] [--image-space] [--send-batch N] [--send-credit N]\n"
     "                 [--resolution WxH] [--spp N] [--seed N] [--photons N] [--exposure EV|auto]\n"
+    "                 [--target-error E] [--time-limit SECONDS] [--max-spp N]\n"
     "                 [--set NAME.state=S]... [--stats FILE.json [--flow-profile]] [--tonemap filmic|clip|reinhard]\n"
     "                 [--falsecolour LO,HI] [--sensors-only] [--json] [--quiet]\n"
     "       vr-render --verify PREFIX";
@@ -215,6 +219,22 @@ static bool int_option(const vr_args *a, const char *name, long lo, long hi, lon
     return false;
   }
   *out = (long)x;
+  return true;
+}
+
+/* A real option in [lo, hi]; with percent, "2%" is 0.02. */
+static bool real_option(const vr_args *a, const char *name, double lo, double hi, bool percent,
+                        const char *what, double *out) {
+  const char *v = vr_args_get(a, name);
+  if (!v) return true;
+  char *end;
+  double x = strtod(v, &end);
+  if (percent && end != v && *end == '%' && !end[1]) x /= 100, end++;
+  if (end == v || *end || !(x >= lo && x <= hi)) {
+    render_usage_error("--%s '%s': expected %s", name, v, what);
+    return false;
+  }
+  *out = x;
   return true;
 }
 
@@ -422,9 +442,11 @@ static void digest_of(const char *path, const vr_render_options *o, const render
   char opts[256], more[8192];
   /* What changes the ranks' work or their collective calls (the film's
    * bins are summed over the ranks only when kept). */
-  snprintf(opts, sizeof opts, "S=%d spp=%d photons=%ld image_space=%d no_camera=%d bins=%d",
+  snprintf(opts, sizeof opts,
+           "S=%d spp=%d photons=%ld image_space=%d no_camera=%d bins=%d target=%.17g "
+           "limit=%.17g max_spp=%d",
            o->subdomains, o->spp, o->photons, o->image_space, o->no_camera,
-           !o->film_without_bins);
+           !o->film_without_bins, o->target_error, o->time_limit_s, o->max_spp);
   vr_sha256_update(&c, opts, strlen(opts));
   render_overrides_text(ov, more, sizeof more);
   vr_sha256_update(&c, more, strlen(more));
@@ -449,14 +471,23 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   vr_render_options opt;
   vr_render_options_default(&opt);
   long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-  long subdomains = 1, spp = 0, photons = 0, batch = 256, credit = 0;
+  long subdomains = 1, spp = 0, photons = 0, batch = 256, credit = 0, max_spp = 0;
   long threads = cpus > 0 ? (cpus < VR_MAX_THREADS ? cpus : VR_MAX_THREADS) : 1;
   if (!int_option(a, "subdomains", 1, VR_MAX_SUBDOMAINS, &subdomains) ||
       !int_option(a, "send-batch", 1, 1 << 20, &batch) ||
       !int_option(a, "send-credit", 1, 1 << 24, &credit) ||
       !int_option(a, "threads", 1, VR_MAX_THREADS, &threads) || !int_option(a, "spp", 1, 1L << 20, &spp) ||
-      !int_option(a, "photons", 1, 1000000000000L, &photons))
+      !int_option(a, "photons", 1, 1000000000000L, &photons) ||
+      !int_option(a, "max-spp", 2, 1L << 30, &max_spp) ||
+      !real_option(a, "target-error", 1e-6, 0.5, true,
+                   "a relative error in [1e-6, 0.5], e.g. 0.02 or 2%", &opt.target_error) ||
+      !real_option(a, "time-limit", 1e-3, 1e9, false, "seconds in [0.001, 1e9]",
+                   &opt.time_limit_s))
     return 2;
+  if (vr_args_get(a, "max-spp") && !vr_args_get(a, "target-error") && !vr_args_get(a, "time-limit"))
+    return render_usage_error("--max-spp bounds adaptive sampling: give --target-error or "
+                              "--time-limit (else --spp sets the samples)");
+  opt.max_spp = (int)max_spp;
   size_t budget = 0;
   vr_error aerr = {0};
   if (vr_args_size(a, "memory-budget", 0, &budget, &aerr)) return render_usage_error("%s", aerr.message);

@@ -115,6 +115,25 @@ check "a 400 x 300 film: and every band of its spectral image" test $? -eq 0
    --resolution 400x300 --outputs exr -o film3 --quiet)
 "$cmp" "$tmp/film1.exr" "$tmp/film3.exr" > /dev/null
 check "a 400 x 300 film without its bins: the same image on 2 ranks" test $? -eq 0
+
+# Adaptive sampling: the rounds' decisions come from the film summed over
+# the ranks, so 2 ranks on 8 sub-domains take the same samples at every
+# pixel and give the image of one process.
+sed 's/^render .*/render integrator=path spp=2 depth=3 seed=5/' "$tmp/room.scn" > "$tmp/adapt.scn"
+(cd "$tmp" && "$bin" adapt.scn --threads 1 --target-error 0.1 --max-spp 32 --outputs exr \
+   -o adapt1 --stats adapt1.json --quiet)
+check "adaptive: one process renders" test $? -eq 0
+(cd "$tmp" && timeout 300 "${mpi[@]}" -np 2 "$bin" adapt.scn --subdomains 8 --threads 1 \
+   --target-error 0.1 --max-spp 32 --outputs exr -o adapt2 --stats adapt2.json --quiet)
+check "adaptive: 2 ranks render" test $? -eq 0
+"$cmp" "$tmp/adapt1.exr" "$tmp/adapt2.exr" > /dev/null
+check "adaptive: 2 ranks give the image of one process" test $? -eq 0
+python3 -c 'import json, sys
+a, b = [json.load(open(f))["image"]["adaptive"] for f in sys.argv[1:]]
+assert a["rounds"] >= 2 and a["spp_min"] < a["spp_max"], a
+assert all(a[k] == b[k] for k in ("rounds", "spp_min", "spp_max", "spp_mean")), (a, b)' \
+  "$tmp/adapt1.json" "$tmp/adapt2.json"
+check "adaptive: the same rounds and samples on 2 ranks" test $? -eq 0
 # The ranks must agree on keeping the bins (their sums are collective):
 # different --outputs are refused like different options.
 (cd "$tmp" && timeout 120 "${mpi[@]}" -np 2 sh -c 'if [ "$OMPI_COMM_WORLD_RANK" = 0 ]; then exec "$0" "$@" --outputs exr; else exec "$0" "$@"; fi' \

@@ -165,6 +165,21 @@ vr_exr_colour vr_exr_colour_srgb(double white_luminance, double exposure);
 vr_status vr_image_write_exr_with(const char *path, const vr_image *img,
                                   const vr_exr_colour *colour, vr_error *err);
 
+/* A channel written beside R, G, B: one value a pixel, in the image's
+ * row order; uint32 (EXR UINT) or float (EXR FLOAT).  A name with a dot
+ * puts it in a layer, as OpenEXR's convention has it ("samples.N"). */
+typedef struct vr_exr_channel {
+  const char *name;
+  int is_uint;
+  const void *data;
+} vr_exr_channel;
+
+/* vr_image_write_exr_with plus nextra channels (names distinct, none R, G
+ * or B, else VR_E_ARG and nothing is written). */
+vr_status vr_image_write_exr_channels(const char *path, const vr_image *img,
+                                      const vr_exr_colour *colour, const vr_exr_channel *extra,
+                                      size_t nextra, vr_error *err);
+
 /* Writes by the file name's extension (case-insensitive):
  *   .png          bits 8 or 16, as vr_image_write_png
  *   .tif / .tiff  bits 8 or 16, same quantisation, LZW (lossless)

@@ -171,6 +171,8 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
 /* The passes of a render as a JSON array (name, ran, reason, seconds; null
  * seconds for a pass that did not run), for the statistics and --json. */
 void vr_passes_write_json(FILE *f, const vr_render_result *r);
+/* The adaptive sampling summary as a JSON object (null without it). */
+void vr_adaptive_write_json(FILE *f, const vr_render_result *r);
 
 /* The render's flow profiles (vr_render_options.flow_profile) as the
  * statistics' "flow_profile" member and a comma, or nothing. */

@@ -58,6 +58,18 @@ typedef struct vr_render_options {
   bool has_digest;
   unsigned char scene_digest[32];
   int spp;            /* > 0 overrides the scene's samples per pixel */
+  /* Adaptive sampling of the camera image (integrators path, whitted and
+   * photon; docs/vr-render.md "Adaptive sampling"): with target_error > 0
+   * or time_limit_s > 0 the camera pass runs in rounds, the first of
+   * 2 max(spp, 4) samples a pixel, each next one doubling a pixel's samples,
+   * and a pixel stops taking samples once its estimated relative standard
+   * error is at most target_error (0: never, the time decides), or it has
+   * max_spp samples; no round starts that would end past time_limit_s
+   * seconds from the render's start (0: no limit), as predicted from the
+   * last round.  max_spp 0: 65536. */
+  double target_error;
+  double time_limit_s;
+  int max_spp;
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
   /* The camera's film keeps XYZ only, not its spectral bins: 3 doubles a
@@ -141,6 +153,20 @@ typedef struct vr_render_result {
   double bin_width_nm;
   double *spectral;       /* width*height*nbins, W/(m² sr nm); NULL with film_without_bins */
   size_t film_bytes;      /* the camera film's sums in each process (XYZ and bins, doubles) */
+  /* Adaptive sampling (target_error or time_limit_s): each pixel's samples
+   * and the variance of its mean luminance ((cd/m²)², from the means of
+   * its two halves of samples: (m_a - m_b)² / 4, unbiased with one degree
+   * of freedom); NULL otherwise. */
+  uint32_t *pixel_samples;
+  double *pixel_variance;
+  struct vr_adaptive_summary {
+    int rounds;
+    uint32_t spp_first, spp_min, spp_max;
+    double spp_mean;
+    double converged_share;   /* pixels whose estimate reached target_error */
+    double error_p95;         /* the 95th percentile of the pixels' estimated relative error */
+    char stop[96];            /* why the last round was the last */
+  } adaptive;
   double exposure_ev;
   size_t nreadings;
   vr_sensor_reading *readings;

@@ -91,6 +91,7 @@ double *vr_accum_take_mean(_Atomic uint64_t **cells, size_t n, double by) {
 void vr_accum_destroy(vr_accum *a) {
   free(a->xyz);
   free(a->bins);
+  free(a->half_xyz);
   free(a->sensor_lx);
   free(a->sensor_bins);
   free(a->sensor_parts);
@@ -139,8 +140,22 @@ static long bin_of(const vr_accum *a, double nm) {
   return (long)x;
 }
 
+vr_status vr_accum_keep_halves(vr_accum *a, vr_error *err) {
+  if (a->half_xyz) return VR_OK;
+  a->half_xyz = zeros((size_t)a->width * (size_t)a->height * 3);
+  if (!a->half_xyz)
+    return vr_error_set(err, VR_E_NOMEM, "film halves of %d x %d pixels: out of memory", a->width,
+                        a->height);
+  return VR_OK;
+}
+
 void vr_accum_pixel(vr_accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,
                     double wl_weight) {
+  vr_accum_pixel_half(a, pixel, false, nwl, wl, L, wl_weight);
+}
+
+void vr_accum_pixel_half(vr_accum *a, uint32_t pixel, bool second_half, int nwl,
+                         const double *wl, const double *L, double wl_weight) {
   double xyz[3] = {0, 0, 0};
   for (int i = 0; i < nwl; i++) {
     if (L[i] == 0.0) continue;
@@ -151,6 +166,8 @@ void vr_accum_pixel(vr_accum *a, uint32_t pixel, int nwl, const double *wl, cons
     if (b >= 0) vr_atomic_add(&a->bins[(size_t)pixel * a->nbins + (size_t)b], L[i] * wl_weight / a->bin_step);
   }
   for (int k = 0; k < 3; k++) vr_atomic_add(&a->xyz[(size_t)pixel * 3 + (size_t)k], xyz[k]);
+  if (a->half_xyz && second_half)
+    for (int k = 0; k < 3; k++) vr_atomic_add(&a->half_xyz[(size_t)pixel * 3 + (size_t)k], xyz[k]);
 }
 
 /* The illuminance of E, in lx. */

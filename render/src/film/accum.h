@@ -6,6 +6,7 @@
 #define VR_FILM_ACCUM_H
 
 #include <stdatomic.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -22,6 +23,11 @@ typedef struct vr_accum {
   double bin_lo, bin_step;
   _Atomic uint64_t *xyz;      /* doubles stored as bits, width*height*3 */
   _Atomic uint64_t *bins;     /* width*height*nbins */
+  /* Adaptive sampling (vr_accum_keep_halves): the XYZ of each pixel's
+   * second-half samples alone, width*height*3; NULL otherwise.  With the
+   * whole sums it gives two independent half estimates, whose difference
+   * measures the pixel's error. */
+  _Atomic uint64_t *half_xyz;
   size_t npoints;             /* sensor points */
   int groups;                 /* batches for the standard error */
   _Atomic uint64_t *sensor_lx;  /* npoints*groups */
@@ -59,6 +65,12 @@ double vr_atomic_get(_Atomic uint64_t *cell);
 /* Adds radiance samples (already divided by their wavelength pdf) of a pixel. */
 void vr_accum_pixel(vr_accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,
                     double wl_weight);
+/* The same, from a sample of the second half when second_half: with
+ * halves kept, its XYZ also goes to half_xyz. */
+void vr_accum_pixel_half(vr_accum *a, uint32_t pixel, bool second_half, int nwl,
+                         const double *wl, const double *L, double wl_weight);
+/* Keeps the second half's XYZ apart from now on (adaptive sampling). */
+vr_status vr_accum_keep_halves(vr_accum *a, vr_error *err);
 /* Returns the illuminance (lx) it added. */
 /* Adds lx to the illuminance point received from sky patch (or the ground). */
 void vr_accum_sensor_patch_lx(vr_accum *a, uint32_t point, int patch, double lx);

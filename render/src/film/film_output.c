@@ -193,6 +193,23 @@ static void rename_in_message(vr_error *err, const vr_film_staged *g) {
 
 /* ---- the images ---- */
 
+/* The RGB EXR; after adaptive sampling with two more layers: each pixel's
+ * samples (samples.N, uint) and the variance of its mean luminance
+ * (variance.Y, (cd/m2)^2, float). */
+static vr_status write_exr(const vr_render_result *r, const char *path, const vr_image *rgb,
+                           const vr_exr_colour *colour, vr_error *err) {
+  if (!r->pixel_samples || !r->pixel_variance)
+    return vr_image_write_exr_with(path, rgb, colour, err);
+  size_t px = (size_t)r->width * (size_t)r->height;
+  float *var = malloc((px ? px : 1) * sizeof *var);
+  if (!var) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t p = 0; p < px; p++) var[p] = (float)r->pixel_variance[p];
+  const vr_exr_channel extra[2] = {{"samples.N", 1, r->pixel_samples}, {"variance.Y", 0, var}};
+  vr_status st = vr_image_write_exr_channels(path, rgb, colour, extra, 2, err);
+  free(var);
+  return st;
+}
+
 /* The linear sRGB of the EXRs (rgb) and the display values of the PNG
  * (png); either may be NULL when its files are not asked for. */
 static vr_status make_images(const vr_render_result *r, vr_tonemap tm, vr_image *rgb,
@@ -306,7 +323,7 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
     vr_exr_colour colour = vr_exr_colour_srgb(1.0, r->exposure_ev - log2(100.0));
     if (exr) {
       if ((st = film_set_add(&set, ".exr", &g, err))) goto out;
-      if ((st = vr_image_write_exr_with(g->stage, &rgb, &colour, err))) goto fail;
+      if ((st = write_exr(r, g->stage, &rgb, &colour, err))) goto fail;
     }
     if (spectral) {
       if ((st = make_spectral(r, &sp, err))) goto out;
@@ -367,6 +384,24 @@ static void json_key(FILE *f, const char *indent, const char *key) {
   fputs(": ", f);
 }
 
+void vr_adaptive_write_json(FILE *f, const vr_render_result *r) {
+  if (!r->pixel_samples) {
+    fputs("null", f);
+    return;
+  }
+  const struct vr_adaptive_summary *a = &r->adaptive;
+  fprintf(f, "{\"rounds\": %d, \"spp_first\": %u, \"spp_min\": %u, \"spp_max\": %u, \"spp_mean\": ",
+          a->rounds, a->spp_first, a->spp_min, a->spp_max);
+  vr_json_number(f, a->spp_mean);
+  fputs(", \"converged_share\": ", f);
+  vr_json_number(f, a->converged_share);
+  fputs(", \"error_p95\": ", f);
+  vr_json_number(f, a->error_p95);
+  fputs(", \"stop\": ", f);
+  vr_json_string(f, a->stop);
+  fputc('}', f);
+}
+
 void vr_passes_write_json(FILE *f, const vr_render_result *r) {
   fputc('[', f);
   size_t np = r->npasses < VR_MAX_PASSES ? r->npasses : VR_MAX_PASSES;
@@ -405,6 +440,8 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
   vr_json_number(f, r->nbins ? r->bin_width_nm : NAN);
   fputs(", \"exposure_ev\": ", f);
   vr_json_number(f, r->exposure_ev);
+  fputs(", \"adaptive\": ", f);
+  vr_adaptive_write_json(f, r);
   fputs("},\n", f);
 
   json_key(f, "  ", "passes");

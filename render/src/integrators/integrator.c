@@ -44,6 +44,7 @@ vr_pass vr_integrator_pass(const vr_camera_job *job) {
 
 vr_status vr_integrator_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *ops,
                                vr_error *err) {
+  if (job->adaptive) return vr_adaptive_camera(job, c, ops, err);
   double t0 = vr_run_now();
   vr_status st = vr_camera_pass(job->run, c, ops, job->W, job->H, err);
   job->seconds += vr_run_now() - t0;

@@ -29,6 +29,12 @@ typedef struct vr_camera_job {
   bool lights_exist;          /* a light with power: photons have a source */
   /* Set by render(): */
   int passes;                 /* the sums are over this many passes (divide by it) */
+  /* Adaptive sampling (adaptive.c): the job's pixels take their samples in
+   * rounds (vr_integrator_camera); the film holds sums, and pixel_samples
+   * (which the job then owns) each pixel's count. */
+  bool adaptive;
+  uint32_t *pixel_samples;
+  struct vr_adaptive_summary adaptive_summary;
   double seconds;             /* the camera passes' time */
   void *state;                /* what add_film() and free_state() work on */
   void (*add_film)(const void *state, double *xyz, double *spectral);
@@ -45,6 +51,10 @@ typedef struct vr_integrator_ops {
   vr_status (*check)(const vr_scene *s, const vr_render_options *opt, int nranks,
                      vr_error *err);
   vr_status (*render)(vr_camera_job *job, vr_error *err);
+  /* Its pixels' estimates are their own camera samples' means (no light
+   * splatted onto other pixels, no estimate shared over iterations), so it
+   * can sample adaptively (adaptive.c). */
+  bool adaptive;
 } vr_integrator_ops;
 
 /* Integrator i (vr_scene_settings.integrator; the values of vr_integrator in
@@ -64,5 +74,9 @@ vr_pass vr_integrator_pass(const vr_camera_job *job);
  * (spp, the integrator's hook), the seconds it took added to job->seconds. */
 vr_status vr_integrator_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *ops,
                                vr_error *err);
+/* The camera pass in rounds of adaptive sampling (adaptive.c): what
+ * vr_integrator_camera runs when job->adaptive; sets job->pixel_samples. */
+vr_status vr_adaptive_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *ops,
+                             vr_error *err);
 
 #endif

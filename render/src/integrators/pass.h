@@ -63,6 +63,14 @@ struct vr_pass {
   vr_accum *acc;
   int spp, sample_offset, max_depth;
   int wave_spp;             /* camera units: samples per pixel of one unit (0: all spp) */
+  /* Adaptive sampling (adaptive.c): the pixels that take this pass's
+   * samples (NULL: all), whether a sample weighs 1 (the film then holds
+   * sums, divided by each pixel's count at the end) rather than 1/spp, and
+   * whether the pass is the second half of a round (its XYZ also kept
+   * apart). */
+  const uint8_t *active;
+  bool sum_samples;
+  bool second_half;
   /* Wavelengths every path of the pass shares (an SPPM iteration's), or NULL. */
   const double *fixed_wl;
   /* The integrator's say at a path's vertex with a diffuse lobe, after

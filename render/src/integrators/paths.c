@@ -62,7 +62,8 @@ void vr_path_deliver(vr_pass *c, const vr_payload *p, const double *v0) {
   switch (p->target) {
   case VR_TARGET_PIXEL:
   case VR_TARGET_GATHER:
-    vr_accum_pixel(c->acc, p->index, p->nwl, p->wl, v, vr_wl_weight(c->rs, p->nwl));
+    vr_accum_pixel_half(c->acc, p->index, c->second_half, p->nwl, p->wl, v,
+                        vr_wl_weight(c->rs, p->nwl));
     break;
   case VR_TARGET_SENSOR: {
     uint32_t slot = c->sensor_slots ? p->sample % c->sensor_slots : p->sample;
@@ -409,6 +410,7 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
   for (int i = 0; i < npix; i++) {
     int x = x0 + i % tw, y = y0 + i / tw;
     uint32_t pixel = (uint32_t)(y * W + x);
+    if (c->active && !c->active[pixel]) continue;
     for (int s = s0; s < s1; s++) {
       vr_payload p = {0};
       p.stream = pixel;
@@ -423,7 +425,7 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
         memcpy(p.wl, c->fixed_wl, sizeof p.wl); /* the iteration's, shared with the photons */
       else
         vr_wavelengths(rs, &key, (uint32_t)c->spp, p.wl);
-      p.weight = 1.0 / c->spp;
+      p.weight = c->sum_samples ? 1.0 : 1.0 / c->spp;
       for (int k = 0; k < p.nwl; k++) p.beta[k] = 1.0;
       /* The pixel filter places the sample and weighs it (vr/filter.h). */
       double fdx, fdy;

@@ -163,4 +163,4 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
 }
 
 const vr_integrator_ops vr_integrator_photon = {.name = "photon", .what = "photon mapping",
-                                                .render = render};
+                                                .render = render, .adaptive = true};

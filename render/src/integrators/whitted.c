@@ -19,4 +19,4 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
 }
 
 const vr_integrator_ops vr_integrator_whitted = {
-    .name = "whitted", .what = "ray tracing with shadow rays", .render = render};
+    .name = "whitted", .what = "ray tracing with shadow rays", .render = render, .adaptive = true};

@@ -30,6 +30,7 @@ typedef struct vr_run {
   vr_render_result *res;
   vr_rscene *rs;
   const char *pass;
+  double t_start;      /* when the render began (vr_run_now) */
   /* What the render holds besides cells, queues and state maps (photon
    * maps while a pass fills them), counted against the memory budget: the
    * integrator that holds it sets these (NULL: nothing). */
