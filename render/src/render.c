@@ -74,6 +74,9 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   if (!st && rs->bins_mode) st = vr_accum_set_bins(&acc, rs->lmin, rs->lmax, rs->nwl, err);
   /* The film counts in the budget (its pages fill as the pass writes). */
   r->film_bytes = (size_t)W * (size_t)H * (3 + fb) * sizeof(double);
+  /* Adaptive sampling adds a pixel's half-B XYZ and the rounds' arrays
+   * (adaptive.c: count, active, sums, num, den, err). */
+  if (job.adaptive) r->film_bytes += vr_adaptive_bytes_per_pixel() * (size_t)W * (size_t)H;
   res->film_bytes = r->film_bytes;
   if (!st) st = ig->render(&job, err);
   if (st) goto done;
@@ -87,8 +90,8 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   const struct vr_adaptive_summary *as = &job.adaptive_summary;
   if (job.adaptive)
     pc = vr_run_record(r, "camera", true,
-                       "%d x %d pixels, %u to %u samples per pixel (mean %.1f, %d rounds; %s), %s",
-                       W, H, as->spp_min, as->spp_max, as->spp_mean, as->rounds, as->stop, ig->what);
+                       "%d x %d pixels, %u to %u samples per pixel (mean %.1f, %d rounds), %s", W,
+                       H, as->spp_min, as->spp_max, as->spp_mean, as->rounds, ig->what);
   else
     pc = vr_run_record(r, "camera", true, "%d x %d pixels, %d samples per pixel, %s", W, H,
                        job.spp, ig->what);
@@ -304,6 +307,17 @@ static vr_status check_adaptive(const vr_scene *s, const vr_render_options *opt,
     return vr_error_set(err, VR_E_ARG,
                         "%s: a target error or time limit applies to the camera image's pixels, "
                         "and this render has no camera pass", s->path ? s->path : "<scene>");
+  if (opt->flow_profile)
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: a flow profile records each pass of the ray flow, and adaptive "
+                        "sampling's rounds are many passes: profile a render of fixed spp",
+                        s->path ? s->path : "<scene>");
+  int spp = opt->spp > 0 ? opt->spp : s->settings.spp, first = 2 * vr_adaptive_half(spp);
+  if (opt->max_spp > 0 && opt->max_spp < first)
+    return vr_error_set(err, VR_E_ARG,
+                        "max spp %d is below the first round's %d samples a pixel (two halves, each "
+                        "the smallest multiple of spp = %d that is at least 4)",
+                        opt->max_spp, first, spp);
   if (!ig->adaptive)
     return vr_error_set(err, VR_E_ARG,
                         "%s: integrator=%s cannot sample adaptively (a pixel's estimate is not its "

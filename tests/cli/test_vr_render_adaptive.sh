@@ -13,7 +13,8 @@ attrs="$VR_TEST_BIN/vr-test-exr-attrs"
 source "$(dirname "$0")/harness.sh"
 
 # A floor under the CIE uniform sky (luminance 0.5 x 1000 / pi cd/m2) and,
-# in the left half, a black emitter of 50 cd/m2: no noise there.
+# in the left half, a black emitter of 50 cd/m2 (only the wavelengths'
+# noise there: its pixels stop after the first round).
 cat > "$tmp/floor.scn" <<'EOF'
 material floor lambert reflectance=0.5
 material black lambert reflectance=0
@@ -72,6 +73,7 @@ refuse render-target-error-bad "$bin" "$tmp/floor.scn" -o "$tmp/x" --target-erro
 refuse render-target-error-bad "$bin" "$tmp/floor.scn" -o "$tmp/x" --target-error nan
 refuse render-target-error-bad "$bin" "$tmp/floor.scn" -o "$tmp/x" --target-error 60%
 refuse render-time-limit-bad "$bin" "$tmp/floor.scn" -o "$tmp/x" --time-limit -5
+refuse render-max-spp-below-first "$bin" "$tmp/floor.scn" -o "$tmp/x" --target-error 0.02 --max-spp 6
 refuse render-max-spp-alone "$bin" "$tmp/floor.scn" -o "$tmp/x" --max-spp 64
 refuse render-target-error-no-image "$bin" "$tmp/floor.scn" -o "$tmp/x" --sensors-only --target-error 0.02
 refuse render-target-error-integrator "$bin" "$tmp/box.scn" -o "$tmp/x" --target-error 0.02

@@ -60,13 +60,16 @@ typedef struct vr_render_options {
   int spp;            /* > 0 overrides the scene's samples per pixel */
   /* Adaptive sampling of the camera image (integrators path, whitted and
    * photon; docs/vr-render.md "Adaptive sampling"): with target_error > 0
-   * or time_limit_s > 0 the camera pass runs in rounds, the first of
-   * 2 max(spp, 4) samples a pixel, each next one doubling a pixel's samples,
+   * or time_limit_s > 0 the camera pass runs in rounds, the first of two
+   * halves of the smallest multiple of spp that is at least 4 (whole
+   * blocks of the sampler) samples a pixel, each next one doubling a
+   * pixel's samples,
    * and a pixel stops taking samples once its estimated relative standard
    * error is at most target_error (0: never, the time decides), or it has
    * max_spp samples; no round starts that would end past time_limit_s
    * seconds from the render's start (0: no limit), as predicted from the
-   * last round.  max_spp 0: 65536. */
+   * last round (a shorter round when that fits).  max_spp 0: 65536, else
+   * at least the first round. */
   double target_error;
   double time_limit_s;
   int max_spp;

@@ -62,6 +62,16 @@ typedef struct adaptive {
   double *err;    /* per pixel: the estimated relative error */
 } adaptive;
 
+int vr_adaptive_half(int spp) {
+  if (spp < 1) spp = 1;
+  return (VR_ADAPTIVE_HALF + spp - 1) / spp * spp;
+}
+
+size_t vr_adaptive_bytes_per_pixel(void) {
+  /* half_xyz, then count, active, sums, num, den, err. */
+  return 3 * sizeof(double) + sizeof(uint32_t) + 1 + 6 * sizeof(double) + 3 * sizeof(double);
+}
+
 static int cmp_double(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
@@ -125,6 +135,7 @@ static void summarise(const adaptive *ad, struct vr_adaptive_summary *s, double 
     sum += c;
     if (target > 0 && ad->err[p] <= target) ok++;
   }
+  if (!ad->px) return;
   s->spp_mean = sum / (double)ad->px;
   s->converged_share = target > 0 ? (double)ok / (double)ad->px : NAN;
   /* The 95th percentile of the errors (the num array is free by now). */
@@ -163,8 +174,7 @@ vr_status vr_adaptive_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *
   /* A half of a round is whole blocks of the sampler's count. */
   long block = job->rs->seed.count > 0 ? (long)job->rs->seed.count : 1;
   long cap = o->max_spp > 0 ? o->max_spp : VR_ADAPTIVE_MAX_SPP;
-  long first = job->spp > VR_ADAPTIVE_HALF ? job->spp : VR_ADAPTIVE_HALF;
-  long h = (first + block - 1) / block * block; /* samples of a half */
+  long h = vr_adaptive_half((int)block); /* samples of a half */
   if (cap < 2 * h) cap = 2 * h;
   struct vr_adaptive_summary *sum = &job->adaptive_summary;
   memset(sum, 0, sizeof *sum);
@@ -181,8 +191,6 @@ vr_status vr_adaptive_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *
       c->second_half = half == 1;
       st = vr_camera_pass(r, c, ops, job->W, job->H, err);
     }
-    double dt = vr_run_now() - t0;
-    job->seconds += dt;
     if (st) goto out;
     for (size_t p = 0; p < ad.px; p++)
       if (ad.active[p]) ad.count[p] += (uint32_t)(2 * h);
@@ -190,6 +198,19 @@ vr_status vr_adaptive_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *
     sum->rounds++;
     if ((st = gather(r, job->acc, &ad, err))) goto out;
     estimate(&ad);
+    /* The round's figures on the log (a batch job's progress, with its
+     * error). */
+    summarise(&ad, sum, o->target_error);
+    /* The round's time: its passes, the sum over the ranks, the estimate. */
+    double dt = vr_run_now() - t0;
+    job->seconds += dt;
+    if (o->target_error > 0)
+      vr_run_say(r, "camera round %d: %ld samples a pixel so far, %.1f %% of pixels at %.3g, "
+                 "95 %% within %.3g (%.1f s)", sum->rounds, done, 100 * sum->converged_share,
+                 o->target_error, sum->error_p95, dt);
+    else
+      vr_run_say(r, "camera round %d: %ld samples a pixel, 95 %% of pixels within %.3g relative "
+                 "error (%.1f s)", sum->rounds, done, sum->error_p95, dt);
     /* The next round doubles the samples, in whole blocks, up to the cap. */
     long h_next = done / 2;
     if (done + 2 * h_next > cap) h_next = (cap - done) / 2 / block * block;
@@ -214,11 +235,18 @@ vr_status vr_adaptive_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *
       if (r->nranks > 1 && (st = vr_comm_max_u64(r->comm, t, 2, err))) goto out;
       double predicted = 1e-6 * (double)t[1] * ((double)next / (double)nactive) *
                          ((double)h_next / (double)h);
-      if (1e-6 * (double)t[0] + predicted > o->time_limit_s) {
-        snprintf(sum->stop, sizeof sum->stop,
-                 "time limit: the next round (about %.3g s) would end past %.3g s",
-                 predicted, o->time_limit_s);
-        break;
+      double left = o->time_limit_s - 1e-6 * (double)t[0];
+      if (predicted > left) {
+        /* A shorter round that fits what is left (whole blocks), else
+         * the end: doubling alone would leave up to half the time unused. */
+        long h_fit = predicted > 0 ? (long)((double)h_next * left / predicted) / block * block : 0;
+        if (h_fit < block) {
+          snprintf(sum->stop, sizeof sum->stop,
+                   "time limit: even the shortest round (about %.1f s) would end past %.1f s",
+                   predicted * (double)block / (double)h_next, o->time_limit_s);
+          break;
+        }
+        h_next = h_fit;
       }
     }
     nactive = next;

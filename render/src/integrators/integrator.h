@@ -78,5 +78,10 @@ vr_status vr_integrator_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops
  * vr_integrator_camera runs when job->adaptive; sets job->pixel_samples. */
 vr_status vr_adaptive_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *ops,
                              vr_error *err);
+/* The samples of a half of the first round: the smallest multiple of spp
+ * (the sampler's block) that is at least 4. */
+int vr_adaptive_half(int spp);
+/* What adaptive sampling holds per pixel beyond the film (bytes). */
+size_t vr_adaptive_bytes_per_pixel(void);
 
 #endif
