@@ -60,6 +60,11 @@ void vr_exr_on_write_error(exr_const_context_t ctxt, exr_result_t code, const ch
  * caught one, else its default text for rv. */
 vr_status vr_exr_read_failed(vr_error *err, const char *path, const exr_stream *s,
                              exr_result_t rv, const char *doing);
+/* After exr_encoding_choose_default_routines on a ZIP or ZIPS part: wraps
+ * its deflate step so that a chunk whose deflated size equals its packed
+ * size is stored raw, as the reader takes it (exr_zip_guard.c; OpenEXR
+ * issue #2306).  Other parts are left as they are. */
+exr_result_t vr_exr_guard_zip(exr_context_t ctxt, int part, exr_encode_pipeline_t *enc);
 /* Index in the channel list of a channel called name, or -1. */
 int vr_exr_find_channel(const exr_attr_chlist_t *ch, const char *name);
 

@@ -211,6 +211,7 @@ static exr_result_t encode_pixels(exr_context_t ctxt, int part, const vr_image *
     if (!started) {
       started = 1;
       rv = exr_encoding_choose_default_routines(ctxt, part, &enc);
+      if (rv == EXR_ERR_SUCCESS) rv = vr_exr_guard_zip(ctxt, part, &enc);
     }
     if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(ctxt, part, &enc);
   }

@@ -312,6 +312,7 @@ static exr_result_t encode_chunk(worker *w, int y0) {
   point_channels(w);
   if (!w->routines) {
     rv = exr_encoding_choose_default_routines(job->ctxt, job->part, &w->enc);
+    if (rv == EXR_ERR_SUCCESS) rv = vr_exr_guard_zip(job->ctxt, job->part, &w->enc);
     if (rv != EXR_ERR_SUCCESS) return rv;
     w->routines = 1;
     w->enc.yield_until_ready_fn = wait_turn; /* the default write_fn stays */
