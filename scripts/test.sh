@@ -17,7 +17,8 @@ echo "== vr-render built without MPI (it must build and run alone)"
 # vr-rgb2spec too: the textures test makes its spectral texture with it;
 # vr-spectro: the tint study of cli_vr_render fits its glass with it;
 # vr-matdb and vr-spectro: the BSDF XML test imports a pane and writes it.
-cmake --build build-nompi -j "$(nproc)" --target vr-render vr-test-exr-compare vr-hotel vr-rgb2spec vr-spectro \
+# vr-test-exr-attrs: the adaptive test reads the EXR layers with OpenEXR.
+cmake --build build-nompi -j "$(nproc)" --target vr-render vr-test-exr-compare vr-test-exr-attrs vr-hotel vr-rgb2spec vr-spectro \
   vr-matdb > /dev/null
 (cd build-nompi && ctest --output-on-failure -R '^cli_vr_render')
 
