@@ -303,10 +303,22 @@ static vr_status check_adaptive(const vr_scene *s, const vr_render_options *opt,
   if (opt->max_spp < 0)
     return vr_error_set(err, VR_E_ARG, "max spp %d: must be >= 0 (0: 65536)", opt->max_spp);
   if (opt->target_error == 0 && opt->time_limit_s == 0) return VR_OK;
-  if (opt->no_camera || !s->camera.given)
-    return vr_error_set(err, VR_E_ARG,
-                        "%s: a target error or time limit applies to the camera image's pixels, "
-                        "and this render has no camera pass", s->path ? s->path : "<scene>");
+  if (opt->no_camera || !s->camera.given) {
+    /* Path sensors take a target error too (sensors.c); the rest is the
+     * camera's. */
+    bool path_sensors = s->nsensors > 0 && s->settings.sensors != VR_SENSORS_PHOTON;
+    if (opt->time_limit_s > 0 || opt->max_spp > 0 || !path_sensors)
+      return vr_error_set(err, VR_E_ARG,
+                          "%s: %s applies to the camera image's pixels%s, and this render has no "
+                          "camera pass%s",
+                          s->path ? s->path : "<scene>",
+                          opt->time_limit_s > 0 ? "a time limit"
+                          : opt->max_spp > 0    ? "a max spp"
+                                                : "a target error",
+                          opt->time_limit_s > 0 || opt->max_spp > 0 ? "" : " and path sensors",
+                          opt->time_limit_s > 0 || opt->max_spp > 0 ? "" : " and no path sensors");
+    return VR_OK;
+  }
   if (opt->flow_profile)
     return vr_error_set(err, VR_E_ARG,
                         "%s: a flow profile records each pass of the ray flow, and adaptive "

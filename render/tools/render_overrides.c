@@ -208,12 +208,17 @@ vr_status render_options_check(const vr_args *a, const vr_scene *s, vr_error *er
   const char *why = no_image_reason(s, vr_args_flag(a, "sensors-only"));
   if (why && vr_args_get(a, "falsecolour"))
     return vr_error_set(err, VR_E_ARG, "%s: --falsecolour maps a camera's image: %s", s->path, why);
-  static const char *const IMAGE_ONLY[] = {"resolution", "spp",        "exposure",  "tonemap",
-                                           "target-error", "time-limit", "max-spp"};
+  static const char *const IMAGE_ONLY[] = {"resolution", "spp",        "exposure",
+                                           "tonemap",    "time-limit", "max-spp"};
   for (size_t i = 0; why && i < sizeof IMAGE_ONLY / sizeof *IMAGE_ONLY; i++)
     if (vr_args_get(a, IMAGE_ONLY[i]))
       return vr_error_set(err, VR_E_ARG, "%s: --%s applies to the camera's image: %s", s->path,
                           IMAGE_ONLY[i], why);
+  if (s->sky.annual && vr_args_get(a, "target-error"))
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: --target-error applies to one render's pixels and path sensors; an "
+                        "annual study's daylight coefficients take the scene's sensor_samples",
+                        s->path);
   if (s->sky.annual && (vr_args_get(a, "stats") || vr_args_flag(a, "json")))
     return vr_error_set(err, VR_E_ARG,
                         "%s: --%s reports one render; an annual study's results are "

@@ -173,6 +173,7 @@ void render_summary_json(const vr_scene *s, const vr_render_result *r, const ren
     for (int c = 0; c < 3; c++) fputs(c ? ", " : "", f), num(x->position[c]);
     fputs("], \"illuminance_lx\": ", f), num(x->illuminance_lx);
     fputs(", \"stderr_lx\": ", f), num(x->stderr_lx);
+    fprintf(f, ", \"paths\": %llu", (unsigned long long)x->paths);
     fputs(", \"daylight_factor_pct\": ", f), num(x->df_pct);
     fputc('}', f);
   }

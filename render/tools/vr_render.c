@@ -45,7 +45,7 @@ static const vr_option OPTIONS[] = {
     {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
     {"resolution", 0, "WxH", "image size in pixels, overriding the camera line's resolution="},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
-    {"target-error", 0, "E", "adaptive sampling (integrators path, photon, whitted): rounds that double a pixel's samples until its estimated relative standard error (from two independent halves of its samples, over its 3x3 neighbourhood) is at most E, e.g. 0.02 or 2%; the first round is two halves of the smallest multiple of spp that is at least 4; the EXR gains layers samples.N and variance.Y"},
+    {"target-error", 0, "E", "adaptive sampling (integrators path, photon, whitted; and path sensors, by point): rounds that double a pixel's samples until its estimated relative standard error (from two independent halves of its samples, over its 3x3 neighbourhood) is at most E, e.g. 0.02 or 2%; the first round is two halves of the smallest multiple of spp that is at least 4; the EXR gains layers samples.N and variance.Y"},
     {"time-limit", 0, "SECONDS", "adaptive sampling: start no round that would end past SECONDS from the start of the render (predicted from the last round); alone, every pixel takes samples until then"},
     {"max-spp", 0, "N", "adaptive sampling: at most N samples a pixel (default 65536)"},
     {"seed", 0, "N", "random seed in [0, 2^64-1], overriding the scene's render seed= (same seed, same image)"},

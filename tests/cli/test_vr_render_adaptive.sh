@@ -14,7 +14,8 @@ source "$(dirname "$0")/harness.sh"
 
 # A floor under the CIE uniform sky (luminance 0.5 x 1000 / pi cd/m2) and,
 # in the left half, a black emitter of 50 cd/m2 (only the wavelengths'
-# noise there: its pixels stop after the first round).
+# noise there: its pixels stop after the first round); the sensor lies 50 m
+# from the emitter, which then takes 1e-3 lx of its 1000 lx of sky.
 cat > "$tmp/floor.scn" <<'EOF'
 material floor lambert reflectance=0.5
 material black lambert reflectance=0
@@ -22,10 +23,11 @@ rect center=0,0,0 normal=0,0,1 size=2000,2000 material=floor
 rect center=-0.5,2,0.5 normal=0,-1,0 size=1,1 material=black emission=50cd/m2
 sky cie type=5 illuminance=1000 ground=0
 camera pinhole from=0,0,0.5 to=0,2,0.3 up=0,0,1 fov=60 resolution=32x24
-sensor s point position=0,1,0.01 normal=0,0,1
+sensor s point position=0,-50,0.01 normal=0,0,1
 render integrator=path depth=3 spp=4 seed=5 sensor_samples=64
 EOF
 sed 's/integrator=path/integrator=bdpt/' "$tmp/floor.scn" > "$tmp/box.scn"
+sed 's/sensor_samples=64/sensor_samples=64 sensors=photon photons=1000/' "$tmp/floor.scn" > "$tmp/photon.scn"
 
 "$bin" "$tmp/floor.scn" -o "$tmp/a" --outputs exr --target-error 2% --max-spp 256 \
   --stats "$tmp/a.json" --threads 2 > "$tmp/a.out" 2> "$tmp/a.err"
@@ -75,7 +77,34 @@ refuse render-target-error-bad "$bin" "$tmp/floor.scn" -o "$tmp/x" --target-erro
 refuse render-time-limit-bad "$bin" "$tmp/floor.scn" -o "$tmp/x" --time-limit -5
 refuse render-max-spp-below-first "$bin" "$tmp/floor.scn" -o "$tmp/x" --target-error 0.02 --max-spp 6
 refuse render-max-spp-alone "$bin" "$tmp/floor.scn" -o "$tmp/x" --max-spp 64
-refuse render-target-error-no-image "$bin" "$tmp/floor.scn" -o "$tmp/x" --sensors-only --target-error 0.02
+refuse render-target-error-no-image "$bin" "$tmp/photon.scn" -o "$tmp/x" --sensors-only --target-error 0.02
+refuse render-time-limit-no-image "$bin" "$tmp/floor.scn" -o "$tmp/x" --sensors-only --time-limit 60
+cat > "$tmp/year.scn" <<EOF
+material ground lambert reflectance=0.2
+rect center=0,0,0 normal=0,0,1 size=10,10 material=ground
+light sun spectrum=D65
+sky perez weather=$VR_SOURCE_DIR/tests/data/weather/chicago.wea
+sensor top point position=0,0,0.001 normal=0,0,1
+annual hours=9,15
+render sensor_samples=64
+EOF
+refuse render-target-error-annual "$bin" "$tmp/year.scn" -o "$tmp/x" --target-error 0.02
+
+# Path sensors take rounds too: with --sensors-only, the sensor's rounds
+# are said on stderr and its reading is the sky's 1000 lx within its error.
+"$bin" "$tmp/floor.scn" -o "$tmp/s" --sensors-only --target-error 0.05 --json --threads 2 \
+  > "$tmp/s.json" 2> "$tmp/s.err"
+check "adaptive sensors exit 0" test $? -eq 0
+check "sensor rounds said on stderr" grep -q 'sensors round 2: .* paths a point so far' "$tmp/s.err"
+python3 - "$tmp/s.json" > "$tmp/s.py" 2>&1 <<'EOF'
+import json, sys
+s = json.load(open(sys.argv[1]))["sensors"][0]
+# 1000 lx: the CIE uniform sky's horizontal illuminance (the sky line)
+assert abs(s["illuminance_lx"] - 1000) <= 6 * s["stderr_lx"], s
+assert s["stderr_lx"] <= 0.05 * s["illuminance_lx"], s
+print("ok", s["illuminance_lx"], s["stderr_lx"])
+EOF
+check "adaptive sensor reads 1000 lx within its error: $(tail -1 "$tmp/s.py")" grep -q '^ok' "$tmp/s.py"
 refuse render-target-error-integrator "$bin" "$tmp/box.scn" -o "$tmp/x" --target-error 0.02
 check "refusals wrote nothing" test -z "$(ls "$tmp" | grep '^x\.')"
 finish

@@ -26,7 +26,8 @@
  *   - the image and the sample counts are the same for any sub-domains,
  *     threads and image space (decisions come from the summed film);
  *   - the 95 % intervals the layer gives to image regions hold the truth
- *     in 90-98 % of cases over 20 seeds (below). */
+ *     in 90-98 % of cases over 20 seeds (below);
+ *   - path sensors take rounds to the target too (below). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -226,6 +227,46 @@ static void test_region_intervals_cover(void **state) {
   assert_true(adaptive >= 0.90 && adaptive <= 0.98);
 }
 
+/* Adaptive path sensors over the same floor (CIE uniform sky of 1000 lx,
+ * no ground glow): a point 0.5 m above it facing up reads the sky's
+ * horizontal illuminance, 1000 lx; facing down it reads pi times the
+ * floor's luminance, 500 lx (the 2 km floor misses 2.5e-7 of the
+ * hemisphere).  Each reading must lie within K_SE of its stated standard
+ * errors (16 batches: Student's t with 15 degrees of freedom, P(|t| > 6) =
+ * 2.4e-5), its relative standard error must be at most the target, and it
+ * must have taken more paths than sensor_samples (rounds ran) but no more
+ * than 64 times as many. */
+static void test_path_sensors_adapt(void **state) {
+  (void)state;
+  const char *scn =
+      "material floor lambert reflectance=0.5\n"
+      "rect center=0,0,0 normal=0,0,1 size=2000,2000 material=floor\n"
+      "sky cie type=5 illuminance=1000 ground=0\n"
+      "sensor up point position=0,0,0.5 normal=0,0,1\n"
+      "sensor down point position=0,0,0.5 normal=0,0,-1\n"
+      "render integrator=path depth=3 seed=9 sensor_samples=256\n";
+  vr_scene *s = parse_text(scn, "sensors.scn");
+  vr_render_options o;
+  vr_render_options_default(&o);
+  o.threads = 2;
+  o.no_camera = true;
+  o.target_error = 0.008;
+  vr_render_result *r = render_scene_opt(s, NULL, &o);
+  vr_scene_destroy(s);
+  const double want[2] = {1000.0, 500.0};
+  for (int k = 0; k < 2; k++) {
+    const vr_sensor_reading *x = &r->readings[k];
+    print_message("    %s: %.3f +- %.3f lx (expected %.0f), %llu paths\n", x->sensor,
+                  x->illuminance_lx, x->stderr_lx, want[k], (unsigned long long)x->paths);
+    if (!(fabs(x->illuminance_lx - want[k]) <= K_SE * x->stderr_lx))
+      fail_msg("%s: %.3f lx, expected %.0f within %.0f standard errors (%.3f)", x->sensor,
+               x->illuminance_lx, want[k], K_SE, x->stderr_lx);
+    assert_true(x->stderr_lx <= 0.008 * x->illuminance_lx);
+    assert_true(x->paths > 256 && x->paths < 64 * 256); /* rounds ran; the target, not the cap, stopped them */
+  }
+  vr_render_result_destroy(r);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_floor_unbiased_and_honest),
@@ -233,6 +274,7 @@ int main(void) {
       cmocka_unit_test(test_time_limit_stops_after_first_round),
       cmocka_unit_test(test_same_image_any_decomposition),
       cmocka_unit_test(test_region_intervals_cover),
+      cmocka_unit_test(test_path_sensors_adapt),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

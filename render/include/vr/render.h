@@ -122,6 +122,7 @@ typedef struct vr_sensor_reading {
   double position[3];
   double illuminance_lx;
   double stderr_lx;       /* standard error of the estimate */
+  uint64_t paths;         /* path sensors: the paths it took (adaptive: its own count) */
   double part_lx[VR_SENSOR_PARTS];
   /* Daylight factor: 100 (SC + ERC + IRC of the sky) / E_h, E_h the
    * unobstructed sky's horizontal illuminance (sky_horizontal_lx of the

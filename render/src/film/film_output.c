@@ -474,6 +474,7 @@ vr_status vr_stats_write_json(const vr_render_result *r, const char *path, vr_er
     vr_json_number(f, s->illuminance_lx);
     fputs(", \"stderr_lx\": ", f);
     vr_json_number(f, s->stderr_lx);
+    fprintf(f, ", \"paths\": %llu", (unsigned long long)s->paths);
     fputs(", \"daylight_factor_pct\": ", f);
     vr_json_number(f, s->df_pct);
     fputs("}", f);

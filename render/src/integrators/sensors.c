@@ -17,6 +17,7 @@
 
 #include "integrators/photon_maps.h"
 #include "integrators/sensors.h"
+#include "vr/comm.h"
 #include "vr/vec3.h"
 
 #define SENSOR_GATHER_RADIUS_M 1.0
@@ -26,6 +27,12 @@ typedef struct vr_sensor_state {
   size_t npoints;
   double (*points)[6];         /* position, normal */
   int samples, groups;
+  /* Adaptive rounds (adaptive_rounds): each batch's samples in this pass
+   * and the first one's number (in batches: sample g + (first + s) groups);
+   * sums: a sample weighs 1, not 1/per.  0, 0, false: one pass of
+   * ceil(samples / groups). */
+  int per, first;
+  bool sums;
   vr_photon_maps maps;
   _Atomic uint64_t fg_photon, fg_path; /* diffuse vertices ended by the maps / continued */
 } vr_sensor_state;
@@ -40,19 +47,20 @@ static void generate(void *ctx, vr_flow_worker *w, long unit) {
   size_t point = (size_t)unit / (size_t)groups;
   int g = (int)(unit % groups);
   const double *x = ss->points[point], *n = ss->points[point] + 3;
-  int per = (ss->samples + groups - 1) / groups;
+  int per = ss->per > 0 ? ss->per : (ss->samples + groups - 1) / groups;
   for (int s = 0; s < per; s++) {
     vr_payload p = {0};
     p.stream = VR_STREAM_SENSOR + point;
-    p.sample = (uint32_t)(g + s * groups);
+    p.sample = (uint32_t)(g + (ss->first + s) * groups);
     p.index = (uint32_t)point;
     p.target = VR_TARGET_SENSOR;
     p.nwl = (uint8_t)rs->nwl;
     p.medium = -1;
     vr_rng_key key = {rs->seed, p.stream, p.sample, 0};
     vr_wavelengths(rs, &key, (uint32_t)(per * groups), p.wl);
-    /* Each batch's illuminance is a mean over its own samples. */
-    p.weight = 1.0 / per;
+    /* Each batch's illuminance is a mean over its own samples (adaptive:
+     * their sum, divided at the end). */
+    p.weight = ss->sums ? 1.0 : 1.0 / per;
     for (int k = 0; k < p.nwl; k++) p.beta[k] = 1.0;
     vr_path_next_event(c, w, &p, x, n, n, vr_receiver_f, n, 0, false);
     double u1 = vr_rng(&key, VR_DIM_DIR_U), u2 = vr_rng(&key, VR_DIM_DIR_V);
@@ -160,9 +168,9 @@ static vr_status sensor_points(const vr_scene *s, vr_sensor_state *c, vr_render_
 
 /* A reading's parts (the sums over all samples, over the groups) and its
  * daylight factor, eh the unobstructed sky's horizontal illuminance (lx). */
-static void set_parts(double eh, vr_accum *acc, size_t k, int groups, vr_sensor_reading *rd) {
+static void set_parts(double eh, vr_accum *acc, size_t k, double by, vr_sensor_reading *rd) {
   for (int q = 0; q < VR_SENSOR_PARTS; q++)
-    rd->part_lx[q] = vr_atomic_get(&acc->sensor_parts[k * VR_SENSOR_PARTS + (size_t)q]) / groups;
+    rd->part_lx[q] = vr_atomic_get(&acc->sensor_parts[k * VR_SENSOR_PARTS + (size_t)q]) / by;
   if (eh > 0) {
     rd->df_sc_pct = 100 * rd->part_lx[VR_PART_SKY] / eh;
     rd->df_erc_pct = 100 * rd->part_lx[VR_PART_ERC_SKY] / eh;
@@ -173,8 +181,84 @@ static void set_parts(double eh, vr_accum *acc, size_t k, int groups, vr_sensor_
   }
 }
 
+/* Adaptive path sensors (--target-error): rounds of the 16 batches, each
+ * doubling a point's samples, until the point's relative standard error
+ * (the batches' spread over their mean) is at most the target, or it has
+ * SENSOR_ADAPTIVE_CAP times sensor_samples.  A sample weighs 1, so the
+ * sums are divided by each point's own samples at the end; a round's
+ * sample numbers follow the last round's, and its wavelength strata are
+ * its own (whole sets of groups x per consecutive numbers).  Decisions
+ * are taken on the batches summed over the ranks, so every rank takes the
+ * same ones.  Returns each point's samples per batch in *per_out. */
+enum { SENSOR_ADAPTIVE_CAP = 64 };
+
+static vr_status adaptive_rounds(vr_run *r, vr_pass *c, vr_sensor_state *ss, uint32_t **per_out,
+                                 vr_error *err) {
+  const int G = ss->groups;
+  const size_t n = ss->npoints;
+  double target = r->opt->target_error;
+  uint32_t *done = calloc(n + 1, sizeof *done);
+  long *units = malloc((n * (size_t)G + 1) * sizeof *units);
+  uint8_t *active = malloc(n + 1);
+  double *e = malloc((n * (size_t)G + 1) * sizeof *e);
+  vr_status st = VR_OK;
+  if (!done || !units || !active || !e) {
+    st = vr_error_set(err, VR_E_NOMEM, "adaptive sensors: out of memory");
+    goto out;
+  }
+  memset(active, 1, n);
+  int per0 = (ss->samples + G - 1) / G;
+  long cap = (long)per0 * SENSOR_ADAPTIVE_CAP;
+  ss->sums = true;
+  ss->first = 0;
+  ss->per = per0;
+  size_t nactive = n, reached = 0;
+  int rounds = 0;
+  while (nactive) {
+    size_t nu = 0;
+    for (size_t k = 0; k < n; k++)
+      for (int g = 0; active[k] && g < G; g++) units[nu++] = (long)(k * (size_t)G + (size_t)g);
+    if ((st = vr_run_flow_units(r, &sensor_ops, c, units, (long)nu, "sensors", err))) goto out;
+    for (size_t k = 0; k < n; k++) done[k] += active[k] ? (uint32_t)ss->per : 0u;
+    rounds++;
+    for (size_t i = 0; i < n * (size_t)G; i++) e[i] = vr_atomic_get(&c->acc->sensor_lx[i]);
+    if (r->nranks > 1 && (st = vr_comm_sum_doubles(r->comm, e, n * (size_t)G, err))) goto out;
+    nactive = 0;
+    for (size_t k = 0; k < n; k++) {
+      if (!active[k]) continue;
+      double sum = 0, sum2 = 0;
+      for (int g = 0; g < G; g++) {
+        double v = e[k * (size_t)G + (size_t)g] / done[k];
+        sum += v;
+        sum2 += v * v;
+      }
+      double mean = sum / G, var = fmax(0, (sum2 - G * mean * mean) / (G - 1));
+      double se = sqrt(var / G);
+      bool ok = se <= target * fabs(mean) || (se == 0 && mean == 0);
+      reached += ok;
+      if (ok || (long)done[k] * 2 > cap) active[k] = 0;
+      nactive += active[k];
+    }
+    vr_run_say(r, "sensors round %d: %u paths a point so far, %zu of %zu points at %.3g", rounds,
+               (unsigned)(ss->first + ss->per) * (unsigned)G, reached, n, target);
+    ss->first += ss->per;
+    ss->per = ss->first; /* the next round doubles an active point's samples */
+  }
+  *per_out = done;
+  done = NULL;
+out:
+  ss->sums = false;
+  ss->first = 0;
+  ss->per = 0;
+  free(done);
+  free(units);
+  free(active);
+  free(e);
+  return st;
+}
+
 /* The path estimator: `groups` independent batches per point, whose spread
- * gives the standard error. */
+ * gives the standard error; with a target error, in adaptive rounds. */
 static vr_status path_sensors(vr_run *r, vr_rscene *rs, vr_sensor_state *ss, vr_error *err) {
   vr_pass c = {.rs = rs, .max_depth = rs->s->settings.max_depth, .state = ss};
   vr_render_result *res = r->res;
@@ -194,26 +278,34 @@ static vr_status path_sensors(vr_run *r, vr_rscene *rs, vr_sensor_state *ss, vr_
   }
   c.acc = &acc;
   ss->groups = groups;
-  st = vr_run_flow(r, &sensor_ops, &c, (long)(ss->npoints * (size_t)groups), "sensors", err);
+  uint32_t *per = NULL; /* adaptive: each point's samples per batch */
+  if (r->opt->target_error > 0)
+    st = adaptive_rounds(r, &c, ss, &per, err);
+  else
+    st = vr_run_flow(r, &sensor_ops, &c, (long)(ss->npoints * (size_t)groups), "sensors", err);
   if (!st) st = vr_ranks_sum_accum(r, &acc, RANKS_SENSORS, err);
   for (size_t k = 0; !st && k < ss->npoints; k++) {
+    /* Adaptive sums are over the point's own samples; else each batch is a mean. */
+    double pk = per ? (double)per[k] : 1.0, by = groups * pk;
     double sum = 0, sum2 = 0;
     for (int g = 0; g < groups; g++) {
-      double e = vr_atomic_get(&acc.sensor_lx[k * (size_t)groups + (size_t)g]);
+      double e = vr_atomic_get(&acc.sensor_lx[k * (size_t)groups + (size_t)g]) / pk;
       sum += e;
       sum2 += e * e;
     }
     double mean = sum / groups, var = fmax(0, (sum2 - groups * mean * mean) / (groups - 1));
     res->readings[k].illuminance_lx = mean;
     res->readings[k].stderr_lx = sqrt(var / groups);
-    set_parts(res->sky_horizontal_lx, &acc, k, groups, &res->readings[k]);
+    set_parts(res->sky_horizontal_lx, &acc, k, by, &res->readings[k]);
+    res->readings[k].paths = (uint64_t)(groups * pk * (per ? 1 : (ss->samples + groups - 1) / groups));
     for (int q = 0; q < VR_SENSOR_PATCHES; q++)
       res->sky_patch_lx[k * VR_SENSOR_PATCHES + (size_t)q] =
-          vr_atomic_get(&acc.sensor_patches[k * VR_SENSOR_PATCHES + (size_t)q]) / groups;
+          vr_atomic_get(&acc.sensor_patches[k * VR_SENSOR_PATCHES + (size_t)q]) / by;
     for (size_t b = 0; b < rs->nbins; b++)
       res->sensor_spectral[k * rs->nbins + b] =
-          vr_atomic_get(&acc.sensor_bins[k * rs->nbins + b]) / groups;
+          vr_atomic_get(&acc.sensor_bins[k * rs->nbins + b]) / by;
   }
+  free(per);
   vr_accum_destroy(&acc);
   return st;
 }
