@@ -252,7 +252,8 @@ vr_status vr_adaptive_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops *
     nactive = next;
     h = h_next;
   }
-  summarise(&ad, sum, o->target_error);
+  /* The summary is the last round's (summarised in the loop; nothing has
+   * changed since). */
   job->pixel_samples = ad.count;
   ad.count = NULL;
 out:
