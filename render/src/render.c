@@ -18,6 +18,7 @@
 #include "integrators/integrator.h"
 #include "integrators/sensors.h"
 #include "integrators/uv.h"
+#include "film/film_features.h"
 #include "vr/comm.h"
 #include "vr/models.h"
 #include "vr/fisheye.h"
@@ -77,6 +78,13 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   /* Adaptive sampling adds a pixel's half-B XYZ and the rounds' arrays
    * (adaptive.c: count, active, sums, num, den, err). */
   if (job.adaptive) r->film_bytes += vr_adaptive_bytes_per_pixel() * (size_t)W * (size_t)H;
+  if (opt->denoise) {
+    /* The second half's XYZ and the features' sums. */
+    job.halves = !job.adaptive;
+    if (!st) st = vr_accum_keep_halves(&acc, err);
+    if (!st) st = vr_accum_keep_features(&acc, err);
+    r->film_bytes += (size_t)W * (size_t)H * (VR_FEATURES + (job.adaptive ? 0 : 3)) * sizeof(double);
+  }
   res->film_bytes = r->film_bytes;
   if (!st) st = ig->render(&job, err);
   if (st) goto done;
@@ -107,6 +115,17 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   res->xyz = vr_accum_take_mean(&acc.xyz, px * 3, job.passes);
   res->spectral = fb ? vr_accum_take_mean(&acc.bins, px * fb, job.passes) : NULL;
   if (job.adaptive && (st = adaptive_film(res, &acc, &job, fb, err))) goto done;
+  if (opt->denoise) {
+    /* The features on every rank; the denoised image where the files are
+     * written. */
+    st = vr_film_features(res, &acc, job.spp, r->rank == 0, opt->threads, err);
+    if (st) goto done;
+    vr_pass_record *pd = r->rank == 0
+        ? vr_run_record(r, "denoise", true, "feature-guided non-local means for the PNG (%d x %d)",
+                        W, H)
+        : vr_run_record(r, "denoise", false, "done by rank 0, which writes the files");
+    if (pd) pd->seconds = res->denoise_seconds;
+  }
   if (job.add_film) job.add_film(job.state, res->xyz, res->spectral);
   if (s->camera.model == VR_CAM_FISHEYE) {
     /* The vertical illuminance at the lens and the glare probability from
@@ -341,6 +360,29 @@ static vr_status check_adaptive(const vr_scene *s, const vr_render_options *opt,
   return VR_OK;
 }
 
+/* What the denoiser needs: a camera pass by an integrator whose pixels are
+ * their own samples' means (as adaptive sampling), and two equal halves of
+ * samples. */
+static vr_status check_denoise(const vr_scene *s, const vr_render_options *opt,
+                               const vr_integrator_ops *ig, vr_error *err) {
+  if (!opt->denoise) return VR_OK;
+  const char *path = s->path ? s->path : "<scene>";
+  if (opt->no_camera || !s->camera.given)
+    return vr_error_set(err, VR_E_ARG, "%s: denoising filters the camera image, and this render "
+                        "has no camera pass", path);
+  if (!ig->adaptive)
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: integrator=%s cannot be denoised (its pixels are not their own "
+                        "samples' means, so two halves of them are not independent estimates); "
+                        "use path, photon or whitted", path, ig->name);
+  int spp = opt->spp > 0 ? opt->spp : s->settings.spp;
+  if (!(opt->target_error > 0 || opt->time_limit_s > 0) && (spp < 2 || spp % 2))
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: denoising takes a pixel's samples in two independent halves: spp=%d "
+                        "must be even and at least 2", path, spp);
+  return VR_OK;
+}
+
 vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_options *opt,
                           vr_render_result **out, vr_error *err) {
   *out = NULL;
@@ -373,6 +415,7 @@ vr_status vr_render_scene(const vr_scene *s, vr_matdb *db, const vr_render_optio
   const vr_integrator_ops *ig = vr_integrator_ops_of((size_t)s->settings.integrator);
   vr_status st = ig->check ? ig->check(s, opt, r.nranks, err) : VR_OK;
   if (!st) st = check_adaptive(s, opt, ig, err);
+  if (!st) st = check_denoise(s, opt, ig, err);
   if (!st) st = vr_rscene_create(s, db, opt, S, &r.rs, err);
   if (!st && opt->memory_budget) {
     /* Under a budget the resident memory is watched, from here: the
@@ -418,6 +461,8 @@ void vr_render_result_destroy(vr_render_result *r) {
   free(r->xyz);
   free(r->pixel_samples);
   free(r->pixel_variance);
+  free(r->features);
+  free(r->xyz_display);
   free(r->bin_nm);
   free(r->spectral);
   free(r->readings);

@@ -214,6 +214,12 @@ vr_status render_options_check(const vr_args *a, const vr_scene *s, vr_error *er
     if (vr_args_get(a, IMAGE_ONLY[i]))
       return vr_error_set(err, VR_E_ARG, "%s: --%s applies to the camera's image: %s", s->path,
                           IMAGE_ONLY[i], why);
+  if (s->sky.annual && vr_args_flag(a, "denoise"))
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: --denoise filters one render's image; an annual study makes none",
+                        s->path);
+  if (why && vr_args_flag(a, "denoise"))
+    return vr_error_set(err, VR_E_ARG, "%s: --denoise filters the camera's image: %s", s->path, why);
   if (s->sky.annual && vr_args_get(a, "target-error"))
     return vr_error_set(err, VR_E_ARG,
                         "%s: --target-error applies to one render's pixels and path sensors; an "

@@ -48,6 +48,7 @@ static const vr_option OPTIONS[] = {
     {"target-error", 0, "E", "adaptive sampling (integrators path, photon, whitted; and path sensors, by point): rounds that double a pixel's samples until its estimated relative standard error (from two independent halves of its samples, over its 3x3 neighbourhood) is at most E, e.g. 0.02 or 2%; the first round is two halves of the smallest multiple of spp that is at least 4; the EXR gains layers samples.N and variance.Y"},
     {"time-limit", 0, "SECONDS", "adaptive sampling: start no round that would end past SECONDS from the start of the render (predicted from the last round); alone, every pixel takes samples until then"},
     {"max-spp", 0, "N", "adaptive sampling: at most N samples a pixel (default 65536)"},
+    {"denoise", 0, NULL, "denoise the PNG (integrators path, photon, whitted): a feature-guided non-local-means filter on the albedo, normal and nearness the camera pass records, weighted by each pixel's noise from two independent halves of its samples (with a fixed spp, which must be even, two passes of spp/2); the EXRs and sensors stay the raw estimates, and the EXR gains layers albedo (R,G,B), normal (X,Y,Z) and nearness (V)"},
     {"seed", 0, "N", "random seed in [0, 2^64-1], overriding the scene's render seed= (same seed, same image)"},
     {"exposure", 0, "EV|auto", "PNG exposure in EV, overriding the camera line's exposure=; auto: the image's log-average luminance Ylog = exp(mean ln Y) over its lit pixels to mid grey 0.18 before the tone curve (PNG 141 with filmic, 118 with clip), EV = log2(18 cd/m2 / Ylog)"},
     {"set", 0, "NAME.state=S", "a material's tint state S in [0, 1], overriding the scene (repeat for several materials)"},
@@ -67,7 +68,7 @@ static const char USAGE[] =
     "SCENE.scn [-o PREFIX] [--outputs LIST] [--db FILE] [--subdomains S] [--memory-budget SIZE]\n"
     "                 [--cache DIR] [--threads P] [--image-space] [--send-batch N] [--send-credit N]\n"
     "                 [--resolution WxH] [--spp N] [--seed N] [--photons N] [--exposure EV|auto]\n"
-    "                 [--target-error E] [--time-limit SECONDS] [--max-spp N]\n"
+    "                 [--target-error E] [--time-limit SECONDS] [--max-spp N] [--denoise]\n"
     "                 [--set NAME.state=S]... [--stats FILE.json [--flow-profile]] [--tonemap filmic|clip|reinhard]\n"
     "                 [--falsecolour LO,HI] [--sensors-only] [--json] [--quiet]\n"
     "       vr-render --verify PREFIX";
@@ -444,9 +445,9 @@ static void digest_of(const char *path, const vr_render_options *o, const render
    * bins are summed over the ranks only when kept). */
   snprintf(opts, sizeof opts,
            "S=%d spp=%d photons=%ld image_space=%d no_camera=%d bins=%d target=%.17g "
-           "limit=%.17g max_spp=%d",
+           "limit=%.17g max_spp=%d denoise=%d",
            o->subdomains, o->spp, o->photons, o->image_space, o->no_camera,
-           !o->film_without_bins, o->target_error, o->time_limit_s, o->max_spp);
+           !o->film_without_bins, o->target_error, o->time_limit_s, o->max_spp, o->denoise);
   vr_sha256_update(&c, opts, strlen(opts));
   render_overrides_text(ov, more, sizeof more);
   vr_sha256_update(&c, more, strlen(more));
@@ -536,6 +537,7 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
   opt.subdomains = (int)subdomains;
   opt.threads = (int)threads;
   opt.image_space = vr_args_flag(a, "image-space");
+  opt.denoise = vr_args_flag(a, "denoise");
   opt.flow_profile = vr_args_flag(a, "flow-profile");
   opt.memory_budget = budget;
   opt.spp = (int)spp;

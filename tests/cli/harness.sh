@@ -40,3 +40,18 @@ refuse() {
     fails=$((fails+1))
   fi
 }
+
+# "annual_scene FILE" writes a small annual study: a ground plane, the
+# sun and the Perez sky of the Chicago weather file, one sensor, hours 9
+# to 15 (for tests of what an annual study refuses or writes).
+annual_scene() {
+  cat > "$1" <<EOF
+material ground lambert reflectance=0.2
+rect center=0,0,0 normal=0,0,1 size=10,10 material=ground
+light sun spectrum=D65
+sky perez weather=$VR_SOURCE_DIR/tests/data/weather/chicago.wea
+sensor top point position=0,0,0.001 normal=0,0,1
+annual hours=9,15
+render sensor_samples=64
+EOF
+}

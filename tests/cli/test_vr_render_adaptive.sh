@@ -79,15 +79,7 @@ refuse render-max-spp-below-first "$bin" "$tmp/floor.scn" -o "$tmp/x" --target-e
 refuse render-max-spp-alone "$bin" "$tmp/floor.scn" -o "$tmp/x" --max-spp 64
 refuse render-target-error-no-image "$bin" "$tmp/photon.scn" -o "$tmp/x" --sensors-only --target-error 0.02
 refuse render-time-limit-no-image "$bin" "$tmp/floor.scn" -o "$tmp/x" --sensors-only --time-limit 60
-cat > "$tmp/year.scn" <<EOF
-material ground lambert reflectance=0.2
-rect center=0,0,0 normal=0,0,1 size=10,10 material=ground
-light sun spectrum=D65
-sky perez weather=$VR_SOURCE_DIR/tests/data/weather/chicago.wea
-sensor top point position=0,0,0.001 normal=0,0,1
-annual hours=9,15
-render sensor_samples=64
-EOF
+annual_scene "$tmp/year.scn"
 refuse render-target-error-annual "$bin" "$tmp/year.scn" -o "$tmp/x" --target-error 0.02
 
 # Path sensors take rounds too: with --sensors-only, the sensor's rounds

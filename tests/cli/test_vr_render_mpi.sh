@@ -134,6 +134,23 @@ assert a["rounds"] >= 2 and a["spp_min"] < a["spp_max"], a
 assert all(a[k] == b[k] for k in ("rounds", "spp_min", "spp_max", "spp_mean")), (a, b)' \
   "$tmp/adapt1.json" "$tmp/adapt2.json"
 check "adaptive: the same rounds and samples on 2 ranks" test $? -eq 0
+# Denoising: the features are sums over the samples, summed over the ranks
+# as the film: 2 ranks on 8 sub-domains give the film and the feature
+# layers of one process.
+sed 's/^render .*/render integrator=path spp=4 depth=3 seed=5/' "$tmp/room.scn" > "$tmp/dn.scn"
+(cd "$tmp" && "$bin" dn.scn --threads 1 --denoise --resolution 64x48 --outputs exr,png -o dn1 --quiet)
+check "denoise: one process renders" test $? -eq 0
+(cd "$tmp" && timeout 300 "${mpi[@]}" -np 2 "$bin" dn.scn --subdomains 8 --threads 1 --denoise \
+   --resolution 64x48 --outputs exr,png -o dn2 --quiet)
+check "denoise: 2 ranks render" test $? -eq 0
+"$cmp" "$tmp/dn1.exr" "$tmp/dn2.exr" > /dev/null
+check "denoise: 2 ranks give the film of one process" test $? -eq 0
+for layer in albedo.R normal.X nearness.V; do
+  a=$("$(dirname "$cmp")/vr-test-exr-attrs" --channels "$tmp/dn1.exr" --values $layer | grep "^$layer [-0-9]")
+  b=$("$(dirname "$cmp")/vr-test-exr-attrs" --channels "$tmp/dn2.exr" --values $layer | grep "^$layer [-0-9]")
+  check "denoise: $layer the same on 2 ranks ($a)" test -n "$a" -a "$a" = "$b"
+done
+check "denoise: rank 0 writes the PNG" test -s "$tmp/dn2.png"
 # The ranks must agree on keeping the bins (their sums are collective):
 # different --outputs are refused like different options.
 (cd "$tmp" && timeout 120 "${mpi[@]}" -np 2 sh -c 'if [ "$OMPI_COMM_WORLD_RANK" = 0 ]; then exec "$0" "$@" --outputs exr; else exec "$0" "$@"; fi' \

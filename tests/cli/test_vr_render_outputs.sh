@@ -22,15 +22,7 @@ render integrator=path spp=2 sensor_samples=64
 EOF
 grep -v '^sensor' "$tmp/point.scn" > "$tmp/nosensor.scn"
 grep -v '^camera' "$tmp/point.scn" > "$tmp/nocamera.scn"
-cat > "$tmp/year.scn" <<EOF
-material ground lambert reflectance=0.2
-rect center=0,0,0 normal=0,0,1 size=10,10 material=ground
-light sun spectrum=D65
-sky perez weather=$src/tests/data/weather/chicago.wea
-sensor top point position=0,0,0.001 normal=0,0,1
-annual hours=9,15
-render sensor_samples=64
-EOF
+annual_scene "$tmp/year.scn"
 
 # The files of a folder, sorted, space-separated.
 files_in() { (cd "$1" && ls | sort | tr '\n' ' '); }

@@ -73,6 +73,14 @@ typedef struct vr_render_options {
   double target_error;
   double time_limit_s;
   int max_spp;
+  /* The display denoiser (vr/denoise.h; integrators path, whitted and
+   * photon): the camera pass also records each sample's albedo, normal and
+   * nearness, and keeps the XYZ of the second half of each pixel's samples
+   * apart (with a fixed spp, which must then be even, the samples are two
+   * passes of spp / 2, each a whole stratified set), and the result gains
+   * features and xyz_display.  The raw film (xyz, spectral) and the
+   * sensors are estimated as without it.  Default false. */
+  bool denoise;
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
   /* The camera's film keeps XYZ only, not its spectral bins: 3 doubles a
@@ -149,6 +157,8 @@ typedef struct vr_rank_stats {
   long long rss_start_bytes;  /* budget: all its resident memory then */
 } vr_rank_stats;
 
+enum { VR_RESULT_FEATURES = 7 };
+
 typedef struct vr_render_result {
   int width, height;
   double *xyz;            /* width*height*3, Y in cd/m² */
@@ -171,6 +181,15 @@ typedef struct vr_render_result {
     double error_p95;         /* the 95th percentile of the pixels' estimated relative error */
     char stop[96];            /* why the last round was the last */
   } adaptive;
+  /* Denoising (denoise): per pixel the means of the camera samples'
+   * features, albedo R G B (linear sRGB; white is 1), shading normal x y z
+   * and nearness 1 / (1 + t / 1 m) (t the distance from the camera; 0 for
+   * the sky), VR_RESULT_FEATURES floats;
+   * and the denoised XYZ the PNG shows (on the rank that writes the
+   * files, rank 0; NULL elsewhere).  NULL without denoise. */
+  float *features;
+  double *xyz_display;
+  double denoise_seconds;
   double exposure_ev;
   size_t nreadings;
   vr_sensor_reading *readings;

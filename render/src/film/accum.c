@@ -92,6 +92,7 @@ void vr_accum_destroy(vr_accum *a) {
   free(a->xyz);
   free(a->bins);
   free(a->half_xyz);
+  free(a->feat);
   free(a->sensor_lx);
   free(a->sensor_bins);
   free(a->sensor_parts);
@@ -147,6 +148,38 @@ vr_status vr_accum_keep_halves(vr_accum *a, vr_error *err) {
     return vr_error_set(err, VR_E_NOMEM, "film halves of %d x %d pixels: out of memory", a->width,
                         a->height);
   return VR_OK;
+}
+
+vr_status vr_accum_keep_features(vr_accum *a, vr_error *err) {
+  if (a->feat) return VR_OK;
+  a->feat = zeros((size_t)a->width * (size_t)a->height * VR_FEATURES);
+  if (!a->feat)
+    return vr_error_set(err, VR_E_NOMEM, "film features of %d x %d pixels: out of memory",
+                        a->width, a->height);
+  return VR_OK;
+}
+
+void vr_accum_features(vr_accum *a, uint32_t pixel, double w, int nwl, const double *wl,
+                       const double *albedo, const double n[3], double depth) {
+  if (!a->feat || !(w > 0)) return;
+  double num[3] = {0, 0, 0}, den[3] = {0, 0, 0};
+  for (int i = 0; i < nwl; i++) {
+    double c[3];
+    cmf(a, wl[i], c);
+    for (int k = 0; k < 3; k++) num[k] += c[k] * albedo[i], den[k] += c[k];
+  }
+  double f[VR_FEATURES] = {0};
+  for (int k = 0; k < 3; k++) {
+    f[VR_FEAT_ALBEDO + k] = den[k] > 0 ? num[k] / den[k] : 0.0;
+    f[VR_FEAT_NORMAL + k] = n[k];
+    f[VR_FEAT_ALBEDO2] += f[VR_FEAT_ALBEDO + k] * f[VR_FEAT_ALBEDO + k];
+    f[VR_FEAT_NORMAL2] += n[k] * n[k];
+  }
+  f[VR_FEAT_DEPTH] = depth;
+  f[VR_FEAT_DEPTH2] = depth * depth;
+  f[VR_FEAT_WEIGHT] = 1.0;
+  _Atomic uint64_t *cell = &a->feat[(size_t)pixel * VR_FEATURES];
+  for (int k = 0; k < VR_FEATURES; k++) vr_atomic_add(&cell[k], w * f[k]);
 }
 
 void vr_accum_pixel(vr_accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,

@@ -28,6 +28,10 @@ typedef struct vr_accum {
    * whole sums it gives two independent half estimates, whose difference
    * measures the pixel's error. */
   _Atomic uint64_t *half_xyz;
+  /* The denoiser's features (vr_accum_keep_features): per pixel
+   * VR_FEATURES sums over the camera samples' first non-delta vertex
+   * (VR_FEAT_*), weighted by the samples' filter weights; NULL otherwise. */
+  _Atomic uint64_t *feat;
   size_t npoints;             /* sensor points */
   int groups;                 /* batches for the standard error */
   _Atomic uint64_t *sensor_lx;  /* npoints*groups */
@@ -47,6 +51,15 @@ typedef struct vr_accum {
   double cmf_lo, cmf_step;
   int cmf_n;
 } vr_accum;
+
+/* A pixel's feature sums: the albedo's XYZ (relative to the equal-energy
+ * white: a white Lambertian surface is (1, 1, 1)), the shading normal,
+ * the distance from the camera, the weight they were summed with, and the
+ * sums of the squared albedo, normal and distance (for their variance). */
+enum {
+  VR_FEAT_ALBEDO = 0, VR_FEAT_NORMAL = 3, VR_FEAT_DEPTH = 6, VR_FEAT_WEIGHT = 7,
+  VR_FEAT_ALBEDO2 = 8, VR_FEAT_NORMAL2 = 9, VR_FEAT_DEPTH2 = 10, VR_FEATURES = 11
+};
 
 vr_status vr_accum_create(vr_accum *a, int width, int height, size_t nbins, double bin_lo,
                           double bin_step, size_t npoints, int groups, size_t ntexels,
@@ -71,7 +84,14 @@ void vr_accum_pixel_half(vr_accum *a, uint32_t pixel, bool second_half, int nwl,
                          const double *wl, const double *L, double wl_weight);
 /* Keeps the second half's XYZ apart from now on (adaptive sampling). */
 vr_status vr_accum_keep_halves(vr_accum *a, vr_error *err);
-/* Returns the illuminance (lx) it added. */
+/* Keeps the features of the camera samples from now on (the denoiser). */
+vr_status vr_accum_keep_features(vr_accum *a, vr_error *err);
+/* Adds one camera sample's features with weight w: the albedo at the nwl
+ * wavelengths (its XYZ is the CMF-weighted mean of those values, so a flat
+ * albedo gives exactly its value whatever the wavelengths), the unit
+ * normal n (zero where the sample saw no surface) and the distance. */
+void vr_accum_features(vr_accum *a, uint32_t pixel, double w, int nwl, const double *wl,
+                       const double *albedo, const double n[3], double depth);
 /* Adds lx to the illuminance point received from sky patch (or the ground). */
 void vr_accum_sensor_patch_lx(vr_accum *a, uint32_t point, int patch, double lx);
 double vr_accum_sensor(vr_accum *a, uint32_t point, uint32_t sample, int nwl, const double *wl,

@@ -195,18 +195,33 @@ static void rename_in_message(vr_error *err, const vr_film_staged *g) {
 
 /* The RGB EXR; after adaptive sampling with two more layers: each pixel's
  * samples (samples.N, uint) and the variance of its mean luminance
- * (variance.Y, (cd/m2)^2, float). */
+ * (variance.Y, (cd/m2)^2, float); with the denoiser's features, the layers
+ * albedo (R, G, B), normal (X, Y, Z) and nearness (V). */
+static const char *const FEATURE_CHANNELS[VR_RESULT_FEATURES] = {
+    "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "nearness.V"};
+
 static vr_status write_exr(const vr_render_result *r, const char *path, const vr_image *rgb,
                            const vr_exr_colour *colour, vr_error *err) {
-  if (!r->pixel_samples || !r->pixel_variance)
-    return vr_image_write_exr_with(path, rgb, colour, err);
-  size_t px = (size_t)r->width * (size_t)r->height;
-  float *var = malloc((px ? px : 1) * sizeof *var);
-  if (!var) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  for (size_t p = 0; p < px; p++) var[p] = (float)r->pixel_variance[p];
-  const vr_exr_channel extra[2] = {{"samples.N", 1, r->pixel_samples}, {"variance.Y", 0, var}};
-  vr_status st = vr_image_write_exr_channels(path, rgb, colour, extra, 2, err);
-  free(var);
+  bool adaptive = r->pixel_samples && r->pixel_variance;
+  if (!adaptive && !r->features) return vr_image_write_exr_with(path, rgb, colour, err);
+  size_t px = (size_t)r->width * (size_t)r->height, n = 0;
+  size_t planes = (adaptive ? 1 : 0) + (r->features ? VR_RESULT_FEATURES : 0);
+  float *buf = malloc((px ? px : 1) * planes * sizeof *buf);
+  if (!buf) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  vr_exr_channel extra[2 + VR_RESULT_FEATURES];
+  float *plane = buf;
+  if (adaptive) {
+    for (size_t p = 0; p < px; p++) plane[p] = (float)r->pixel_variance[p];
+    extra[n++] = (vr_exr_channel){"samples.N", 1, r->pixel_samples};
+    extra[n++] = (vr_exr_channel){"variance.Y", 0, plane};
+    plane += px;
+  }
+  for (int k = 0; r->features && k < VR_RESULT_FEATURES; k++, plane += px) {
+    for (size_t p = 0; p < px; p++) plane[p] = r->features[p * VR_RESULT_FEATURES + (size_t)k];
+    extra[n++] = (vr_exr_channel){FEATURE_CHANNELS[k], 0, plane};
+  }
+  vr_status st = vr_image_write_exr_channels(path, rgb, colour, extra, n, err);
+  free(buf);
   return st;
 }
 
@@ -222,7 +237,15 @@ static vr_status make_images(const vr_render_result *r, vr_tonemap tm, vr_image 
     const double *xyz = &r->xyz[3 * p];
     double lin[3], disp[3];
     vr_xyz_to_srgb_linear(xyz, lin);
-    if (png) vr_film_display(lin, xyz[1], r->exposure_ev, tm, disp);
+    if (png && r->xyz_display) {
+      /* The PNG shows the denoised image, the EXRs the film. */
+      const double *d = &r->xyz_display[3 * p];
+      double dl[3];
+      vr_xyz_to_srgb_linear(d, dl);
+      vr_film_display(dl, d[1], r->exposure_ev, tm, disp);
+    } else if (png) {
+      vr_film_display(lin, xyz[1], r->exposure_ev, tm, disp);
+    }
     for (int c = 0; c < 3; c++) {
       if (rgb) rgb->data[3 * p + (size_t)c] = (float)lin[c];
       if (png) png->data[3 * p + (size_t)c] = (float)vr_srgb_encode(disp[c]);

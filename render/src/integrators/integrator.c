@@ -46,7 +46,25 @@ vr_status vr_integrator_camera(vr_camera_job *job, vr_pass *c, const vr_flow_ops
                                vr_error *err) {
   if (job->adaptive) return vr_adaptive_camera(job, c, ops, err);
   double t0 = vr_run_now();
-  vr_status st = vr_camera_pass(job->run, c, ops, job->W, job->H, err);
+  vr_status st;
+  if (job->halves) {
+    /* Two passes of spp / 2, each a whole block of the sampler
+     * (resolve.c), the second's XYZ kept apart: two independent estimates
+     * of the pixel, whose difference the denoiser reads as its noise. */
+    int spp = c->spp;
+    c->weight_spp = spp;
+    c->spp = spp / 2;
+    st = vr_camera_pass(job->run, c, ops, job->W, job->H, err);
+    c->sample_offset = spp / 2;
+    c->second_half = true;
+    if (!st) st = vr_camera_pass(job->run, c, ops, job->W, job->H, err);
+    c->spp = spp;
+    c->weight_spp = 0;
+    c->sample_offset = 0;
+    c->second_half = false;
+  } else {
+    st = vr_camera_pass(job->run, c, ops, job->W, job->H, err);
+  }
   job->seconds += vr_run_now() - t0;
   return st;
 }

@@ -33,6 +33,8 @@ typedef struct vr_camera_job {
    * rounds (vr_integrator_camera); the film holds sums, and pixel_samples
    * (which the job then owns) each pixel's count. */
   bool adaptive;
+  /* Denoising at a fixed spp: the camera pass in two halves (spp even). */
+  bool halves;
   uint32_t *pixel_samples;
   struct vr_adaptive_summary adaptive_summary;
   double seconds;             /* the camera passes' time */

@@ -69,6 +69,9 @@ struct vr_pass {
    * whether the pass is the second half of a round (its XYZ also kept
    * apart). */
   const uint8_t *active;
+  /* A sample weighs 1 / weight_spp where it is not 0, else 1 / spp (a
+   * denoised render's halves: passes of spp / 2 making an image of spp). */
+  int weight_spp;
   bool sum_samples;
   bool second_half;
   /* Wavelengths every path of the pass shares (an SPPM iteration's), or NULL. */

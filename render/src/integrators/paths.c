@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "integrators/features.h"
 #include "integrators/pass.h"
 #include "vr/filter.h"
 #include "vr/vec3.h"
@@ -312,6 +313,7 @@ void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit
     for (int k = 0; k < p.nwl; k++) L[k] *= p.beta[k];
     p.source = r->dir[2] >= 0 ? VR_SRC_SKY : VR_SRC_GROUND;
     p.patch = (uint8_t)vr_sky_patch_of(r->dir);
+    if (vr_features_wanted(c, &p)) vr_features_escape(c, &p);
     vr_path_deliver(c, &p, L);
     return;
   }
@@ -330,6 +332,7 @@ void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit
   unsigned lobes = vr_bsdf_lobes(se.b);
   bool diffuse = lobes & VR_LOBE_DIFFUSE;
   bool nondelta = lobes & (VR_LOBE_DIFFUSE | VR_LOBE_GLOSSY_R | VR_LOBE_GLOSSY_T);
+  if (nondelta && vr_features_wanted(c, &p)) vr_features_hit(c, &p, hit, &se);
   if (nondelta && p.target == VR_TARGET_SENSOR && !vr_bsdf_is_klems(se.b)) {
     /* This vertex reflects what reaches the sensor from here on.  A BSDF
      * XML window does not: light it transmits keeps its component (the sky
@@ -425,7 +428,7 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
         memcpy(p.wl, c->fixed_wl, sizeof p.wl); /* the iteration's, shared with the photons */
       else
         vr_wavelengths(rs, &key, (uint32_t)c->spp, p.wl);
-      p.weight = c->sum_samples ? 1.0 : 1.0 / c->spp;
+      p.weight = c->sum_samples ? 1.0 : 1.0 / (c->weight_spp > 0 ? c->weight_spp : c->spp);
       for (int k = 0; k < p.nwl; k++) p.beta[k] = 1.0;
       /* The pixel filter places the sample and weighs it (vr/filter.h). */
       double fdx, fdy;

@@ -33,8 +33,9 @@ enum {
   VR_PF_OUTSIDE_LAST = 64,   /* ... and the last one was an exterior surface */
   VR_PF_FAR_DIRECT = 128,    /* a far source's usual photon, not yet scattered (portals) */
   VR_PF_PORTAL_PATH = 256,   /* a portal photon that has not yet reached its portal */
-  VR_PF_VISIBLE_SET = 512    /* SPPM: the pixel's visible point is set (a pbr surface's path
+  VR_PF_VISIBLE_SET = 512,   /* SPPM: the pixel's visible point is set (a pbr surface's path
                                 went on by its specular part): later vertices are traced */
+  VR_PF_FEATURED = 1024      /* a camera path recorded the denoiser's features */
 };
 
 /* Where the random-number streams of each kind of path begin

@@ -129,6 +129,10 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
   rs->nwl = set->wavelengths;
   /* The sampler spreads its points over a pixel's samples (vr/rng.h). */
   int spp = opt && opt->spp > 0 ? opt->spp : set->spp;
+  /* A denoised render of fixed spp takes its samples in two halves, each
+   * a whole block of the sampler (vr_integrator_camera). */
+  if (opt && opt->denoise && !(opt->target_error > 0 || opt->time_limit_s > 0) && spp % 2 == 0)
+    spp /= 2;
   rs->seed = vr_rng_seed_make(set->seed, set->sampler, spp > 0 ? (uint32_t)spp : 1u);
   rs->film_lo = set->film_min_nm;
   rs->film_step = set->film_step_nm;
