@@ -28,7 +28,9 @@
  *     film's divided by sqrt(8), and the columns beside the edge stay on
  *     their side;
  *   - the raw film is the same as without --denoise in expectation: its
- *     mean over each half within 6 standard errors of rho E / pi. */
+ *     mean over each half within 6 standard errors of rho E / pi;
+ *   - a coloured paint has the same albedo at every pixel (taken at fixed
+ *     wavelengths, not at each path's random ones). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -289,6 +291,35 @@ static void test_render_floor(void **state) {
   vr_scene_destroy(sc);
 }
 
+/* A coloured floor (reflectance rising from 0.1 at 400 nm to 0.9 at 700
+ * nm): its albedo is the same at every pixel, whatever wavelengths each
+ * sample's path carried (the albedo is taken at fixed wavelengths), and
+ * red, not grey. */
+static void test_albedo_not_wavelength_noise(void **state) {
+  (void)state;
+  static const char scn[] =
+      "material paint lambert reflectance=[400:0.1,700:0.9]\n"
+      "rect center=0,0,0 normal=0,0,1 size=2000,2000 material=paint\n"
+      "sky cie type=5 illuminance=1000 ground=0\n"
+      "camera pinhole from=0,0,1 to=0,0.5,0 up=0,0,1 fov=60 resolution=16x12\n"
+      "render integrator=path depth=2 spp=2 seed=3\n";
+  vr_scene *sc = parse_text(scn, "paint.scn");
+  vr_render_options o;
+  vr_render_options_default(&o);
+  o.denoise = true;
+  vr_render_result *r = render_scene_opt(sc, NULL, &o);
+  const float *f0 = r->features;
+  for (size_t p = 1; p < (size_t)r->width * (size_t)r->height; p++)
+    for (int c = 0; c < 3; c++)
+      if (fabs(r->features[p * VR_RESULT_FEATURES + (size_t)c] - f0[c]) > 1e-6)
+        fail_msg("pixel %zu: albedo channel %d %g, pixel 0 %g: the albedo must not carry the "
+                 "wavelengths' noise", p, c, r->features[p * VR_RESULT_FEATURES + (size_t)c], f0[c]);
+  print_message("    coloured floor: albedo (%.4f, %.4f, %.4f) at every pixel\n", f0[0], f0[1], f0[2]);
+  assert_true(f0[0] > f0[2] + 0.2);
+  vr_render_result_destroy(r);
+  vr_scene_destroy(sc);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_noiseless_unchanged),
@@ -296,6 +327,7 @@ int main(void) {
       cmocka_unit_test(test_colour_edge_kept),
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_render_floor),
+      cmocka_unit_test(test_albedo_not_wavelength_noise),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
