@@ -375,6 +375,11 @@ static vr_status check_denoise(const vr_scene *s, const vr_render_options *opt,
                         "%s: integrator=%s cannot be denoised (its pixels are not their own "
                         "samples' means, so two halves of them are not independent estimates); "
                         "use path, photon or whitted", path, ig->name);
+  if (opt->flow_profile)
+    return vr_error_set(err, VR_E_ARG,
+                        "%s: a flow profile records each pass of the ray flow, and a denoised "
+                        "render's camera pass is two (its halves): profile a render without "
+                        "--denoise", path);
   int spp = opt->spp > 0 ? opt->spp : s->settings.spp;
   if (!(opt->target_error > 0 || opt->time_limit_s > 0) && (spp < 2 || spp % 2))
     return vr_error_set(err, VR_E_ARG,

@@ -85,6 +85,8 @@ sed 's/integrator=path/integrator=bdpt/' "$tmp/floor.scn" > "$tmp/box.scn"
 refuse render-denoise-integrator "$bin" "$tmp/box.scn" -o "$tmp/x" --denoise
 refuse render-denoise-odd-spp "$bin" "$tmp/floor.scn" -o "$tmp/x" --denoise --spp 5
 refuse render-denoise-no-image "$bin" "$tmp/floor.scn" -o "$tmp/x" --denoise --sensors-only
+refuse render-denoise-flow-profile "$bin" "$tmp/floor.scn" -o "$tmp/x" --denoise --stats "$tmp/x.json" \
+  --flow-profile --threads 1
 annual_scene "$tmp/year.scn"
 refuse render-denoise-annual "$bin" "$tmp/year.scn" -o "$tmp/x" --denoise
 check "nothing written by the refused runs" sh -c "! ls '$tmp'/x.* 2>/dev/null | grep -q ."

@@ -79,7 +79,10 @@ typedef struct vr_render_options {
    * apart (with a fixed spp, which must then be even, the samples are two
    * passes of spp / 2, each a whole stratified set), and the result gains
    * features and xyz_display.  The raw film (xyz, spectral) and the
-   * sensors are estimated as without it.  Default false. */
+   * sensors are the same unbiased estimates, unfiltered (with a fixed spp
+   * their random numbers are not those of a render without it: the
+   * sampler's blocks are spp / 2).  Not with flow_profile (the halves are
+   * two camera passes).  Default false. */
   bool denoise;
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
