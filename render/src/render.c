@@ -118,8 +118,10 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   if (opt->denoise) {
     /* The features on every rank; the denoised image where the files are
      * written. */
+    double t0 = vr_run_now();
     st = vr_film_features(res, &acc, job.spp, r->rank == 0, opt->threads, err);
     if (st) goto done;
+    res->denoise_seconds = vr_run_now() - t0;
     vr_pass_record *pd = r->rank == 0
         ? vr_run_record(r, "denoise", true, "feature-guided non-local means for the PNG (%d x %d)",
                         W, H)

@@ -4,17 +4,10 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "film/film_features.h"
 #include "vr/colour.h"
 #include "vr/denoise.h"
-
-static double run_clock(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 vr_status vr_film_features(vr_render_result *res, const vr_accum *acc, int spp, bool display,
                            int threads, vr_error *err) {
@@ -76,10 +69,8 @@ vr_status vr_film_features(vr_render_result *res, const vr_accum *acc, int spp, 
       st = vr_error_set(err, VR_E_NOMEM, "denoised image: out of memory");
       goto out;
     }
-    double t0 = run_clock();
     vr_denoise_params dp = {.threads = threads};
     st = vr_denoise(res->width, res->height, res->xyz, b, feat, fvar, &dp, res->xyz_display, err);
-    res->denoise_seconds = run_clock() - t0;
   }
 out:
   free(feat);

@@ -7,8 +7,8 @@
 #include "vr/render.h"
 
 /* Fills res->features from acc's feature sums (summed over the ranks), and,
- * when display, res->xyz_display by vr_denoise on threads threads (its
- * seconds in res->denoise_seconds).  res->xyz must hold the film's means;
+ * when display, res->xyz_display by vr_denoise on threads threads.
+ * res->xyz must hold the film's means;
  * a pixel's samples are res->pixel_samples[p] when set, else spp; the
  * second half's mean is half_scale times acc->half_xyz (2 for a film of
  * means, 2 / n for an adaptive film of sums). */
