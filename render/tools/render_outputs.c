@@ -103,6 +103,8 @@ vr_status render_outputs_check(const vr_scene *s, const char *prefix, const char
   vr_out_guard_init(g);
   vr_out_guard_input(g, s->path, "the scene");
   if (s->sky.weather_path) vr_out_guard_input(g, s->sky.weather_path, "the weather file");
+  if (s->annual.occupancy_path)
+    vr_out_guard_input(g, s->annual.occupancy_path, "the occupancy schedule");
   for (size_t i = 0; i < s->nsensors; i++)
     if (s->sensors[i].pts_path) vr_out_guard_input(g, s->sensors[i].pts_path, "a sensor points file");
   for (size_t i = 0; i < s->nlights; i++)

@@ -94,8 +94,10 @@ static const char ABOUT[] =
     "Every output is checked before any work: none may replace an input of the run (the scene,\n"
     "its meshes, IES and weather files, the database), and its folder must exist.\n"
     "A scene whose sky is a whole weather file (sky perez weather=FILE, no date) is an annual\n"
-    "study instead: PREFIX.annual.csv (DA, UDI, direct-sun hours per point) and\n"
-    "PREFIX.annual-hourly.csv (every occupied hour), with their manifest; sDA and ASE on stdout.\n"
+    "study instead: PREFIX.annual.csv (DA, UDI, direct-sun hours per point; with\n"
+    "'annual en17037=yes' EN 17037's daylight hours and daylight factor) and\n"
+    "PREFIX.annual-hourly.csv (every occupied hour: 'annual hours=' or 'occupancy=FILE'), with\n"
+    "their manifest; sDA, ASE and the EN 17037 levels on stdout.\n"
     "Under mpirun (mpirun -np N vr-render ...) the ranks share the sub-domains and pass rays\n"
     "to each other; rank 0 prints and writes the outputs.";
 
@@ -375,11 +377,16 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
                         const char *prefix, int rank, ui *u, vr_error *err) {
   const vr_scene_annual *sa = &scene->annual;
   char line[8192];
+  char occupied[4200];
+  if (sa->occupancy_path) snprintf(occupied, sizeof occupied, "occupied hours from %s", sa->occupancy_path);
+  else snprintf(occupied, sizeof occupied, "occupied hours %g-%g h local standard time", sa->from_h, sa->to_h);
   snprintf(line, sizeof line,
-           "annual study: every record of %s, occupied hours %g-%g h local standard time, by "
-           "daylight coefficients (145 sky patches and the ground, one render per sun patch%s)",
-           scene->sky.weather_path, sa->from_h, sa->to_h,
-           sa->glass >= 0 ? ", for each tint state of the glass" : "");
+           "annual study: every record of %s, %s, by daylight coefficients (145 sky patches and "
+           "the ground, one render per sun patch%s)%s",
+           scene->sky.weather_path, occupied,
+           sa->glass >= 0 ? ", for each tint state of the glass" : "",
+           sa->en17037 ? "; EN 17037 over the year's daylight hours, one render under the CIE "
+                         "overcast sky" : "");
   ui_log(u, line);
   vr_annual_result *res = NULL;
   vr_status st = vr_annual_run(scene, db, opt, &res, err);
@@ -413,6 +420,31 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
            a->workplane >= 0 ? scene->sensors[a->workplane].name
                              : vr_scene_has_grid(scene) ? "every grid" : "every sensor (no grid)",
            res->workplane_points, res->workplane_points == 1 ? "" : "s");
+    if (res->en17037.run) {
+      const vr_en17037 *e = &res->en17037;
+      printf("EN 17037 %zu daylight hours (the half of the year with the most global horizontal "
+             "light); E_v,d,med %.0f lx (%s)\n",
+             e->daylight_hours, e->edmed_lx, e->edmed_given ? "edmed=" : "their median in the weather file");
+      for (int m = 0; m < 2; m++) {
+        const double *tg = m ? e->m1_target : e->m2_target, *mn = m ? e->m1_minimum : e->m2_minimum;
+        int level = m ? e->m1_level : e->m2_level;
+        printf("EN 17037 method %d (%s): %s;", m ? 1 : 2,
+               m ? "daylight factor, CIE overcast sky" : "illuminance over 50 % of the daylight hours",
+               level < 0 ? "no level met" : VR_EN17037_LEVEL_NAME[level]);
+        for (int l = 0; l < VR_EN17037_LEVELS; l++) {
+          double ET = VR_EN17037_LX[VR_EN17037_TARGET[l]], ETM = VR_EN17037_LX[VR_EN17037_MINIMUM[l]];
+          if (m)
+            printf(" %s D>=%.2f%% on %.1f %% (50 %% needed), D>=%.2f%% on %.1f %% (95 %%)%s",
+                   VR_EN17037_LEVEL_NAME[l], 100 * ET / e->edmed_lx, 100 * tg[l],
+                   100 * ETM / e->edmed_lx, 100 * mn[l], l + 1 < VR_EN17037_LEVELS ? ";" : "");
+          else
+            printf(" %s %g lx on %.1f %% (50 %% needed), %g lx on %.1f %% (95 %%)%s",
+                   VR_EN17037_LEVEL_NAME[l], ET, 100 * tg[l], ETM, 100 * mn[l],
+                   l + 1 < VR_EN17037_LEVELS ? ";" : "");
+        }
+        printf("\n");
+      }
+    }
     for (size_t p = 0; p < res->npoints; p++) {
       const vr_annual_point *pt = &res->points[p];
       printf("point    %s (%d, %d)  DA %.1f %%  UDI %.1f / %.1f / %.1f %%  direct sun %.0f h  "
@@ -420,6 +452,12 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
              pt->sensor ? pt->sensor : "", pt->i, pt->j, 100 * pt->da, 100 * pt->udi_below,
              100 * pt->udi_useful, 100 * pt->udi_above, pt->direct_hours, pt->glare_hours,
              pt->mean_lx, pt->workplane ? "" : "  (not on the work plane)");
+      if (res->en17037.run)
+        printf("point    %s (%d, %d)  EN 17037: daylight hours at 100/300/500/750 lx %.1f / %.1f / "
+               "%.1f / %.1f %%  DF %.2f %%\n",
+               pt->sensor ? pt->sensor : "", pt->i, pt->j, 100 * pt->en17037_share[0],
+               100 * pt->en17037_share[1], 100 * pt->en17037_share[2], 100 * pt->en17037_share[3],
+               pt->df_pct);
     }
     printf("wrote    %s.annual.csv %s.annual-hourly.csv %s.manifest.json\n", prefix, prefix,
            prefix);

@@ -41,6 +41,7 @@
 #include "vr/skypatch.h"
 #include "vr/sun.h"
 #include "vr/weather.h"
+#include "annual_test_util.h"
 
 #define DEG (M_PI / 180)
 #define WEA VR_TEST_DATA "/weather/chicago.wea"
@@ -91,19 +92,6 @@ static vr_render_result *run_hour(const char *text, vr_matdb *db) {
   vr_render_result *r = render_scene_with(s, db, 1, 2, true, false);
   vr_scene_destroy(s);
   return r;
-}
-
-/* The sun's altitude at the centre of a .wea record's hour (local
- * standard time, the year 2021 as the renderer takes it). */
-static double altitude_of(const vr_weather *w, const vr_weather_record *r) {
-  vr_sun_site site;
-  vr_sun_site_default(&site, w->latitude_deg, w->longitude_deg);
-  vr_sun_position p;
-  assert_int_equal(vr_sun_position_local(&site, 2021, r->month, r->day,
-                                         30.0 * (r->start_h + r->end_h), w->timezone_h, &p, NULL,
-                                         NULL),
-                   VR_OK);
-  return p.altitude_deg;
 }
 
 static void unobstructed_point(void **state) {

@@ -45,7 +45,9 @@
  *
  * Metrics (IES LM-83-12 for sDA and ASE; Nabil & Mardaljevic 2005 for UDI;
  * Reinhart & Walkenhorst 2001 for DA), over the occupied hours (records
- * whose interval centre lies in [from, to) local standard time, every day):
+ * whose interval centre lies in [from, to) local standard time, every day,
+ * or those an occupancy schedule marks: annual occupancy=FILE, a Daysim
+ * occupancy file or one 0/1 per record):
  *   DA       share of occupied hours with E >= da_lx (300 lx);
  *   sDA      share of the work plane's points whose DA >= sda_share (50 %):
  *            the grid named workplane=, else every grid sensor's points,
@@ -59,7 +61,9 @@
  *   glare    occupied hours in which DGPs = 6.22e-5 E + 0.184 (Wienold
  *            2009) of a point's illuminance reaches 0.35, the threshold of
  *            perceptible glare: meaningful where the sensor faces a view
- *            at eye height (E is then the vertical illuminance at the eye). */
+ *            at eye height (E is then the vertical illuminance at the eye);
+ *   EN 17037 (annual en17037=yes) over the year's daylight hours and by
+ *            daylight factor: see vr_en17037 below. */
 #ifndef VR_ANNUAL_H
 #define VR_ANNUAL_H
 
@@ -85,7 +89,48 @@ typedef struct vr_annual_point {
                                 glare) of the point's illuminance: for points facing a view */
   double mean_lx;            /* over the occupied hours */
   bool workplane;            /* one of the work plane's points (vr_scene_annual.workplane) */
+  /* EN 17037 (en17037=yes; NAN otherwise): the share of the year's
+   * daylight hours in which the point reaches each of VR_EN17037_LX, and
+   * its daylight factor (%) under the CIE standard overcast sky. */
+  double en17037_share[4];
+  double df_pct;
 } vr_annual_point;
+
+/* EN 17037:2018 daylight provision for vertical and inclined openings
+ * (Table A.1): at each level (minimum, medium, high) a target illuminance
+ * E_T over 50 % of the reference plane and a minimum target illuminance
+ * E_TM over 95 % of it, each for at least 50 % of the daylight hours:
+ *   minimum 300 / 100 lx, medium 500 / 300 lx, high 750 / 500 lx.
+ * The daylight hours are the half of the year's records with the most
+ * daylight, ranked by global horizontal illuminance (as Honeybee's
+ * epw-to-daylight-hours ranks them).  Method 2 counts each point's hours;
+ * method 1 compares each point's daylight factor D with D_T = 100 E_T /
+ * E_v,d,med and D_TM = 100 E_TM / E_v,d,med (%), E_v,d,med the median
+ * diffuse horizontal illuminance over the daylight hours. */
+#define VR_EN17037_LEVELS 3
+extern const double VR_EN17037_LX[4];          /* 100, 300, 500, 750 */
+extern const int VR_EN17037_TARGET[VR_EN17037_LEVELS];  /* index into VR_EN17037_LX: 1, 2, 3 */
+extern const int VR_EN17037_MINIMUM[VR_EN17037_LEVELS]; /* 0, 1, 2 */
+extern const char *const VR_EN17037_LEVEL_NAME[VR_EN17037_LEVELS];
+
+typedef struct vr_en17037 {
+  bool run;
+  size_t daylight_hours;       /* half the weather file's records */
+  double edmed_lx;             /* E_v,d,med used by method 1 */
+  bool edmed_given;            /* from edmed= (else the weather file's median) */
+  /* Shares of the work plane's points meeting each level's target and
+   * minimum target: by illuminance hours (method 2) and by daylight factor
+   * (method 1). */
+  double m2_target[VR_EN17037_LEVELS], m2_minimum[VR_EN17037_LEVELS];
+  double m1_target[VR_EN17037_LEVELS], m1_minimum[VR_EN17037_LEVELS];
+  int m2_level, m1_level;      /* the highest level met, 0 minimum .. 2 high; -1 none */
+} vr_en17037;
+
+/* The assessment from the points' en17037_share and df_pct, over the points
+ * marked workplane; fills every field of *e but run, daylight_hours and
+ * edmed_given. */
+void vr_en17037_assess(const struct vr_annual_point *pts, size_t npoints, double edmed_lx,
+                       vr_en17037 *e);
 
 typedef enum vr_annual_glass {
   VR_ANNUAL_NO_GLASS = 0, VR_ANNUAL_ELECTROCHROMIC, VR_ANNUAL_PHOTOCHROMIC
@@ -108,6 +153,7 @@ typedef struct vr_annual_result {
   size_t extrapolated_hours; /* photochromic hours whose UV (at some texel) or
                                 temperature lay outside the glass's fitted
                                 range: evaluated as extrapolate=yes asked */
+  vr_en17037 en17037;        /* en17037=yes */
   double seconds;            /* all renders and the year's sums */
   /* Hour by hour (occupied hours, in file order): the illuminance of every
    * point, occupied_hours x npoints, lx; the weather file's line; the

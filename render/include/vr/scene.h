@@ -400,6 +400,16 @@ typedef struct vr_scene_annual {
    * (workplane=NAME), or -1: every grid and points-file sensor, whatever
    * its orientation (every sensor in a scene without them). */
   int workplane;
+  /* occupancy=FILE: the occupied hours from a schedule (a Daysim
+   * month,day,time,occupancy file or one 0/1 per weather record), the
+   * path resolved against the scene's folder; NULL: the hours= window. */
+  char *occupancy_path;
+  /* en17037=yes: EN 17037:2018 daylight provision over the work plane, by
+   * illuminance over the year's daylight hours (method 2) and by daylight
+   * factor (method 1) against E_v,d,med: edmed= (lx, a national annex's
+   * Table A.3 value), NAN: the median from the weather file. */
+  bool en17037;
+  double edmed_lx;
   vr_scene_loc loc;
 } vr_scene_annual;
 

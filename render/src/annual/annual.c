@@ -184,13 +184,16 @@ static vr_status glass_setup(const vr_scene *s, struct vr_matdb *db, vr_annual_r
   return VR_OK;
 }
 
-/* One occupied record, ready for the sums. */
+/* One record of the weather file, ready for the sums. */
 typedef struct vr_annual_hour {
   const vr_weather_record *r;
+  bool occ;                 /* an occupied hour */
+  bool dlh;                 /* one of EN 17037's daylight hours (en17037=yes) */
   bool daylit;
   int ks;                   /* the sun's patch, -1 without direct sun */
   double sun[3], centre[3]; /* the true sun and its patch centre */
   double Edn;               /* direct normal illuminance, lx */
+  double Edh, Egh;          /* diffuse and global horizontal illuminance, lx */
   double L[NPATCH];         /* patch and ground luminances, cd/m2 */
 } vr_annual_hour;
 
@@ -266,26 +269,34 @@ static vr_status pc_state(const vr_annual_hour *h, const vr_uv_set *u, const vr_
   return VR_OK;
 }
 
-/* The occupied records: the sun, its patch and the Perez sky of each.  A
- * daylit record with a missing irradiance is an error naming its line. */
-static vr_status read_hours(const vr_scene *s, const vr_weather *w, vr_annual_result *res,
-                            vr_annual_hour *hours, vr_annual_job *j, vr_error *err) {
-  size_t n = 0;
+/* Every record: occupied or not (the schedule occ, else the hours=
+ * window), and for those the study needs (occupied; with EN 17037 every
+ * one with the sun up, to rank the daylight hours) the sun, its patch and
+ * the Perez sky.  A needed daylit record with a missing irradiance is an
+ * error naming its line. */
+static vr_status read_hours(const vr_scene *s, const vr_weather *w, const bool *occ,
+                            vr_annual_result *res, vr_annual_hour *hours, vr_annual_job *j,
+                            vr_error *err) {
+  bool en = res->spec.en17037;
+  size_t nocc = 0;
   for (size_t i = 0; i < w->nrecords; i++) {
     const vr_weather_record *r = &w->records[i];
-    if (!occupied(r, &res->spec)) continue;
-    vr_annual_hour *h = &hours[n++];
+    vr_annual_hour *h = &hours[i];
     memset(h, 0, sizeof *h);
     h->r = r;
     h->ks = -1;
+    h->occ = occ ? occ[i] : occupied(r, &res->spec);
+    nocc += h->occ;
+    if (!h->occ && !en) continue;
     double alt;
     if (!sun_at(w, r, h->sun, &alt) || alt <= 0) continue;
     if (isnan(r->direct_normal_w_m2) || isnan(r->diffuse_horizontal_w_m2))
       return vr_error_set(err, VR_E_PARSE,
-                          "%s:%ld: the sun is up in this occupied hour but its %s irradiance is "
-                          "missing (an annual study needs every daylit hour)",
-                          w->path, r->line,
-                          isnan(r->direct_normal_w_m2) ? "direct normal" : "diffuse horizontal");
+                          "%s:%ld: the sun is up in this %s hour but its %s irradiance is "
+                          "missing (an annual study needs every daylit hour%s)",
+                          w->path, r->line, h->occ ? "occupied" : "unoccupied",
+                          isnan(r->direct_normal_w_m2) ? "direct normal" : "diffuse horizontal",
+                          h->occ ? "" : "; EN 17037 ranks every hour of the year");
     if (!(r->diffuse_horizontal_w_m2 > 0)) continue; /* Perez needs diffuse light: night, or none */
     vr_perez_input in = {90 - alt, r->direct_normal_w_m2, r->diffuse_horizontal_w_m2,
                          r->dew_point_c, vr_weather_day_of_year(r)};
@@ -294,65 +305,96 @@ static vr_status read_hours(const vr_scene *s, const vr_weather *w, vr_annual_re
     if (vr_perez_sky_from(&in, &m, &e) != VR_OK)
       return vr_error_set(err, VR_E_PARSE, "%s:%ld: %s", w->path, r->line, e.message);
     h->daylit = true;
-    res->daylit_hours++;
+    res->daylit_hours += h->occ;
     hour_sky(&m, h->sun, s->sky.ground_reflectance, sin(alt * PI / 180), h->L);
+    h->Edh = m.diffuse_horizontal_lx;
+    h->Egh = m.diffuse_horizontal_lx + m.direct_normal_lx * sin(alt * PI / 180);
     if (m.direct_normal_lx > 0) {
       h->Edn = m.direct_normal_lx;
       h->ks = vr_sky_patch_of(h->sun);
       vr_sky_patch_centre(h->ks, h->centre);
-      j->need[h->ks] = true;
     }
   }
-  res->occupied_hours = n;
+  res->occupied_hours = nocc;
+  if (en) {
+    size_t n = w->nrecords;
+    double *egh = malloc((n + 1) * sizeof *egh), *edh = malloc((n + 1) * sizeof *edh);
+    bool *dlh = malloc(n + 1);
+    vr_status st = VR_OK;
+    if (!egh || !edh || !dlh)
+      st = vr_error_set(err, VR_E_NOMEM, "out of memory for EN 17037's daylight hours");
+    for (size_t i = 0; !st && i < n; i++) egh[i] = hours[i].Egh, edh[i] = hours[i].Edh;
+    double edmed = 0;
+    if (!st) st = annual_daylight_hours(egh, edh, n, dlh, &edmed, err);
+    for (size_t i = 0; !st && i < n; i++) hours[i].dlh = dlh[i];
+    vr_en17037 *e = &res->en17037;
+    e->run = true;
+    e->daylight_hours = n / 2;
+    e->edmed_given = !isnan(res->spec.edmed_lx);
+    e->edmed_lx = e->edmed_given ? res->spec.edmed_lx : edmed;
+    free(egh), free(edh), free(dlh);
+    if (st) return st;
+    if (!(e->edmed_lx > 0))
+      return vr_error_set(err, VR_E_ARG,
+                          "%s: the median diffuse horizontal illuminance over the daylight hours "
+                          "is 0 lx: EN 17037's method 1 has no target (give edmed=)",
+                          w->path);
+  }
+  for (size_t i = 0; i < w->nrecords; i++)
+    if (hours[i].ks >= 0 && (hours[i].occ || hours[i].dlh)) j->need[hours[i].ks] = true;
   return VR_OK;
 }
 
-/* The year's sums: each hour's state, illuminance and the metrics. */
-static vr_status year(const vr_annual_hour *hours, const vr_dc_set *dcs, const vr_uv_set *uv,
-                      const vr_material *pc, double T_K, unsigned pc_flags, const char *control,
-                      vr_annual_result *res, vr_error *err) {
+/* The year's sums: each needed hour's state, illuminance and the metrics
+ * (over the occupied hours; EN 17037's over its daylight hours). */
+static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set *dcs,
+                      const vr_uv_set *uv, const vr_material *pc, double T_K, unsigned pc_flags,
+                      const char *control, vr_annual_result *res, vr_error *err) {
   const vr_scene_annual *a = &res->spec;
   size_t np = res->npoints, nh = res->occupied_hours;
   int ns = a->nstates;
   double *E = calloc((size_t)ns * np + 1, sizeof *E), *D = calloc((size_t)ns * np + 1, sizeof *D);
+  double *cur = calloc(np + 1, sizeof *cur);
   double *texel_state = calloc((uv ? uv->ntexels : 0) + 1, sizeof *texel_state);
   res->hourly_lx = calloc(nh * np + 1, sizeof *res->hourly_lx);
   res->hourly_line = calloc(nh + 1, sizeof *res->hourly_line);
   res->hourly_state = calloc(nh + 1, sizeof *res->hourly_state);
   res->hourly_uv = calloc(nh + 1, sizeof *res->hourly_uv);
   vr_status st = VR_OK;
-  if (!E || !D || !texel_state || !res->hourly_lx || !res->hourly_line || !res->hourly_state ||
-      !res->hourly_uv) {
+  if (!E || !D || !cur || !texel_state || !res->hourly_lx || !res->hourly_line ||
+      !res->hourly_state || !res->hourly_uv) {
     st = vr_error_set(err, VR_E_NOMEM, "out of memory for the year");
     goto done;
   }
   double state_sum = 0;
-  for (size_t hi = 0; hi < nh; hi++) {
+  size_t oi = 0;           /* the occupied hour's row */
+  bool prev_done = false;  /* the record just before was evaluated */
+  for (size_t hi = 0; hi < nrec; hi++) {
     const vr_annual_hour *h = &hours[hi];
-    double *out = res->hourly_lx + hi * np, *dir = D;
-    res->hourly_line[hi] = h->r->line;
-    res->hourly_state[hi] = res->glass ? a->states[0] : NAN;
-    res->hourly_uv[hi] = NAN;
+    if (!h->occ && !h->dlh) {
+      prev_done = false;
+      continue;
+    }
+    double *dir = D, state = res->glass ? a->states[0] : NAN, uv_mean = NAN;
     int pick = 0;
     if (a->control == VR_CONTROL_UV) {
-      /* The state carries over from the record before when it is the
-       * hour just before this one. */
-      bool prev = hi > 0 && hours[hi - 1].r + 1 == h->r;
+      /* The state carries over from the record before when that one was
+       * evaluated too. */
       double s, e;
       bool outside;
-      if ((st = pc_state(h, uv, pc, T_K, pc_flags, texel_state, prev, &s, &e, &outside, err))) {
+      if ((st = pc_state(h, uv, pc, T_K, pc_flags, texel_state, prev_done, &s, &e, &outside, err))) {
         vr_error_prefix(err, "annual, weather record at line %ld: ", h->r->line);
         goto done;
       }
-      res->hourly_state[hi] = s, res->hourly_uv[hi] = e;
-      res->extrapolated_hours += outside;
+      state = s, uv_mean = e;
+      if (h->occ) res->extrapolated_hours += outside;
       int lo = 0;
       while (lo < ns - 2 && s > a->states[lo + 1]) lo++;
       double f = (s - a->states[lo]) / (a->states[lo + 1] - a->states[lo]);
       hour_lx(h, &dcs[lo], res->points, np, E, D);
       hour_lx(h, &dcs[lo + 1], res->points, np, E + np, D + np);
       for (size_t p = 0; p < np; p++) {
-        out[p] = between(E[p], E[np + p], f);
+        cur[p] = between(E[p], E[np + p], f);
         D[p] = between(D[p], D[np + p], f);
       }
       pick = f < 0.5 ? lo : lo + 1;
@@ -374,18 +416,28 @@ static vr_status year(const vr_annual_hour *hours, const vr_dc_set *dcs, const v
           }
           if (ok) break;
         }
-        res->hourly_state[hi] = a->states[pick];
+        state = a->states[pick];
       }
-      memcpy(out, E + (size_t)pick * np, np * sizeof *out);
+      memcpy(cur, E + (size_t)pick * np, np * sizeof *cur);
       dir = D + (size_t)pick * np;
     }
+    prev_done = true;
+    if (h->dlh)
+      for (size_t p = 0; p < np; p++)
+        for (int k = 0; k < 4; k++) res->points[p].en17037_share[k] += cur[p] >= VR_EN17037_LX[k];
+    if (!h->occ) continue;
+    res->hourly_line[oi] = h->r->line;
+    res->hourly_state[oi] = state;
+    res->hourly_uv[oi] = uv_mean;
+    memcpy(res->hourly_lx + oi * np, cur, np * sizeof *cur);
+    oi++;
     if (h->daylit && res->glass) {
       res->state_hours[pick] += 1;
-      state_sum += res->hourly_state[hi];
+      state_sum += state;
     }
     for (size_t p = 0; p < np; p++) {
       vr_annual_point *pt = &res->points[p];
-      double e = out[p];
+      double e = cur[p];
       pt->mean_lx += e;
       pt->da += e >= a->da_lx;
       pt->udi_below += e < a->udi_lo;
@@ -412,7 +464,26 @@ static vr_status year(const vr_annual_hour *hours, const vr_dc_set *dcs, const v
   res->sda = nw ? (double)sda / (double)nw : 0;
   res->ase = nw ? (double)ase / (double)nw : 0;
 done:
-  free(E), free(D), free(texel_state);
+  free(E), free(D), free(cur), free(texel_state);
+  return st;
+}
+
+/* EN 17037 once the year is summed: the hours' counts as shares, each
+ * point's daylight factor from a render under the CIE overcast sky with
+ * the glass in its clearest state rendered, and the assessment. */
+static vr_status en17037_finish(vr_annual_job *j, vr_annual_result *res, vr_error *err) {
+  vr_en17037 *e = &res->en17037;
+  double *df = calloc(res->npoints + 1, sizeof *df);
+  if (!df) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  vr_status st = annual_df(j, res->spec.states[0], df, err);
+  double n = e->daylight_hours ? (double)e->daylight_hours : 1;
+  for (size_t p = 0; !st && p < res->npoints; p++) {
+    vr_annual_point *pt = &res->points[p];
+    for (int k = 0; k < 4; k++) pt->en17037_share[k] /= n;
+    pt->df_pct = df[p];
+  }
+  free(df);
+  if (!st) vr_en17037_assess(res->points, res->npoints, e->edmed_lx, e);
   return st;
 }
 
@@ -434,6 +505,7 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
   vr_material *pc = NULL;
   vr_weather *w = NULL;
   vr_annual_hour *hours = NULL;
+  bool *occ = NULL;
   vr_dc_set dcs[VR_ANNUAL_MAX_STATES] = {{0}};
   vr_uv_set uv = {0};
   vr_status st = glass_setup(s, db, res, &pc, err);
@@ -444,12 +516,17 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
   res->records = w->nrecords;
   res->points = calloc(j.npoints + 1, sizeof *res->points);
   hours = calloc(w->nrecords + 1, sizeof *hours);
+  if (res->spec.occupancy_path && !(occ = calloc(w->nrecords + 1, sizeof *occ))) {
+    st = vr_error_set(err, VR_E_NOMEM, "out of memory for the occupancy schedule");
+    goto done;
+  }
   if (!res->points || !hours) {
     st = vr_error_set(err, VR_E_NOMEM, "out of memory for the annual study");
     goto done;
   }
   j.res = res;
-  if ((st = read_hours(s, w, res, hours, &j, err))) goto done;
+  if (occ && (st = annual_occupancy_read(res->spec.occupancy_path, w, occ, err))) goto done;
+  if ((st = read_hours(s, w, occ, res, hours, &j, err))) goto done;
   for (int k = 0; k < VR_SKY_PATCHES; k++) res->sun_patches += j.need[k];
   for (int k = 0; k < res->spec.nstates && !st; k++) {
     st = annual_dc(&j, res->spec.states[k], &dcs[k], err);
@@ -479,7 +556,12 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
                     s->materials[res->spec.glass].loc.line, s->materials[res->spec.glass].name);
     goto done;
   }
-  st = year(hours, dcs, &uv, pc, T_K, pc_flags, control, res, err);
+  st = year(hours, w->nrecords, dcs, &uv, pc, T_K, pc_flags, control, res, err);
+  if (!st && res->en17037.run) st = en17037_finish(&j, res, err);
+  for (size_t p = 0; !st && !res->en17037.run && p < res->npoints; p++) {
+    for (int k = 0; k < 4; k++) res->points[p].en17037_share[k] = NAN;
+    res->points[p].df_pct = NAN;
+  }
   if (!st && res->extrapolated_hours)
     say(o, "annual: warning: in %zu hours the glass's UV or temperature lay outside the range "
            "it was fitted on; its state was extrapolated as extrapolate=yes asked",
@@ -489,6 +571,7 @@ done:
   for (int k = 0; k < VR_ANNUAL_MAX_STATES; k++) annual_dc_free(&dcs[k]);
   annual_uv_free(&uv);
   free(hours);
+  free(occ);
   vr_material_destroy(pc);
   vr_weather_free(w);
   if (st) {

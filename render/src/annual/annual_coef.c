@@ -167,6 +167,34 @@ vr_status annual_dc(vr_annual_job *j, double state, vr_dc_set *d, vr_error *err)
   return st;
 }
 
+vr_status annual_df(vr_annual_job *j, double state, double *df_pct, vr_error *err) {
+  vr_annual_variant v;
+  vr_status st = make_variant(j, state, &v, err);
+  if (st) return st;
+  /* The CIE standard overcast sky of Moon & Spencer (1942), L(a) = L_z (1 +
+   * 2 sin a) / 3 (the traditional overcast sky, vr/sky.h), over the
+   * scene's ground; the daylight factor is the sensors' own (SC + ERC +
+   * IRC over the sky's horizontal illuminance), the scene's portals aiming
+   * the sky's samples. */
+  v.s.sky.present = true;
+  v.s.sky.cie_type = 0;
+  v.s.sky.level.value = 10000;
+  v.s.sky.level.unit = VR_UNIT_LX;
+  v.s.sky.spectrum = j->s->sky.spectrum;
+  v.s.sky.ground_reflectance = j->s->sky.ground_reflectance;
+  v.s.sky.sun_direction[2] = 1;
+  v.s.sky.loc = j->s->sky.loc;
+  v.s.nportals = j->s->nportals;
+  v.s.portals = j->s->portals;
+  vr_render_result *r = NULL;
+  if (!(st = render(j, &v, &r, err))) {
+    for (size_t p = 0; p < j->npoints; p++) df_pct[p] = r->readings[p].df_pct;
+    vr_render_result_destroy(r);
+  }
+  free(v.mats);
+  return st;
+}
+
 /* The texels of the glass's objects in a render's photochromic tables. */
 static size_t glass_texels(const vr_annual_job *j, const vr_render_result *r, size_t *idx) {
   size_t n = 0;

@@ -7,6 +7,7 @@
 
 #include "vr/annual.h"
 #include "vr/skypatch.h"
+#include "vr/weather.h"
 
 #define NPATCH (VR_SKY_PATCHES + 1)
 #define SUN_LX 100000.0 /* the sun renders' normal illuminance */
@@ -43,6 +44,19 @@ vr_status annual_dc(vr_annual_job *j, double state, vr_dc_set *out, vr_error *er
  * UV exposure). */
 vr_status annual_uv(vr_annual_job *j, vr_uv_set *out, vr_error *err);
 void annual_dc_free(vr_dc_set *d);
+
+/* The occupied records of the weather file w from the schedule at path
+ * (annual_occupancy.c): occ[i] for record i. */
+vr_status annual_occupancy_read(const char *path, const vr_weather *w, bool *occ, vr_error *err);
+
+/* EN 17037 (annual_en17037.c).  The daylight hours: dlh[i] for the n/2
+ * records of most global horizontal illuminance egh (lx; ties in file
+ * order), and the median of their diffuse horizontal illuminance edh. */
+vr_status annual_daylight_hours(const double *egh, const double *edh, size_t n, bool *dlh,
+                                double *edmed_lx, vr_error *err);
+/* Every point's daylight factor (%) from one render under the CIE standard
+ * overcast sky with the glass (if any) in `state` (annual_coef.c). */
+vr_status annual_df(vr_annual_job *j, double state, double *df_pct, vr_error *err);
 void annual_uv_free(vr_uv_set *u);
 
 #endif

@@ -36,15 +36,26 @@ static void write_points(const vr_annual_result *r, FILE *f) {
   const vr_scene_annual *a = &r->spec;
   fprintf(f,
           "sensor,i,j,x,y,z,mean_lx,da_%g_pct,udi_below_%g_pct,udi_%g_%g_pct,udi_above_%g_pct,"
-          "direct_sun_hours_%g_lx,dgps_0.35_hours,workplane\n",
+          "direct_sun_hours_%g_lx,dgps_0.35_hours,workplane",
           a->da_lx, a->udi_lo, a->udi_lo, a->udi_hi, a->udi_hi, a->ase_lx);
+  /* EN 17037: each point's share of the daylight hours at each threshold
+   * of Table A.1, and its daylight factor. */
+  if (r->en17037.run)
+    for (int k = 0; k < 4; k++) fprintf(f, ",en17037_%g_lx_pct", VR_EN17037_LX[k]);
+  if (r->en17037.run) fputs(",df_cie_overcast_pct", f);
+  fputc('\n', f);
   for (size_t p = 0; p < r->npoints; p++) {
     const vr_annual_point *pt = &r->points[p];
     vr_csv_write_field(f, pt->sensor ? pt->sensor : "");
-    fprintf(f, ",%d,%d,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g,%d\n", pt->i, pt->j,
+    fprintf(f, ",%d,%d,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g,%d", pt->i, pt->j,
             pt->position[0], pt->position[1], pt->position[2], pt->mean_lx, 100 * pt->da,
             100 * pt->udi_below, 100 * pt->udi_useful, 100 * pt->udi_above, pt->direct_hours,
             pt->glare_hours, pt->workplane ? 1 : 0);
+    if (r->en17037.run) {
+      for (int k = 0; k < 4; k++) fprintf(f, ",%.6g", 100 * pt->en17037_share[k]);
+      fprintf(f, ",%.6g", pt->df_pct);
+    }
+    fputc('\n', f);
   }
 }
 

@@ -51,6 +51,7 @@ void vr_scene_destroy(vr_scene *s) {
   free(s->notes);
   free(s->sky.spectrum);
   free(s->sky.weather_path);
+  free(s->annual.occupancy_path);
   free(s->portals);
   free(s->materials);
   free(s->objects);
@@ -279,6 +280,7 @@ static void defaults(vr_scene *s) {
   a->from_h = 8, a->to_h = 18, a->da_lx = 300, a->sda_share = 0.5;
   a->udi_lo = 100, a->udi_hi = 3000, a->ase_lx = 1000, a->ase_hours = 250;
   a->glass = -1, a->control_sensor = -1, a->workplane = -1, a->max = NAN;
+  a->edmed_lx = NAN;
 }
 
 bool vr_scene_has_grid(const vr_scene *s) {

@@ -67,8 +67,9 @@ static vr_status states(const vr_scn_stmt *t, vr_scene_annual *a) {
 vr_status scn_annual(vr_scn_stmt *t) {
   static const char *const KEYS[] = {"hours", "da",      "sda",   "udi",            "ase",
                                      "glass", "states",  "control", "max",          "control_sensor",
-                                     "workplane", NULL};
+                                     "workplane", "occupancy", "en17037", "edmed", NULL};
   static const char *const CONTROLS[] = {"fixed", "illuminance", "sun", "glare", NULL};
+  static const char *const YESNO[] = {"no", "yes", NULL};
   vr_scn_parser *p = t->p;
   vr_scene_annual *a = &p->s->annual;
   if (a->given)
@@ -78,7 +79,7 @@ vr_status scn_annual(vr_scn_stmt *t) {
   if (st) return st;
   a->given = true;
   a->loc = scn_loc(p, t->w[0]);
-  int control = -1;
+  int control = -1, en = -1;
   double sda_pct = 100 * a->sda_share;
   if ((st = pair(t, "hours", 0, 24, true, &a->from_h, &a->to_h)) ||
       (st = scn_range(t, "da", 0, INFINITY, true, true, &a->da_lx)) ||
@@ -86,8 +87,24 @@ vr_status scn_annual(vr_scn_stmt *t) {
       (st = pair(t, "udi", 0, INFINITY, true, &a->udi_lo, &a->udi_hi)) ||
       (st = ase(t, a)) || (st = states(t, a)) ||
       (st = scn_choice(t, "control", CONTROLS, &control)) ||
-      (st = scn_range(t, "max", 0, INFINITY, true, true, &a->max)))
+      (st = scn_range(t, "max", 0, INFINITY, true, true, &a->max)) ||
+      (st = scn_choice(t, "en17037", YESNO, &en)) ||
+      (st = scn_range(t, "edmed", 0, INFINITY, true, true, &a->edmed_lx)))
     return st;
+  a->en17037 = en == 1;
+  if (scn_get(t, "edmed") && !a->en17037)
+    return scn_fail(p, scn_get(t, "edmed")->word,
+                    "\"%s\": the median diffuse illuminance is EN 17037's: give en17037=yes",
+                    scn_get(t, "edmed")->word);
+  const vr_scn_opt *occ = scn_get(t, "occupancy");
+  if (occ) {
+    if (scn_get(t, "hours"))
+      return scn_fail(p, scn_get(t, "hours")->word,
+                      "\"%s\": the occupied hours come from occupancy= on this line; give one "
+                      "or the other",
+                      scn_get(t, "hours")->word);
+    if (!(a->occupancy_path = scn_resolve(p->s, occ->val))) return scn_nomem(p);
+  }
   if (control == VR_CONTROL_GLARE && scn_get(t, "max") && !(a->max > 0.184 && a->max <= 1))
     return scn_fail(p, scn_get(t, "max")->word,
                     "\"%s\": a DGPs threshold lies in (0.184, 1] (0.184 is DGPs in the dark)",
