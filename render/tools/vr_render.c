@@ -384,7 +384,9 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
            "annual study: every record of %s, %s, by daylight coefficients (145 sky patches and "
            "the ground, one render per sun patch%s)%s",
            scene->sky.weather_path, occupied,
-           sa->glass >= 0 ? ", for each tint state of the glass" : "",
+           sa->glass >= 0   ? ", for each tint state of the glass"
+           : sa->shade >= 0 ? ", open and with the shade drawn"
+                            : "",
            sa->en17037 ? "; EN 17037 over the year's daylight hours, one render under the CIE "
                          "overcast sky" : "");
   ui_log(u, line);
@@ -398,7 +400,12 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
            "renders, %.1f s\n",
            res->records, res->occupied_hours, res->daylit_hours, res->sun_patches, res->renders,
            res->seconds);
-    if (res->glass) {
+    if (res->glass == VR_ANNUAL_SHADE) {
+      printf("shade    %s in place of %s, drawn by IES LM-83-12's rule (more than 2 %% of the work "
+             "plane at 1000 lx of direct sun): %.0f of the %zu occupied daylit hours; ASE is the "
+             "open window's\n",
+             res->glass_name, res->window_name, res->state_hours[1], res->daylit_hours);
+    } else if (res->glass) {
       static const char *const RULE[] = {"fixed", "illuminance", "sun", "glare (DGPs)",
                                          "its own UV exposure"};
       printf("glass    %s, %s, control: %s", res->glass_name,

@@ -65,6 +65,38 @@ year_scene "$tmp/b5.scn" "occupancy=$daysim hours=8,18"
 refuse render-annual-occupancy-hours "$bin" "$tmp/b5.scn" -o "$tmp/b5"
 year_scene "$tmp/b6.scn" "edmed=15000"
 refuse render-annual-edmed "$bin" "$tmp/b6.scn" -o "$tmp/b6"
+# An operable shade for sDA (IES LM-83-12): a south window of clear glass
+# of a closed room, an IGSDB roller shade (BSDF XML) drawn by the rule.
+cat > "$tmp/shade.scn" <<EOS
+material wall lambert reflectance=0.5
+material pane db:soda-lime-glass thickness=6mm
+material roller bsdf file=$src/tests/data/bsdf/cgdb_14060_urban_loft_river_stone.xml.gz
+rect center=2,2,0   normal=0,0,1  size=4,4 material=wall
+rect center=2,2,3   normal=0,0,-1 size=4,4 material=wall
+rect center=2,4,1.5 normal=0,-1,0 size=4,3 material=wall
+rect center=0,2,1.5 normal=1,0,0  size=4,3 material=wall
+rect center=4,2,1.5 normal=-1,0,0 size=4,3 material=wall
+rect center=2,0,0.45 normal=0,1,0 size=4,0.9 material=wall
+rect center=2,0,2.55 normal=0,1,0 size=4,0.9 material=wall
+rect center=0.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall
+rect center=3.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall
+rect center=2,0,1.5 normal=0,1,0 size=2,1.2 material=pane
+light sun spectrum=D65
+sky perez weather=$src/tests/data/weather/chicago.wea
+sensor plane grid origin=0.5,0.5,0.8 u=3,0,0 v=0,3,0 n=3,3 normal=0,0,1
+annual shade=roller window=pane
+render sensor_samples=64
+EOS
+"$bin" "$tmp/shade.scn" -o "$tmp/shade" > "$tmp/shade.out" 2> "$tmp/shade.err"; rc=$?
+check "a study with a shade exits 0" test $rc -eq 0
+check "it says when the shade was drawn" grep -q "^shade    roller in place of pane, drawn by IES LM-83-12's rule .*: [0-9]* of the [0-9]* occupied daylit hours; ASE is the open window's" "$tmp/shade.out"
+check "the hourly table gives the shade's state" bash -c 'cut -d, -f2 "$1" | sort -u | tr "
+" " " | grep -q "^0 1 glass_state $"' _ "$tmp/shade.annual-hourly.csv"
+year_scene "$tmp/b7.scn" "shade=ground"
+refuse render-annual-shade-window "$bin" "$tmp/b7.scn" -o "$tmp/b7"
+year_scene "$tmp/b8.scn" "shade=ground window=nothing"
+refuse render-annual-shade-unknown "$bin" "$tmp/b8.scn" -o "$tmp/b8"
+
 # An output that would replace the schedule is refused before any work.
 cp "$daysim" "$tmp/occ.annual.csv"
 year_scene "$tmp/occ.scn" "occupancy=$tmp/occ.annual.csv"

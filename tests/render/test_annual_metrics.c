@@ -12,6 +12,10 @@
  *    median diffuse illuminance over them and the points' hours above each
  *    threshold, against a ranking of the records' global horizontal
  *    illuminance done here from the Perez (1990) efficacy model;
+ *  - the operable-shade rule of IES LM-83-12 (drawn when more than 2 % of
+ *    the work plane sees 1000 lx of direct sun) against the direct
+ *    horizontal illuminance of the Perez model in the open, and the shade's
+ *    material taking the window's place in a room;
  *  - occupancy files: a Daysim file (3650 hours: "365 days a year from 8AM
  *    to 6PM" with daylight saving time, its header says) and Honeybee's
  *    one-value-per-line schedule (4380 ones), and their errors. */
@@ -29,6 +33,8 @@
 
 #include "render_test_util.h"
 #include "vr_test.h"
+#include "daylit_room.h"
+#include "temp_db.h"
 #include "vr/annual.h"
 #include "vr/perez.h"
 #include "vr/sun.h"
@@ -40,26 +46,32 @@
 #define DAYSIM VR_TEST_DATA "/occupancy/8to6withDST.60min.occ.csv"
 #define HONEYBEE VR_TEST_DATA "/occupancy/daylight_hours.csv"
 
-static vr_status try_annual(const char *text, vr_annual_result **r, vr_error *err) {
+static vr_status try_annual_db(const char *text, vr_matdb *db, vr_annual_result **r, vr_error *err) {
   vr_scene *s = parse_text(text, VR_TEST_DATA "/annual.scn");
   vr_render_options o;
   vr_render_options_default(&o);
   o.threads = 2;
   o.no_camera = true;
   *r = NULL;
-  vr_status st = vr_annual_run(s, NULL, &o, r, err);
+  vr_status st = vr_annual_run(s, db, &o, r, err);
   vr_scene_destroy(s);
   return st;
 }
 
-static vr_annual_result *run_annual(const char *text) {
+static vr_status try_annual(const char *text, vr_annual_result **r, vr_error *err) {
+  return try_annual_db(text, NULL, r, err);
+}
+
+static vr_annual_result *run_annual_db(const char *text, vr_matdb *db) {
   vr_annual_result *r = NULL;
   vr_error err = {0};
-  vr_status st = try_annual(text, &r, &err);
+  vr_status st = try_annual_db(text, db, &r, &err);
   if (st) fprintf(stderr, "annual: %s\n", err.message);
   assert_int_equal(st, VR_OK);
   return r;
 }
+
+static vr_annual_result *run_annual(const char *text) { return run_annual_db(text, NULL); }
 
 /* EN 17037:2018 Table A.1: at each level a target illuminance over 50 % of
  * the reference plane and a minimum target over 95 % of it, each for 50 %
@@ -307,6 +319,14 @@ static void occupancy_errors(void **state) {
       {"annual edmed=15000\n", "give en17037=yes"},
       {"annual en17037=maybe\n", "expected no, yes"},
       {"annual en17037=yes edmed=0\n", "edmed"},
+      {"annual shade=s\n", "needs both shade=MATERIAL"},
+      {"annual window=s\n", "needs both shade=MATERIAL"},
+      {"material g db:x\nannual glass=g shade=g window=g\n", "not both"},
+      {"annual shade=nope window=nope\n", "shade=nope: no material of that name"},
+      {"material a black\nmaterial b black\nannual shade=a window=b\n",
+       "window=b: no object has this material"},
+      {"material a black\nrect center=0,0,5 normal=0,0,1 size=1,1 material=a\n"
+       "annual shade=a window=a\n", "the window's own material"},
   };
   for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
     char t[1024];
@@ -318,12 +338,118 @@ static void occupancy_errors(void **state) {
   }
 }
 
+/* The LM-83 rule, analytic: four work-plane points in the open, the
+ * "window" a small object far away (the shade drawn changes nothing
+ * there).  Every point sees the sun unobstructed, so the shade is drawn
+ * exactly in the occupied hours whose direct horizontal illuminance E_dn
+ * sin h (the Perez efficacy model, computed here) reaches 1000 lx, give or
+ * take the hours within 3 % of it (test_annual.c: an unobstructed point's
+ * hour within 3 %). */
+static void shade_rule_in_the_open(void **state) {
+  (void)state;
+  vr_annual_result *r = run_annual(
+      "material win lambert reflectance=0.5\n"
+      "material blind bsdf file=" VR_TEST_DATA "/bsdf/cgdb_14060_urban_loft_river_stone.xml.gz\n"
+      "rect center=100,100,5 normal=0,0,1 size=1,1 material=win\n"
+      "light sun spectrum=D65\n"
+      "sky perez weather=" WEA " ground=0\n"
+      "sensor plane grid origin=-1,-1,0.8 u=2,0,0 v=0,2,0 n=2,2 normal=0,0,1\n"
+      "annual shade=blind window=win\n"
+      "render sensor_samples=256\n");
+  assert_true(r->glass == VR_ANNUAL_SHADE);
+  assert_string_equal(r->glass_name, "blind");
+  assert_string_equal(r->window_name, "win");
+  vr_weather *w = NULL;
+  assert_int_equal(vr_weather_read(WEA, &w, NULL), VR_OK);
+  size_t expected = 0, near = 0, drawn = 0;
+  for (size_t i = 0, h = 0; i < w->nrecords; i++) {
+    const vr_weather_record *rec = &w->records[i];
+    double c = 0.5 * (rec->start_h + rec->end_h);
+    if (c < 8 || c >= 18) continue;
+    assert_int_equal(r->hourly_line[h], rec->line);
+    drawn += r->hourly_state[h++] == 1;
+    double alt = altitude_of(w, rec);
+    if (alt <= 0 || !(rec->diffuse_horizontal_w_m2 > 0)) continue;
+    vr_perez_input in = {90 - alt, rec->direct_normal_w_m2, rec->diffuse_horizontal_w_m2, NAN,
+                         vr_weather_day_of_year(rec)};
+    vr_perez_sky m;
+    assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
+    double direct = m.direct_normal_lx * sin(alt * DEG);
+    expected += direct >= 1000;
+    near += fabs(direct - 1000) <= 30;
+  }
+  printf("shade drawn %zu h, %zu expected (%zu within 3 %% of 1000 lx); %.0f counted\n", drawn,
+         expected, near, r->state_hours[1]);
+  assert_true(labs((long)drawn - (long)expected) <= (long)near);
+  assert_near(r->state_hours[1], (double)drawn, 0.5);
+  /* ASE is the open window's: here every point's direct-sun hours. */
+  assert_near(r->points[0].direct_hours, (double)drawn, 0.5);
+  vr_weather_free(w);
+  vr_annual_result_destroy(r);
+}
+
+/* The shade's material in place of the window's: the daylit room with a
+ * soda-lime pane in its opening and, drawn, a black shade, so that every
+ * point reads 0 lx in the drawn hours (the room has no other opening); in
+ * the open hours the same illuminance as the room without a shade line
+ * (the same seed renders the same open-state coefficients); ASE the same
+ * as without the shade (LM-83 defines it without operable shading); the
+ * drawn hours at least those of the point with the most direct-sun hours,
+ * at most their sum (any lit point draws it). */
+static void shade_replaces_window(void **state) {
+  (void)state;
+  char path[64];
+  vr_matdb *db = temp_db(path, sizeof path);
+  const char *fmt = DAYLIT_ROOM_SHELL
+      "material pane db:soda-lime-glass thickness=6mm\n"
+      "material shut black\n"
+      "rect center=2,0,1.5 normal=0,1,0 size=2,1.2 material=pane\n"
+      "light sun spectrum=D65\n"
+      "sky perez weather=" WEA "\n"
+      "sensor floor grid origin=0.25,0.25,0.8 u=3.5,0,0 v=0,3.5,0 n=3,3 normal=0,0,1\n"
+      "%s"
+      "render sensor_samples=1024 seed=4\n";
+  char text[4096];
+  snprintf(text, sizeof text, fmt, "annual hours=8,18\n");
+  vr_annual_result *open = run_annual_db(text, db);
+  snprintf(text, sizeof text, fmt, "annual shade=shut window=pane\n");
+  vr_annual_result *r = run_annual_db(text, db);
+  assert_int_equal(r->occupied_hours, open->occupied_hours);
+  size_t np = r->npoints, drawn = 0;
+  for (size_t h = 0; h < r->occupied_hours; h++) {
+    bool shut = r->hourly_state[h] == 1;
+    drawn += shut;
+    for (size_t p = 0; p < np; p++) {
+      double e = r->hourly_lx[h * np + p], o = open->hourly_lx[h * np + p];
+      if (shut) assert_true(e == 0);
+      else if (fabs(e - o) > 1e-9 * o) fail_msg("hour %zu point %zu: %.12g lx, open %.12g lx", h, p, e, o);
+    }
+  }
+  double most = 0, sum = 0;
+  for (size_t p = 0; p < np; p++) {
+    most = fmax(most, r->points[p].direct_hours), sum += r->points[p].direct_hours;
+    assert_near(r->points[p].direct_hours, open->points[p].direct_hours, 0.5);
+  }
+  printf("room: shade drawn %zu of %zu hours; direct-sun hours: most %.0f, sum %.0f; sDA %.2f "
+         "(open %.2f), ASE %.2f (open %.2f)\n",
+         drawn, r->occupied_hours, most, sum, r->sda, open->sda, r->ase, open->ase);
+  assert_true(drawn > 0);
+  assert_true((double)drawn >= most && (double)drawn <= sum);
+  assert_near(r->ase, open->ase, 1e-12);
+  assert_true(r->sda <= open->sda);
+  vr_annual_result_destroy(r);
+  vr_annual_result_destroy(open);
+  temp_db_close(db, path);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(en17037_levels),
       cmocka_unit_test(occupancy_errors),
       cmocka_unit_test(occupancy_daysim),
       cmocka_unit_test(daylight_hours_and_factor),
+      cmocka_unit_test(shade_rule_in_the_open),
+      cmocka_unit_test(shade_replaces_window),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -23,6 +23,13 @@
  *     for an unobstructed point; the reflected part keeps the patch centre,
  *     up to about 6 degrees from the true sun.
  *
+ * Operable shade (annual shade=SHADE window=WINDOW): the coefficients are
+ * rendered twice, open and with every object of the window material taking
+ * the shade material (a BSDF XML of the shaded system); each hour the shade
+ * is drawn when more than 2 % of the work plane's points see at least
+ * 1000 lx of direct sun through the open window (IES LM-83-12's rule for
+ * sDA); ASE stays that of the open window, as LM-83 defines it.
+ *
  * Switchable glass (annual glass=NAME): the coefficients are rendered once
  * per tint state (states=).
  *   - Electrochromic: each hour takes one of those states: the scene's
@@ -133,13 +140,15 @@ void vr_en17037_assess(const struct vr_annual_point *pts, size_t npoints, double
                        vr_en17037 *e);
 
 typedef enum vr_annual_glass {
-  VR_ANNUAL_NO_GLASS = 0, VR_ANNUAL_ELECTROCHROMIC, VR_ANNUAL_PHOTOCHROMIC
+  VR_ANNUAL_NO_GLASS = 0, VR_ANNUAL_ELECTROCHROMIC, VR_ANNUAL_PHOTOCHROMIC,
+  VR_ANNUAL_SHADE            /* an operable shade: state 0 open, 1 drawn (LM-83 rule) */
 } vr_annual_glass;
 
 typedef struct vr_annual_result {
   vr_scene_annual spec;      /* the study as run: the scene's line, defaults filled */
   vr_annual_glass glass;
-  const char *glass_name;    /* the scene's alias, or NULL */
+  const char *glass_name;    /* the scene's alias (with a shade: the shade's), or NULL */
+  const char *window_name;   /* with a shade: the window material it replaces */
   size_t npoints;
   vr_annual_point *points;
   double sda, ase;           /* shares of the work plane's points in [0, 1] */
@@ -163,6 +172,7 @@ typedef struct vr_annual_result {
   long *hourly_line;
   double *hourly_state, *hourly_uv;
   char *names;               /* storage */
+  char *glass_names;         /* storage of glass_name and window_name */
 } vr_annual_result;
 
 /* Runs the study of a scene whose sky is a whole weather file (see above),

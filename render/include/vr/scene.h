@@ -379,7 +379,9 @@ typedef enum vr_annual_control {
   VR_CONTROL_SUN,         /* the lightest state keeping direct sun at every control point <= max (lx) */
   VR_CONTROL_GLARE,       /* the lightest state keeping DGPs (Wienold 2009) of the vertical
                              illuminance at every control point <= max */
-  VR_CONTROL_UV           /* photochromic glass: the state its own UV exposure gives */
+  VR_CONTROL_UV,          /* photochromic glass: the state its own UV exposure gives */
+  VR_CONTROL_LM83         /* a shade (shade= window=): drawn in the hours when more than 2 % of
+                             the work plane sees 1000 lx of direct sun (IES LM-83-12) */
 } vr_annual_control;
 
 typedef struct vr_scene_annual {
@@ -410,6 +412,11 @@ typedef struct vr_scene_annual {
    * Table A.3 value), NAN: the median from the weather file. */
   bool en17037;
   double edmed_lx;
+  /* shade=MATERIAL window=MATERIAL: an operable shade for sDA; every object
+   * of the window material takes the shade material (a BSDF XML of the
+   * shaded system, typically) in the hours the LM-83 rule draws it.
+   * Material indices, -1: none. */
+  int shade, shade_window;
   vr_scene_loc loc;
 } vr_scene_annual;
 

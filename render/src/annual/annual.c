@@ -21,6 +21,9 @@
 #include "vr/weather.h"
 
 #define PI 3.14159265358979323846
+/* IES LM-83-12's operable-shading rule for sDA. */
+#define LM83_SUN_LX 1000.0
+#define LM83_SHARE 0.02
 
 void vr_annual_result_destroy(vr_annual_result *r) {
   if (!r) return;
@@ -30,6 +33,7 @@ void vr_annual_result_destroy(vr_annual_result *r) {
   free(r->hourly_state);
   free(r->hourly_uv);
   free(r->names);
+  free(r->glass_names);
   free(r);
 }
 
@@ -107,12 +111,26 @@ static vr_status glass_setup(const vr_scene *s, struct vr_matdb *db, vr_annual_r
   vr_scene_annual *a = &res->spec;
   *a = s->annual;
   *pc = NULL;
+  if (a->shade >= 0) {
+    /* The LM-83 rule's two states: open (0) and drawn (1). */
+    res->glass = VR_ANNUAL_SHADE;
+    const char *sn = s->materials[a->shade].name, *wn = s->materials[a->shade_window].name;
+    size_t ls = strlen(sn) + 1;
+    if (!(res->glass_names = malloc(ls + strlen(wn) + 1)))
+      return vr_error_set(err, VR_E_NOMEM, "out of memory");
+    memcpy(res->glass_names, sn, ls);
+    strcpy(res->glass_names + ls, wn);
+    res->glass_name = res->glass_names, res->window_name = res->glass_names + ls;
+    a->nstates = 2, a->states[0] = 0, a->states[1] = 1, a->control = VR_CONTROL_LM83;
+    return VR_OK;
+  }
   if (a->glass < 0) {
     a->nstates = 1, a->states[0] = NAN, a->control = VR_CONTROL_FIXED;
     return VR_OK;
   }
   const vr_scene_material *sm = &s->materials[a->glass];
-  res->glass_name = sm->name;
+  if (!(res->glass_names = strdup(sm->name))) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  res->glass_name = res->glass_names;
   long line = a->loc.line, col = a->loc.col;
   if (!db)
     return vr_error_at(err, VR_E_NOT_FOUND, s->path, line, col,
@@ -400,7 +418,15 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
       pick = f < 0.5 ? lo : lo + 1;
     } else {
       for (int k = 0; k < ns; k++) hour_lx(h, &dcs[k], res->points, np, E + (size_t)k * np, D + (size_t)k * np);
-      if (a->control != VR_CONTROL_FIXED) {
+      if (a->control == VR_CONTROL_LM83) {
+        /* IES LM-83-12: the shade is drawn when more than 2 % of the work
+         * plane sees 1000 lx of direct sun through the open window. */
+        size_t lit = 0, nw = 0;
+        for (size_t p = 0; p < np; p++)
+          if (res->points[p].workplane) nw++, lit += D[p] >= LM83_SUN_LX;
+        pick = (double)lit > LM83_SHARE * (double)nw ? 1 : 0;
+        state = pick;
+      } else if (a->control != VR_CONTROL_FIXED) {
         /* The lightest state that keeps every control point within the
          * threshold; the darkest when none does. */
         /* DGPs = 6.22e-5 E_v + 0.184 (Wienold 2009) at most max is E_v at
@@ -419,7 +445,9 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
         state = a->states[pick];
       }
       memcpy(cur, E + (size_t)pick * np, np * sizeof *cur);
-      dir = D + (size_t)pick * np;
+      /* ASE through the glass as controlled; with a shade, through the
+       * open window (LM-83 defines ASE without operable shading). */
+      dir = D + (a->control == VR_CONTROL_LM83 ? 0 : (size_t)pick * np);
     }
     prev_done = true;
     if (h->dlh)
@@ -544,7 +572,7 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
       res->spec.control_sensor >= 0 ? s->sensors[res->spec.control_sensor].name : NULL;
   double T_K = NAN;
   unsigned pc_flags = VR_CHROMO_ESTIMATE; /* the hour's UV is from sampled coefficients */
-  if (res->glass_name) {
+  if (res->spec.glass >= 0) {
     T_K = s->materials[res->spec.glass].temperature_K;
     if (s->materials[res->spec.glass].extrapolate) pc_flags |= VR_CHROMO_EXTRAPOLATE;
   }

@@ -34,6 +34,9 @@ static vr_status make_variant(const vr_annual_job *j, double state, vr_annual_va
     v->mats[s->annual.glass].state = state;
     v->mats[s->annual.glass].charge_mC_cm2 = NAN;
   }
+  /* An operable shade drawn: the window's objects take the shade's
+   * material. */
+  if (s->annual.shade >= 0 && state == 1) v->mats[s->annual.shade_window] = s->materials[s->annual.shade];
   v->s.materials = v->mats;
   return VR_OK;
 }

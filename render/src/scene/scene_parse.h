@@ -28,6 +28,8 @@ typedef struct vr_scn_parser {
   size_t nmaps;
   size_t sun;        /* index + 1 of the sun light, 0 if none */
   char *annual_glass, *annual_sensor; /* annual glass= and control_sensor= until resolved */
+  char *annual_shade, *annual_window;  /* annual shade= and window= until resolved */
+  vr_scene_loc annual_shade_loc, annual_window_loc;
   vr_scene_loc annual_glass_loc, annual_sensor_loc;
   char *annual_workplane;             /* annual workplane= until resolved */
   vr_scene_loc annual_workplane_loc;

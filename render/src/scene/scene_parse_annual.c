@@ -67,7 +67,8 @@ static vr_status states(const vr_scn_stmt *t, vr_scene_annual *a) {
 vr_status scn_annual(vr_scn_stmt *t) {
   static const char *const KEYS[] = {"hours", "da",      "sda",   "udi",            "ase",
                                      "glass", "states",  "control", "max",          "control_sensor",
-                                     "workplane", "occupancy", "en17037", "edmed", NULL};
+                                     "workplane", "occupancy", "en17037", "edmed", "shade", "window",
+                                     NULL};
   static const char *const CONTROLS[] = {"fixed", "illuminance", "sun", "glare", NULL};
   static const char *const YESNO[] = {"no", "yes", NULL};
   vr_scn_parser *p = t->p;
@@ -125,6 +126,23 @@ vr_status scn_annual(vr_scn_stmt *t) {
     if (!(p->annual_sensor = strdup(cs->val))) return scn_nomem(p);
     p->annual_sensor_loc = scn_loc(p, cs->word);
   }
+  const vr_scn_opt *sh = scn_get(t, "shade"), *wi = scn_get(t, "window");
+  if (!sh != !wi)
+    return scn_fail(p, (sh ? sh : wi)->word,
+                    "\"%s\": an operable shade needs both shade=MATERIAL (the shaded system) "
+                    "and window=MATERIAL (the glazing it replaces)",
+                    (sh ? sh : wi)->word);
+  if (sh && g)
+    return scn_fail(p, sh->word,
+                    "\"%s\": a study has either a switchable glass (glass=) or an operable "
+                    "shade (shade=), not both",
+                    sh->word);
+  if (sh) {
+    if (!(p->annual_shade = strdup(sh->val)) || !(p->annual_window = strdup(wi->val)))
+      return scn_nomem(p);
+    p->annual_shade_loc = scn_loc(p, sh->word);
+    p->annual_window_loc = scn_loc(p, wi->word);
+  }
   /* Options that need a glass to mean anything are refused without one,
    * rather than ignored. */
   const char *needs_glass[] = {"states", "control", "max", "control_sensor"};
@@ -177,6 +195,31 @@ vr_status scn_annual_finish(vr_scn_parser *p) {
                          p->annual_glass_loc.col,
                          "glass=%s: a switchable glass is a chromogenic material of the database",
                          p->annual_glass);
+  }
+  if (p->annual_shade) {
+    const char *names[2] = {p->annual_shade, p->annual_window};
+    const vr_scene_loc locs[2] = {p->annual_shade_loc, p->annual_window_loc};
+    int *idx[2] = {&a->shade, &a->shade_window};
+    for (int k = 0; k < 2; k++) {
+      for (size_t i = 0; i < s->nmaterials; i++)
+        if (!strcmp(s->materials[i].name, names[k])) *idx[k] = (int)i;
+      if (*idx[k] < 0)
+        return vr_error_at(p->err, VR_E_PARSE, p->file, locs[k].line, locs[k].col,
+                           "%s=%s: no material of that name", k ? "window" : "shade", names[k]);
+    }
+    bool used = false;
+    for (size_t i = 0; i < s->nobjects && !used; i++) used = s->objects[i].material == a->shade_window;
+    for (size_t i = 0; i < s->nmesh_maps && !used; i++) used = s->mesh_maps[i].material == a->shade_window;
+    if (!used)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, p->annual_window_loc.line,
+                         p->annual_window_loc.col,
+                         "window=%s: no object has this material, so the shade would change "
+                         "nothing",
+                         p->annual_window);
+    if (a->shade == a->shade_window)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, p->annual_shade_loc.line,
+                         p->annual_shade_loc.col, "shade=%s is the window's own material",
+                         p->annual_shade);
   }
   vr_status st;
   if (p->annual_workplane) {
