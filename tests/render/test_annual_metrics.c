@@ -124,6 +124,21 @@ static void en17037_levels(void **state) {
   assert_near(e.m1_target[0], 0.45, 1e-12);
 }
 
+/* A record's diffuse and direct horizontal illuminance (lx) by the Perez
+ * (1990) efficacy model; 0 with the sun down or no diffuse light. */
+static void perez_of(const vr_weather *w, const vr_weather_record *rec, double *diffuse,
+                     double *direct) {
+  *diffuse = *direct = 0;
+  double alt = altitude_of(w, rec);
+  if (alt <= 0 || !(rec->diffuse_horizontal_w_m2 > 0)) return;
+  vr_perez_input in = {90 - alt, rec->direct_normal_w_m2, rec->diffuse_horizontal_w_m2, NAN,
+                       vr_weather_day_of_year(rec)};
+  vr_perez_sky m;
+  assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
+  *diffuse = m.diffuse_horizontal_lx;
+  *direct = m.direct_normal_lx * sin(alt * DEG);
+}
+
 typedef struct lit {
   double egh, edh;
   size_t i;
@@ -153,14 +168,9 @@ static void daylight_hours_and_factor(void **state) {
   for (size_t i = 0; i < w->nrecords; i++) {
     const vr_weather_record *rec = &w->records[i];
     l[i].i = i;
-    double alt = altitude_of(w, rec);
-    if (alt <= 0 || !(rec->diffuse_horizontal_w_m2 > 0)) continue;
-    vr_perez_input in = {90 - alt, rec->direct_normal_w_m2, rec->diffuse_horizontal_w_m2, NAN,
-                         vr_weather_day_of_year(rec)};
-    vr_perez_sky m;
-    assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
-    l[i].edh = m.diffuse_horizontal_lx;
-    l[i].egh = m.diffuse_horizontal_lx + m.direct_normal_lx * sin(alt * DEG);
+    double direct;
+    perez_of(w, rec, &l[i].edh, &direct);
+    l[i].egh = l[i].edh + direct;
   }
   qsort(l, w->nrecords, sizeof *l, most_light);
   bool *top = calloc(w->nrecords, sizeof *top);
@@ -368,13 +378,8 @@ static void shade_rule_in_the_open(void **state) {
     if (c < 8 || c >= 18) continue;
     assert_int_equal(r->hourly_line[h], rec->line);
     drawn += r->hourly_state[h++] == 1;
-    double alt = altitude_of(w, rec);
-    if (alt <= 0 || !(rec->diffuse_horizontal_w_m2 > 0)) continue;
-    vr_perez_input in = {90 - alt, rec->direct_normal_w_m2, rec->diffuse_horizontal_w_m2, NAN,
-                         vr_weather_day_of_year(rec)};
-    vr_perez_sky m;
-    assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
-    double direct = m.direct_normal_lx * sin(alt * DEG);
+    double diffuse, direct;
+    perez_of(w, rec, &diffuse, &direct);
     expected += direct >= 1000;
     near += fabs(direct - 1000) <= 30;
   }
