@@ -427,6 +427,10 @@ static vr_status annual(const vr_scene *scene, vr_matdb *db, const vr_render_opt
            a->workplane >= 0 ? scene->sensors[a->workplane].name
                              : vr_scene_has_grid(scene) ? "every grid" : "every sensor (no grid)",
            res->workplane_points, res->workplane_points == 1 ? "" : "s");
+    printf("annual   UDI over the work plane (its points' mean): below %g lx %.1f %%, %g-%g lx "
+           "%.1f %%, above %g lx %.1f %%\n",
+           a->udi_lo, 100 * res->udi_plane[0], a->udi_lo, a->udi_hi, 100 * res->udi_plane[1],
+           a->udi_hi, 100 * res->udi_plane[2]);
     if (res->en17037.run) {
       const vr_en17037 *e = &res->en17037;
       printf("EN 17037 %zu daylight hours (the half of the year with the most global horizontal "

@@ -31,6 +31,7 @@ check "an EN 17037 study exits 0" test $rc -eq 0
 check "it names the daylight hours and E_v,d,med" grep -q "^EN 17037 4380 daylight hours .*E_v,d,med [0-9]* lx (their median in the weather file)" "$tmp/en.out"
 check "it prints method 2 with its three levels" grep -q "^EN 17037 method 2 (illuminance over 50 % of the daylight hours): .*minimum 300 lx on .*medium 500 lx on .*high 750 lx on" "$tmp/en.out"
 check "it prints method 1 with its D targets" grep -q "^EN 17037 method 1 (daylight factor, CIE overcast sky): .*minimum D>=" "$tmp/en.out"
+check "UDI over the work plane" grep -q "^annual   UDI over the work plane (its points' mean): below 100 lx [0-9.]* %, 100-3000 lx [0-9.]* %, above 3000 lx [0-9.]* %" "$tmp/en.out"
 check "each point's daylight hours and DF" grep -q "^point    eye (0, 0)  EN 17037: daylight hours at 100/300/500/750 lx .* DF [0-9.]* %" "$tmp/en.out"
 check "the point table has the EN 17037 columns" grep -q ",workplane,en17037_100_lx_pct,en17037_300_lx_pct,en17037_500_lx_pct,en17037_750_lx_pct,df_cie_overcast_pct$" "$tmp/en.annual.csv"
 check "the hourly table has the schedule's 3650 hours" test "$(wc -l < "$tmp/en.annual-hourly.csv")" -eq 3651

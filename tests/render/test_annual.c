@@ -415,12 +415,25 @@ static void workplane_lm83(void **state) {
   assert_int_equal(direct, 5);
   assert_true(r->ase == 1.0); /* 5 of 5, where 5 of 6 counted the eye */
   vr_annual_result_destroy(r);
-  /* workplane= names one grid: only its 4 points count. */
-  snprintf(t, sizeof t, text, " workplane=plane");
+  /* workplane= names one grid: only its 4 points count.  UDI over the work
+   * plane is the mean of their shares: with an upper bound of 20 000 lx,
+   * which the sunlit grid passes and the north-facing eye does not, the
+   * eye counted would change it. */
+  snprintf(t, sizeof t, text, " workplane=plane udi=100,20000");
   r = run_annual(t, NULL);
   assert_int_equal(r->workplane_points, 4);
-  for (size_t p = 0; p < r->npoints; p++)
-    assert_true(r->points[p].workplane == !strcmp(r->points[p].sensor, "plane"));
+  double udi[3] = {0}, every = 0;
+  for (size_t p = 0; p < r->npoints; p++) {
+    bool on = !strcmp(r->points[p].sensor, "plane");
+    assert_true(r->points[p].workplane == on);
+    every += r->points[p].udi_above / (double)r->npoints;
+    if (!on) continue;
+    udi[0] += r->points[p].udi_below / 4, udi[1] += r->points[p].udi_useful / 4;
+    udi[2] += r->points[p].udi_above / 4;
+  }
+  for (int k = 0; k < 3; k++) assert_near(r->udi_plane[k], udi[k], 1e-12);
+  printf("UDI above 20 000 lx: over the plane %.3f, over every point %.3f\n", r->udi_plane[2], every);
+  assert_true(fabs(r->udi_plane[2] - every) > 0.01);
   vr_annual_result_destroy(r);
 }
 

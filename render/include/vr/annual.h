@@ -152,6 +152,7 @@ typedef struct vr_annual_result {
   size_t npoints;
   vr_annual_point *points;
   double sda, ase;           /* shares of the work plane's points in [0, 1] */
+  double udi_plane[3];       /* UDI below, useful, above: the work plane's points' mean shares */
   size_t workplane_points;   /* how many (the other points are reported apart) */
   size_t records, occupied_hours, daylit_hours; /* of the file; occupied; of those with daylight */
   size_t sun_patches;        /* sun positions rendered */

@@ -485,10 +485,13 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
     pt->da /= occ, pt->udi_below /= occ, pt->udi_useful /= occ, pt->udi_above /= occ;
     if (!pt->workplane) continue;
     nw++;
+    res->udi_plane[0] += pt->udi_below, res->udi_plane[1] += pt->udi_useful;
+    res->udi_plane[2] += pt->udi_above;
     sda += pt->da >= a->sda_share;
     ase += pt->direct_hours > a->ase_hours;
   }
   res->workplane_points = nw;
+  for (int k = 0; k < 3; k++) res->udi_plane[k] /= nw ? (double)nw : 1;
   res->sda = nw ? (double)sda / (double)nw : 0;
   res->ase = nw ? (double)ase / (double)nw : 0;
 done:
