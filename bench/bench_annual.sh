@@ -18,20 +18,12 @@ bin=$build/render/vr-render
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 export VR_MATDB=$work/materials.db
+source "$root/tests/cli/room_shell.sh"
 scene() { # FILE ANNUAL-OPTIONS
   cat > "$1" <<EOS
-material wall lambert reflectance=0.5
 material pane db:soda-lime-glass thickness=6mm
 material roller bsdf file=$root/tests/data/bsdf/cgdb_14060_urban_loft_river_stone.xml.gz
-rect center=2,2,0   normal=0,0,1  size=4,4 material=wall
-rect center=2,2,3   normal=0,0,-1 size=4,4 material=wall
-rect center=2,4,1.5 normal=0,-1,0 size=4,3 material=wall
-rect center=0,2,1.5 normal=1,0,0  size=4,3 material=wall
-rect center=4,2,1.5 normal=-1,0,0 size=4,3 material=wall
-rect center=2,0,0.45 normal=0,1,0 size=4,0.9 material=wall
-rect center=2,0,2.55 normal=0,1,0 size=4,0.9 material=wall
-rect center=0.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall
-rect center=3.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall
+$(room_shell)
 rect center=2,0,1.5 normal=0,1,0 size=2,1.2 material=pane
 light sun spectrum=D65
 sky perez weather=$root/tests/data/weather/chicago.wea

@@ -9,6 +9,7 @@ set -u
 bin="$(cd "$VR_BIN" && pwd)/vr-render"
 src="$VR_SOURCE_DIR"
 source "$(dirname "$0")/harness.sh"
+source "$(dirname "$0")/room_shell.sh"
 
 daysim="$src/tests/data/occupancy/8to6withDST.60min.occ.csv"
 # An open ground, a horizontal work-plane grid and an eye-level view
@@ -69,18 +70,9 @@ refuse render-annual-edmed "$bin" "$tmp/b6.scn" -o "$tmp/b6"
 # An operable shade for sDA (IES LM-83-12): a south window of clear glass
 # of a closed room, an IGSDB roller shade (BSDF XML) drawn by the rule.
 cat > "$tmp/shade.scn" <<EOS
-material wall lambert reflectance=0.5
 material pane db:soda-lime-glass thickness=6mm
 material roller bsdf file=$src/tests/data/bsdf/cgdb_14060_urban_loft_river_stone.xml.gz
-rect center=2,2,0   normal=0,0,1  size=4,4 material=wall
-rect center=2,2,3   normal=0,0,-1 size=4,4 material=wall
-rect center=2,4,1.5 normal=0,-1,0 size=4,3 material=wall
-rect center=0,2,1.5 normal=1,0,0  size=4,3 material=wall
-rect center=4,2,1.5 normal=-1,0,0 size=4,3 material=wall
-rect center=2,0,0.45 normal=0,1,0 size=4,0.9 material=wall
-rect center=2,0,2.55 normal=0,1,0 size=4,0.9 material=wall
-rect center=0.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall
-rect center=3.5,0,1.5 normal=0,1,0 size=1,1.2 material=wall
+$(room_shell)
 rect center=2,0,1.5 normal=0,1,0 size=2,1.2 material=pane
 light sun spectrum=D65
 sky perez weather=$src/tests/data/weather/chicago.wea
