@@ -92,7 +92,7 @@ static const char ABOUT[] =
     "The outputs appear together or not at all, with PREFIX.manifest.json (the run's id, each\n"
     "file's size and SHA-256) written last; 'vr-render --verify PREFIX' checks a set against it.\n"
     "Every output is checked before any work: none may replace an input of the run (the scene,\n"
-    "its meshes, IES and weather files, the database), and its folder must exist.\n"
+    "its meshes, IES, weather and occupancy files, the database), and its folder must exist.\n"
     "A scene whose sky is a whole weather file (sky perez weather=FILE, no date) is an annual\n"
     "study instead: PREFIX.annual.csv (DA, UDI, direct-sun hours per point; with\n"
     "'annual en17037=yes' EN 17037's daylight hours and daylight factor) and\n"
