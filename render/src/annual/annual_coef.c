@@ -29,7 +29,8 @@ static vr_status make_variant(const vr_annual_job *j, double state, vr_annual_va
   memset(&v->s.sky, 0, sizeof v->s.sky);
   v->mats = malloc((s->nmaterials + 1) * sizeof *v->mats);
   if (!v->mats) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  memcpy(v->mats, s->materials, s->nmaterials * sizeof *v->mats);
+  /* A scene without a material line has none (and a NULL array). */
+  if (s->nmaterials) memcpy(v->mats, s->materials, s->nmaterials * sizeof *v->mats);
   if (s->annual.glass >= 0) {
     v->mats[s->annual.glass].state = state;
     v->mats[s->annual.glass].charge_mC_cm2 = NAN;
