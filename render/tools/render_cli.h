@@ -1,7 +1,8 @@
 /* What the files of vr-render share (render/tools/): the command line's
  * overrides of the scene (render_overrides.c), the choice of its outputs
  * and their checks against its inputs (render_outputs.c) and its results on stdout as text
- * or JSON (render_report.c).  vr_render.c holds main. */
+ * or JSON (render_report.c), an annual study's summary (render_annual.c).
+ * vr_render.c holds main. */
 #ifndef VR_RENDER_CLI_H
 #define VR_RENDER_CLI_H
 
@@ -15,6 +16,15 @@
 #include "vr/scene.h"
 
 typedef struct vr_matdb vr_matdb;
+struct vr_annual_result;
+
+/* ---- render_annual.c ---- */
+
+/* The summary of an annual study on stdout: its renders, the glass or
+ * shade, sDA, ASE, UDI over the work plane, EN 17037's levels, each point
+ * and the files written under prefix. */
+void render_annual_report(const vr_scene *scene, const struct vr_annual_result *res,
+                          const char *prefix);
 
 /* Prints "vr-render: MESSAGE" and the --help hint; returns 2, the exit
  * status of a usage error (vr_render.c). */
