@@ -158,7 +158,10 @@ vr_status render_overrides_apply(const render_overrides *o, vr_scene *s, vr_erro
       return vr_error_set(err, VR_E_ARG,
                           "--set '%s': material \"%s\" (%s:%ld) is %s: it has no tint state",
                           set->text, m->name, s->path, m->loc.line,
-                          m->source == VR_MATSRC_BLACK ? "black" : "lambert");
+                          m->source == VR_MATSRC_BLACK      ? "black"
+                          : m->source == VR_MATSRC_GLASS    ? "an inline glass"
+                          : m->source == VR_MATSRC_BSDF_XML ? "a BSDF XML file"
+                                                            : "lambert");
     m->state = set->state;
     m->charge_mC_cm2 = NAN;
   }

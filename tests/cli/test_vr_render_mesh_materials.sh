@@ -146,8 +146,8 @@ sed 's/units=mm up=y/units=yd/' frame.scn > bad6.scn
 refuse render-mesh-units-unknown "$bin" bad6.scn -o bad6
 sed 's/units=mm up=y/up=x/' frame.scn > bad7.scn
 refuse render-mesh-up-unknown "$bin" bad7.scn -o bad7
-printf 'void plastic red\n0\n0\n5 .7 .1 .1 0 0\n' > room.rad
-sed 's/cornell_box.obj units=mm up=y/room.rad material=wall/' frame.scn > bad8.scn
+printf 'not a SketchUp model\n' > room.skp
+sed 's/cornell_box.obj units=mm up=y/room.skp material=wall/' frame.scn > bad8.scn
 refuse render-mesh-format-unknown "$bin" bad8.scn -o bad8
 check "the list names obj, gltf and fbx" grep -q "obj .*fbx.*gltf" "$tmp/refused.err"
 

@@ -41,6 +41,10 @@
  *                                       band, grey, patch by patch
  *                                       (bsdf_klems.c): glossy reflection
  *                                       and transmission, not thin
+ *   glass (inline, a Radiance glass)    thin pane: n constant, k from the
+ *                                       internal transmittance per pass
+ *   glass model=interfaces (a Radiance  one interface, n constant, the
+ *   dielectric)                         medium transmitting t per metre
  *   chromogenic                         thin pane whose normal-incidence
  *                                       T, Rf, Rb follow the state s; the
  *                                       angles through the same equivalent

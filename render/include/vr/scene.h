@@ -78,7 +78,9 @@ typedef enum vr_mat_source {
   VR_MATSRC_DB = 0,
   VR_MATSRC_LAMBERT_CONST,
   VR_MATSRC_BLACK,
-  VR_MATSRC_BSDF_XML /* a Klems BSDF XML file (bsdf file=F.xml) */
+  VR_MATSRC_BSDF_XML, /* a Klems BSDF XML file (bsdf file=F.xml) */
+  VR_MATSRC_GLASS     /* a non-dispersive dielectric given inline (a Radiance glass or
+                         dielectric): ior and transmission below */
 } vr_mat_source;
 
 typedef enum vr_pane_model {
@@ -116,6 +118,13 @@ typedef struct vr_scene_material {
    * +z, or +y for a horizontal surface). */
   char *bsdf_file;
   double bsdf_up[3];
+  /* VR_MATSRC_GLASS: the index (constant over wavelength) and an inline
+   * spectrum of transmission: with pane = VR_PANE_THIN a thin pane's
+   * internal transmittance per pass at normal incidence (Radiance's glass
+   * "transmissivity"), with VR_PANE_INTERFACES an interface whose medium
+   * transmits that much per metre (Radiance's dielectric). */
+  double ior;
+  char *transmission;
   /* A texture that multiplies the reflectance per point (lambert
    * texture=FILE, or a model's base colour map): a file (resolved against
    * the scene's or the model's folder), or the bytes of an image embedded

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "geometry/cache_format.h"
+#include "geometry/rad_read.h"
 #include "vr/sha256.h"
 
 static void from_hex(const char hex[65], uint8_t key[32]) {
@@ -55,7 +56,9 @@ vr_status vr_cache_key_scene(const vr_scene *s, int S, uint8_t key[32], vr_error
     while (j < npaths && strcmp(paths[j], o->mesh_path)) j++;
     if (j == npaths) {
       paths[npaths] = o->mesh_path;
-      if ((st = vr_sha256_file(o->mesh_path, digests[npaths], err))) {
+      /* A Radiance scene's key covers the files its !xform lines read. */
+      if ((st = vr_rad_is(o->mesh_path) ? vr_rad_digest(o->mesh_path, digests[npaths], err)
+                                        : vr_sha256_file(o->mesh_path, digests[npaths], err))) {
         vr_error_prefix(err, "%s:%ld: mesh: ", s->path ? s->path : "<input>", o->loc.line);
         break;
       }

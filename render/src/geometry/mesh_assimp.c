@@ -4,6 +4,7 @@
  * the renderer) nor to drop degenerate triangles (geometry.c counts those,
  * so the user hears about them). */
 #include "geometry/mesh_assimp.h"
+#include "geometry/rad_read.h"
 #include "vr/colour.h"
 #include "vr/scene.h"
 
@@ -366,6 +367,13 @@ void vr_mesh_materials_free(vr_mesh_material *m, size_t n) {
 
 vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n, vr_error *err) {
   *out = NULL, *n = 0;
+  if (vr_rad_is(path)) {
+    vr_rad_model rm;
+    vr_status st = vr_rad_read(path, &rm, err);
+    if (!st) st = vr_rad_mesh_materials(&rm, out, n, err);
+    vr_rad_free(&rm);
+    return st;
+  }
   const struct aiScene *sc;
   vr_status st = import(path, &sc, err);
   if (st) return st;
@@ -388,6 +396,7 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
      * its PLY reader makes for a file without a material element. */
     m[i].invented = !strcmp(m[i].name, AI_DEFAULT_MATERIAL_NAME) || (ply && !named);
     m[i].undefined = !m[i].invented && obj && !names_have(defined, m[i].name);
+    m[i].rad_kind = -1;
     struct aiColor4D c;
     /* glTF's base colour first (Assimp gives it as the diffuse colour too,
      * but not every version), then the diffuse colour. */
@@ -452,6 +461,16 @@ vr_status vr_mesh_materials(const char *path, vr_mesh_material **out, size_t *n,
 
 vr_status vr_mesh_read(const char *path, vr_mesh_data *out, vr_error *err) {
   memset(out, 0, sizeof *out);
+  if (vr_rad_is(path)) {
+    /* A Radiance scene: its own reader (rad_read.c), not Assimp. */
+    vr_rad_model rm;
+    vr_status st = vr_rad_read(path, &rm, err);
+    if (st) return st;
+    *out = rm.mesh;
+    memset(&rm.mesh, 0, sizeof rm.mesh);
+    vr_rad_free(&rm);
+    return VR_OK;
+  }
   const struct aiScene *sc;
   vr_status st = import(path, &sc, err);
   if (st) return st;

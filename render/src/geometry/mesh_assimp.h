@@ -66,6 +66,11 @@ typedef struct vr_mesh_material {
   double alpha_cutoff; /* glTF alphaCutoff (default 0.5) */
   size_t triangles;    /* triangles that use it */
   bool vertex_colours; /* some mesh of it has a colour per vertex (a PLY file's) */
+  /* A Radiance material (a .rad file, rad_read.h): its kind and arguments
+   * (rad_kind is a vr_rad_kind, -1 for every other file). */
+  int rad_kind;
+  double rad_arg[5], rad_up[3];
+  char rad_file[1024], rad_where[1100];
 } vr_mesh_material;
 
 /* Fills *out (zeroed first).  Errors carry no location, the caller adds it:

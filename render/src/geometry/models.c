@@ -17,6 +17,7 @@
 #include <strings.h>
 
 #include "geometry/mesh_assimp.h"
+#include "geometry/rad_read.h"
 #include "vr/models.h"
 
 static vr_status nomem(vr_error *err) { return vr_error_set(err, VR_E_NOMEM, "out of memory"); }
@@ -159,7 +160,9 @@ static vr_status textured(vr_scene *s, const vr_scene_object *ob, const vr_mesh_
 /* The scene material for the file's material mm of object i; made from
  * its colour when nothing maps it. */
 static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
-                              const vr_mesh_material *mm, int *out, vr_error *err) {
+                              const vr_mesh_material *mm, int *out, bool *from_file,
+                              vr_error *err) {
+  *from_file = false;
   for (size_t k = 0; k < s->nmesh_maps; k++) {
     const vr_scene_mesh_map *map = &s->mesh_maps[k];
     if (map->object != i || fnmatch(map->pattern, mm->name, 0)) continue;
@@ -174,6 +177,7 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
    * line that names the file. */
   char name[512];
   snprintf(name, sizeof name, "%s:%s", base(ob->mesh_path), mm->name);
+  *from_file = true;
   if ((*out = material_index(s, name)) >= 0) return VR_OK;
   vr_scene_material *g = realloc(s->materials, (s->nmaterials + 1) * sizeof *g);
   if (!g) return nomem(err);
@@ -186,6 +190,22 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   m->roughness = m->thickness_m = m->state = m->charge_mC_cm2 = m->temperature_K = NAN;
   m->alpha_cutoff = 0.5, m->tile[0] = m->tile[1] = 1, m->normal_scale = 1;
   *out = (int)(s->nmaterials - 1);
+  if (mm->rad_kind >= 0) {
+    /* A Radiance material: its kind decides (rad_materials.c); the
+     * emission goes to the objects (expand). */
+    char what[600], note[4000];
+    vr_quantity q;
+    char *es = NULL;
+    vr_error e = {0};
+    vr_status st = vr_rad_scene_material(mm, ob, m, &q, &es, what, sizeof what, &e);
+    free(es);
+    if (st)
+      return vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "mesh '%s': %s",
+                         base(ob->mesh_path), e.message);
+    snprintf(note, sizeof note, "mesh '%s': Radiance material '%s' (%zu triangles, %s): %s",
+             base(ob->mesh_path), mm->name, mm->triangles, mm->rad_where, what);
+    return add_note(s, note, err);
+  }
   if (mm->normal[0]) {
     vr_status st = locate(s, ob, mm, "normal map", mm->normal, mm->normal_bytes, mm->normal_len,
                           &m->normal_map, &m->normal_bytes, &m->normal_len, err);
@@ -251,8 +271,33 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
   vr_mesh_material *mm = NULL;
   size_t nm = 0;
   vr_error e = {0};
-  vr_status st = vr_mesh_materials(ob->mesh_path, &mm, &nm, &e);
-  if (st) return vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "%s", e.message);
+  vr_status st;
+  if (vr_rad_is(ob->mesh_path)) {
+    /* A Radiance scene: its materials, its sun and what was left out. */
+    vr_rad_model rm;
+    if ((st = vr_rad_read(ob->mesh_path, &rm, &e)))
+      return vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "%s", e.message);
+    st = vr_rad_mesh_materials(&rm, &mm, &nm, &e);
+    if (!st) st = vr_rad_add_sources(s, ob, &rm, &e);
+    char note[1400];
+    if (!st && (rm.illum_dropped || rm.degenerate || rm.nsrc)) {
+      snprintf(note, sizeof note,
+               "mesh '%s' (%zu file%s): %zu illum surface%s without an alternate material left out "
+               "(invisible in Radiance), %zu polygon%s of no area skipped, %zu distant source%s "
+               "as the sun",
+               base(ob->mesh_path), rm.files, rm.files == 1 ? "" : "s", rm.illum_dropped,
+               rm.illum_dropped == 1 ? "" : "s", rm.degenerate, rm.degenerate == 1 ? "" : "s",
+               rm.nsrc, rm.nsrc == 1 ? "" : "s");
+      st = add_note(s, note, &e);
+    }
+    vr_rad_free(&rm);
+    if (st) {
+      vr_mesh_materials_free(mm, nm);
+      return vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "%s", e.message);
+    }
+  } else if ((st = vr_mesh_materials(ob->mesh_path, &mm, &nm, &e))) {
+    return vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "%s", e.message);
+  }
   size_t used = 0;
   for (size_t k = 0; k < nm; k++)
     used += mm[k].triangles > 0 && (!mm[k].invented || mm[k].vertex_colours);
@@ -289,7 +334,8 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
   for (size_t k = 0; k < nm && !st; k++) {
     if (!mm[k].triangles) continue;
     int mat;
-    if ((st = material_for(s, i, ob, &mm[k], &mat, err))) break;
+    bool from_file;
+    if ((st = material_for(s, i, ob, &mm[k], &mat, &from_file, err))) break;
     vr_scene_object *n = realloc(*out, (*nout + 1) * sizeof *n);
     if (!n) {
       st = nomem(err);
@@ -308,6 +354,19 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
     c->name = strdup(label);
     if (ob->emission_spectrum) c->emission_spectrum = strdup(ob->emission_spectrum);
     if (!c->mesh_path || !c->name || (ob->emission_spectrum && !c->emission_spectrum)) st = nomem(err);
+    if (!st && from_file && (mm[k].rad_kind == VR_RAD_LIGHT || mm[k].rad_kind == VR_RAD_GLOW)) {
+      /* A Radiance light or glow emits (the mesh line's own emission=
+       * gives way to it). */
+      vr_scene_material scratch;
+      memset(&scratch, 0, sizeof scratch);
+      char what[600], *es = NULL;
+      vr_error e2 = {0};
+      if ((st = vr_rad_scene_material(&mm[k], ob, &scratch, &c->emission, &es, what, sizeof what,
+                                      &e2)))
+        st = vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "%s", e2.message);
+      free(c->emission_spectrum);
+      c->emission_spectrum = es;
+    }
   }
   vr_mesh_materials_free(mm, nm);
   return st;
@@ -316,7 +375,10 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
 static bool needs(const vr_scene *s, size_t i) {
   const vr_scene_object *ob = &s->objects[i];
   if (ob->shape != VR_SHAPE_MESH) return false;
-  if (ob->material < 0) return true;
+  /* A Radiance scene always: its sources become the sun whatever its
+   * materials become. */
+  if (ob->material < 0 || (ob->mesh_material < 0 && ob->mesh_path && vr_rad_is(ob->mesh_path)))
+    return true;
   for (size_t k = 0; k < s->nmesh_maps; k++)
     if (s->mesh_maps[k].object == i) return true;
   return false;

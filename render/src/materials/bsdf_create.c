@@ -218,6 +218,44 @@ static vr_status make_dielectric(vr_bsdf *b, const vr_scene_material *sm, const 
   return vr_bsdfi_table_coated(b, coating, film, d, err);
 }
 
+/* An inline non-dispersive dielectric (a Radiance glass or dielectric):
+ * n constant, k from the transmission spectrum.  Glass: a thin pane whose
+ * internal transmittance per pass at normal incidence is t; the pane is
+ * given a nominal 6 mm, which only scales k (t^(1/cos theta_t) at other
+ * angles whatever the thickness).  Dielectric: an interface whose medium
+ * transmits t per metre, sigma_a = -ln t. */
+static vr_status make_glass(vr_bsdf *b, const vr_scene_material *sm, vr_error *err) {
+  if (!(sm->ior >= 1.0 && sm->ior < 10.0))
+    return vr_error_set(err, VR_E_RANGE, "index of refraction %g outside [1, 10)", sm->ior);
+  vr_spectrum *sp = vr_scene_inline_spectrum(sm->transmission ? sm->transmission : "", err);
+  if (!sp) return err ? err->status : VR_E_PARSE;
+  b->n = grid_alloc(b);
+  b->k = grid_alloc(b);
+  if (!b->n || !b->k) {
+    vr_spectrum_destroy(sp);
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  }
+  bool thin = sm->pane != VR_PANE_INTERFACES;
+  const double d_nm = 6e6;
+  for (size_t i = 0; i < b->nl; i++) {
+    double nm = node_nm(b, i);
+    if (!vr_spectrum_covers(sp, nm, nm)) b->extrapolated = true;
+    double t = vr_spectrum_eval(sp, nm, VR_INTERP_LINEAR);
+    t = fmax(t, 1e-30);
+    if (thin && t > 1) t = 1;
+    b->n[i] = sm->ior;
+    /* alpha = 4 pi k / lambda: per pass over d, or per metre. */
+    b->k[i] = thin ? -nm * log(t) / (4.0 * M_PI * d_nm) : -(nm * 1e-9) * log(t) / (4.0 * M_PI);
+    if (b->k[i] < 0) b->k[i] = 0;
+  }
+  vr_spectrum_destroy(sp);
+  if (!thin) return make_interface(b, sm, err);
+  b->kind = VR_BK_PANE;
+  b->lobes = VR_LOBE_SPECULAR_R | VR_LOBE_STRAIGHT;
+  snprintf(b->desc, sizeof b->desc, "thin glass (n %g, inline transmissivity)", sm->ior);
+  return vr_bsdfi_table_slab(b, d_nm, err);
+}
+
 static vr_status make_glazing(vr_bsdf *b, const vr_scene_material *sm, const vr_material *m,
                               vr_error *err) {
   /* The measured pane's own thickness first: T and R belong to it. */
@@ -296,6 +334,7 @@ static vr_status build(vr_bsdf *b, const vr_scene_material *sm, const vr_materia
   if (sm->source == VR_MATSRC_LAMBERT_CONST)
     return sm->pbr ? make_pbr(b, sm, err) : make_lambert(b, sm, NULL, err);
   if (sm->source == VR_MATSRC_BSDF_XML) return vr_bsdfi_klems_create(b, sm, err);
+  if (sm->source == VR_MATSRC_GLASS) return make_glass(b, sm, err);
   if (!m) return vr_error_set(err, VR_E_ARG, "the database material was not resolved");
   vr_status st = check_settings(sm, m->kind, err);
   if (st) return st;

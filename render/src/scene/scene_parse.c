@@ -22,6 +22,7 @@ void vr_scene_destroy(vr_scene *s) {
     free(s->materials[i].coating_db);
     free(s->materials[i].bsdf_file);
     free(s->materials[i].reflectance_spectrum);
+    free(s->materials[i].transmission);
     free(s->materials[i].texture);
     free(s->materials[i].texture_bytes);
     free(s->materials[i].normal_map);

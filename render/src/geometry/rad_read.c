@@ -1,0 +1,683 @@
+/* Reading a Radiance scene description (rad_read.h): the words of a file,
+ * its primitives (modifier type identifier, then string, integer and
+ * real arguments, each list led by its count), the identifiers they
+ * define and the !xform lines that place other files.  Radiance reads
+ * identifiers in file order, a later definition replacing an earlier one
+ * for the primitives after it; so does this reader. */
+#include <ctype.h>
+#include <stdarg.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include "geometry/rad_read.h"
+#include "vr/scene.h"
+#include "vr/sha256.h"
+
+#define RAD_MAX_DEPTH 32
+#define RAD_MAX_ARGS 1000000
+
+/* An identifier's meaning: a material (mat >= 0), or an illum with no
+ * alternate (mat = -1: invisible, its surfaces dropped). */
+typedef struct def {
+  char name[128];
+  int mat;
+} def;
+
+typedef struct reader {
+  vr_rad_model *m;
+  vr_error *err;
+  def *defs;
+  size_t ndefs;
+  char **files; /* every file read, in order */
+  size_t nfiles;
+  bool walk_only; /* vr_rad_digest: follow !xform, build nothing */
+} reader;
+
+/* One file being read. */
+typedef struct src {
+  const char *path;
+  char *text;
+  size_t len, pos;
+  long line;
+  vr_xform x;          /* file coordinates -> the model's */
+  bool flip;           /* x mirrors: reverse the triangles' order */
+  char mod[128];       /* !xform -m: every surface takes this modifier, "" none */
+  int depth;
+} src;
+
+static vr_status nomem(vr_error *err) { return vr_error_set(err, VR_E_NOMEM, "out of memory"); }
+
+bool vr_rad_is(const char *path) {
+  size_t n = strlen(path);
+  return n > 4 && !strcasecmp(path + n - 4, ".rad");
+}
+
+/* The next word and its line; false at the end of the file.  Double
+ * quotes keep spaces in a word, as Radiance's reader does. */
+static bool word(src *f, char *out, size_t cap, long *line) {
+  while (f->pos < f->len && isspace((unsigned char)f->text[f->pos]))
+    if (f->text[f->pos++] == '\n') f->line++;
+  if (f->pos >= f->len) return false;
+  *line = f->line;
+  size_t n = 0;
+  bool quoted = f->text[f->pos] == '"';
+  if (quoted) f->pos++;
+  while (f->pos < f->len) {
+    char c = f->text[f->pos];
+    if (quoted ? c == '"' : isspace((unsigned char)c)) break;
+    if (c == '\n') f->line++;
+    if (n + 1 < cap) out[n++] = c;
+    f->pos++;
+  }
+  if (quoted && f->pos < f->len) f->pos++;
+  out[n] = '\0';
+  return true;
+}
+
+/* The rest of the line (a comment, a command), with backslash-newline
+ * continuations joined. */
+static void rest_of_line(src *f, char *out, size_t cap) {
+  size_t n = 0;
+  while (f->pos < f->len && f->text[f->pos] != '\n') {
+    char c = f->text[f->pos++];
+    if (c == '\\' && f->pos < f->len && f->text[f->pos] == '\n') {
+      f->pos++, f->line++;
+      c = ' ';
+    }
+    if (n + 1 < cap) out[n++] = c;
+  }
+  out[n] = '\0';
+}
+
+static vr_status fail(reader *r, const src *f, long line, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+static vr_status fail(reader *r, const src *f, long line, const char *fmt, ...) {
+  char msg[900];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(msg, sizeof msg, fmt, ap);
+  va_end(ap);
+  return vr_error_at(r->err, VR_E_PARSE, f->path, line, 0, "%s", msg);
+}
+
+/* A count, a real, a whole word. */
+static bool to_long(const char *w, long *out) {
+  char *end;
+  errno = 0;
+  long v = strtol(w, &end, 10);
+  if (!*w || *end || errno || v < 0 || v > RAD_MAX_ARGS) return false;
+  *out = v;
+  return true;
+}
+
+static bool to_real(const char *w, double *out) {
+  char *end;
+  errno = 0;
+  double v = strtod(w, &end);
+  if (!*w || *end || !isfinite(v)) return false;
+  *out = v;
+  return true;
+}
+
+/* A primitive's arguments. */
+typedef struct prim {
+  char mod[128], type[64], id[128];
+  long line;
+  long nstr;
+  char **str;
+  long nreal;
+  double *real;
+} prim;
+
+static void prim_free(prim *p) {
+  for (long i = 0; i < p->nstr; i++) free(p->str[i]);
+  free(p->str);
+  free(p->real);
+  p->str = NULL, p->real = NULL, p->nstr = p->nreal = 0;
+}
+
+static vr_status read_prim(reader *r, src *f, prim *p) {
+  char w[1024];
+  long line;
+  const char *what[] = {"a type", "an identifier"};
+  char *slots[] = {p->type, p->id};
+  size_t caps[] = {sizeof p->type, sizeof p->id};
+  for (int k = 0; k < 2; k++) {
+    if (!word(f, w, sizeof w, &line))
+      return fail(r, f, p->line, "'%s': the file ends before %s", p->mod, what[k]);
+    if (strlen(w) >= caps[k])
+      return fail(r, f, line, "'%.40s...': longer than %zu characters", w, caps[k] - 1);
+    memcpy(slots[k], w, strlen(w) + 1);
+  }
+  long n;
+  if (!word(f, w, sizeof w, &line) || !to_long(w, &n))
+    return fail(r, f, p->line, "%s '%s': the count of string arguments is missing or not a count",
+                p->type, p->id);
+  if (!(p->str = calloc((size_t)n + 1, sizeof *p->str))) return nomem(r->err);
+  for (long i = 0; i < n; i++) {
+    if (!word(f, w, sizeof w, &line))
+      return fail(r, f, p->line, "%s '%s': the file ends inside its %ld string arguments", p->type,
+                  p->id, n);
+    if (!(p->str[i] = strdup(w))) return nomem(r->err);
+    p->nstr = i + 1;
+  }
+  if (!word(f, w, sizeof w, &line) || !to_long(w, &n))
+    return fail(r, f, p->line, "%s '%s': the count of integer arguments is missing or not a count",
+                p->type, p->id);
+  if (n)
+    return fail(r, f, p->line, "%s '%s': %ld integer arguments (no primitive read here takes any)",
+                p->type, p->id, n);
+  if (!word(f, w, sizeof w, &line) || !to_long(w, &n))
+    return fail(r, f, p->line, "%s '%s': the count of real arguments is missing or not a count",
+                p->type, p->id);
+  if (!(p->real = calloc((size_t)n + 1, sizeof *p->real))) return nomem(r->err);
+  for (long i = 0; i < n; i++) {
+    if (!word(f, w, sizeof w, &line))
+      return fail(r, f, p->line, "%s '%s': the file ends inside its %ld real arguments", p->type,
+                  p->id, n);
+    if (!to_real(w, &p->real[i]))
+      return fail(r, f, line, "%s '%s': real argument %ld '%s' is not a finite number", p->type,
+                  p->id, i + 1, w);
+  }
+  p->nreal = n;
+  return VR_OK;
+}
+
+static int lookup(const reader *r, const char *name, bool *found) {
+  for (size_t i = r->ndefs; i-- > 0;)
+    if (!strcmp(r->defs[i].name, name)) {
+      *found = true;
+      return r->defs[i].mat;
+    }
+  *found = false;
+  return -1;
+}
+
+static vr_status define(reader *r, const char *name, int mat) {
+  def *d = realloc(r->defs, (r->ndefs + 1) * sizeof *d);
+  if (!d) return nomem(r->err);
+  r->defs = d;
+  snprintf(d[r->ndefs].name, sizeof d->name, "%s", name);
+  d[r->ndefs++].mat = mat;
+  return VR_OK;
+}
+
+static const char *const PATTERNS[] = {
+    "texfunc", "texdata", "colorfunc", "brightfunc", "colordata", "brightdata", "colorpict",
+    "colortext", "brighttext", "mixfunc", "mixdata", "mixpict", "mixtext", "specfunc", "specdata",
+    "specfile", "specpict", NULL};
+static const char *const UNREAD_MATERIALS[] = {
+    "trans", "trans2", "plastic2", "metal2", "ashik2", "plasfunc", "metfunc", "transfunc",
+    "plasdata", "metdata", "transdata", "BRTDfunc", "aBSDF", "antimatter", "prism1", "prism2",
+    "mist", "interface", "spotlight", "WGMDfunc", NULL};
+
+static bool in(const char *const *list, const char *w) {
+  for (; *list; list++)
+    if (!strcmp(*list, w)) return true;
+  return false;
+}
+
+/* A material definition. */
+static vr_status material(reader *r, src *f, prim *p, vr_rad_kind kind) {
+  if (strcmp(p->mod, "void"))
+    return fail(r, f, p->line,
+                "%s '%s': its modifier '%s' is not void; patterns and textures are not read "
+                "(map the material with material.%s=NAME in the scene)",
+                p->type, p->id, p->mod, p->id);
+  static const long want[] = {[VR_RAD_PLASTIC] = 5, [VR_RAD_METAL] = 5, [VR_RAD_MIRROR] = 3,
+                              [VR_RAD_GLASS] = 3,   [VR_RAD_DIELECTRIC] = 5, [VR_RAD_LIGHT] = 3,
+                              [VR_RAD_GLOW] = 4,    [VR_RAD_BSDF] = 0};
+  bool nreal_ok = p->nreal == want[kind] || (kind == VR_RAD_GLASS && p->nreal == 4);
+  if (!nreal_ok)
+    return fail(r, f, p->line, "%s '%s': %ld real arguments, %s takes %ld%s", p->type, p->id,
+                p->nreal, p->type, want[kind],
+                kind == VR_RAD_GLASS ? " or 4"
+                : kind == VR_RAD_BSDF ? " here (its extra diffuse components are not read)"
+                                      : "");
+  if (kind != VR_RAD_BSDF && p->nstr)
+    return fail(r, f, p->line, "%s '%s': %ld string arguments (%s takes none here%s)", p->type,
+                p->id, p->nstr, p->type,
+                kind == VR_RAD_MIRROR ? "; a mirror's alternate material is not read" : "");
+  vr_rad_material mt;
+  memset(&mt, 0, sizeof mt);
+  mt.kind = kind;
+  snprintf(mt.where, sizeof mt.where, "%s:%ld", f->path, p->line);
+  bool found;
+  lookup(r, p->id, &found);
+  if (found) snprintf(mt.name, sizeof mt.name, "%.100s@%ld", p->id, p->line);
+  else snprintf(mt.name, sizeof mt.name, "%s", p->id);
+  for (long i = 0; i < p->nreal && i < 5; i++) mt.arg[i] = p->real[i];
+  if (kind == VR_RAD_GLASS && p->nreal == 3) mt.arg[3] = 1.52;
+  if (kind == VR_RAD_BSDF) {
+    if (p->nstr < 6)
+      return fail(r, f, p->line,
+                  "BSDF '%s': %ld string arguments; it takes 6 (thickness, XML file, up vector x "
+                  "y z, function file)", p->id, p->nstr);
+    if (p->nstr > 6)
+      return fail(r, f, p->line, "BSDF '%s': a transform after the function file is not read",
+                  p->id);
+    double thick;
+    if (!to_real(p->str[0], &thick) || thick != 0)
+      return fail(r, f, p->line,
+                  "BSDF '%s': thickness '%s': only 0 is read (a thick BSDF's proxy geometry is "
+                  "not modelled)", p->id, p->str[0]);
+    for (int k = 0; k < 3; k++)
+      if (!to_real(p->str[2 + k], &mt.up[k]))
+        return fail(r, f, p->line, "BSDF '%s': up vector component '%s' is not a number", p->id,
+                    p->str[2 + k]);
+    if (strcmp(p->str[5], "."))
+      return fail(r, f, p->line,
+                  "BSDF '%s': function file '%s' is not read (only '.', no function file)", p->id,
+                  p->str[5]);
+    vr_xform_vector(&f->x, mt.up, mt.up);
+    const char *slash = strrchr(f->path, '/');
+    int dir = p->str[1][0] == '/' || !slash ? 0 : (int)(slash - f->path + 1);
+    snprintf(mt.file, sizeof mt.file, "%.*s%s", dir, f->path, p->str[1]);
+  }
+  if (r->walk_only) return VR_OK;
+  vr_rad_model *m = r->m;
+  vr_rad_material *g = realloc(m->mats, (m->nmats + 1) * sizeof *g);
+  if (!g) return nomem(r->err);
+  m->mats = g;
+  g[m->nmats] = mt;
+  return define(r, p->id, (int)m->nmats++);
+}
+
+/* Places the triangles appended since nv, nt through the file's transform,
+ * turned round when flip. */
+static void place(vr_mesh_data *mesh, const src *f, size_t nv, size_t nt, bool flip) {
+  for (size_t i = nv; i < mesh->nverts; i++) vr_xform_point(&f->x, mesh->pos + 3 * i, mesh->pos + 3 * i);
+  if (!flip) return;
+  for (size_t t = nt; t < mesh->ntris; t++) {
+    uint32_t s = mesh->tris[3 * t + 1];
+    mesh->tris[3 * t + 1] = mesh->tris[3 * t + 2];
+    mesh->tris[3 * t + 2] = s;
+  }
+}
+
+static double len3(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+/* A surface: its material, then its triangles. */
+static vr_status surface(reader *r, src *f, prim *p) {
+  static const struct {
+    const char *type;
+    long nreal;
+  } K[] = {{"polygon", -1}, {"sphere", 4}, {"bubble", 4}, {"cone", 8}, {"cup", 8},
+           {"cylinder", 7}, {"tube", 7},   {"ring", 8},   {"source", 4}};
+  size_t k = 0;
+  while (strcmp(K[k].type, p->type)) k++;
+  if (p->nstr)
+    return fail(r, f, p->line, "%s '%s': %ld string arguments (it takes none)", p->type, p->id,
+                p->nstr);
+  if (K[k].nreal >= 0 && p->nreal != K[k].nreal)
+    return fail(r, f, p->line, "%s '%s': %ld real arguments, it takes %ld", p->type, p->id,
+                p->nreal, K[k].nreal);
+  if (K[k].nreal < 0 && (p->nreal < 9 || p->nreal % 3))
+    return fail(r, f, p->line,
+                "polygon '%s': %ld real arguments; it takes 3 per vertex and at least 3 vertices",
+                p->id, p->nreal);
+  const double *a = p->real;
+  const char *modname = f->mod[0] ? f->mod : p->mod;
+  if (!strcmp(modname, "void"))
+    return fail(r, f, p->line, "%s '%s': its modifier is void (no material)", p->type, p->id);
+  bool found;
+  int mat = lookup(r, modname, &found);
+  if (!found && !r->walk_only)
+    return fail(r, f, p->line, "%s '%s': its modifier '%s' is not defined before it", p->type,
+                p->id, modname);
+  if (r->walk_only) return VR_OK;
+  vr_rad_model *m = r->m;
+  if (!strcmp(p->type, "source")) {
+    if (mat < 0 || m->mats[mat].kind != VR_RAD_LIGHT)
+      return fail(r, f, p->line,
+                  "source '%s': its modifier '%s' is not a light (a glow or illum source, a sky, "
+                  "is given by the scene's sky line)", p->id, modname);
+    if (a[3] >= 180)
+      return fail(r, f, p->line,
+                  "source '%s': %g deg wide, a sky or a ground: give it in the scene's sky line "
+                  "(sources narrower than 180 deg are read, as the sun)", p->id, a[3]);
+    if (!(len3(a) > 0) || !(a[3] > 0))
+      return fail(r, f, p->line, "source '%s': direction (%g %g %g) or angle %g deg is not valid",
+                  p->id, a[0], a[1], a[2], a[3]);
+    vr_rad_source *s = realloc(m->src, (m->nsrc + 1) * sizeof *s);
+    if (!s) return nomem(r->err);
+    m->src = s;
+    vr_rad_source *o = &s[m->nsrc++];
+    vr_xform_vector(&f->x, a, o->dir);
+    double l = len3(o->dir);
+    for (int q = 0; q < 3; q++) o->dir[q] /= l;
+    o->angle_deg = a[3];
+    o->material = mat;
+    snprintf(o->where, sizeof o->where, "%s:%ld", f->path, p->line);
+    return VR_OK;
+  }
+  if (mat < 0) {
+    m->illum_dropped++;
+    return VR_OK;
+  }
+  size_t nv = m->mesh.nverts, nt = m->mesh.ntris;
+  vr_status st = VR_OK;
+  vr_error e = {0};
+  const char *t = p->type;
+  bool out = !strcmp(t, "sphere") || !strcmp(t, "cone") || !strcmp(t, "cylinder");
+  if (!strcmp(t, "polygon")) {
+    bool degenerate;
+    st = vr_rad_polygon(&m->mesh, a, (size_t)p->nreal / 3, (uint32_t)mat, &degenerate, &e);
+    m->degenerate += degenerate;
+  } else if (!strcmp(t, "sphere") || !strcmp(t, "bubble")) {
+    if (!(a[3] != 0)) return fail(r, f, p->line, "%s '%s': radius 0", t, p->id);
+    /* A negative radius turns the surface inside out, as in Radiance. */
+    st = vr_rad_sphere(&m->mesh, a, fabs(a[3]), out == (a[3] > 0), (uint32_t)mat, &e);
+  } else if (!strcmp(t, "ring")) {
+    if (!(len3(a + 3) > 0) || !(a[6] >= 0) || !(a[7] > a[6]))
+      return fail(r, f, p->line,
+                  "ring '%s': the normal must not be 0 and the radii 0 <= r0 < r1 (%g, %g)",
+                  p->id, a[6], a[7]);
+    st = vr_rad_ring(&m->mesh, a, a + 3, a[6], a[7], (uint32_t)mat, &e);
+  } else {
+    bool cyl = !strcmp(t, "cylinder") || !strcmp(t, "tube");
+    double r0 = a[6], r1 = cyl ? a[6] : a[7];
+    double ax[3] = {a[3] - a[0], a[4] - a[1], a[5] - a[2]};
+    if (!(len3(ax) > 0))
+      return fail(r, f, p->line, "%s '%s': its two ends are the same point", t, p->id);
+    if (!(r0 >= 0 && r1 >= 0 && r0 + r1 > 0) || (cyl && !(r0 > 0)))
+      return fail(r, f, p->line, "%s '%s': radii %g, %g (they must not be negative, nor both 0)",
+                  t, p->id, r0, r1);
+    st = vr_rad_cone(&m->mesh, a, a + 3, r0, r1, out, (uint32_t)mat, &e);
+  }
+  if (st) return vr_error_at(r->err, st, f->path, p->line, 0, "%s '%s': %s", t, p->id, e.message);
+  /* A mirroring transform turns the triangles round to keep their side;
+   * so does a BSDF material: Radiance reads a BSDF XML file with its front
+   * and back "reversed from WINDOW 6 orientations" (its bsdf_m.c), so a
+   * Radiance BSDF surface's normal faces the file's back, where the
+   * renderer's faces the file's front. */
+  place(&m->mesh, f, nv, nt, f->flip != (m->mats[mat].kind == VR_RAD_BSDF));
+  m->mats[mat].triangles += m->mesh.ntris - nt;
+  return VR_OK;
+}
+
+static vr_status read_file(reader *r, const char *path, const vr_xform *x, const char *mod,
+                           int depth, const src *from, long from_line);
+
+/* A !command: !xform is parsed and its files read; any other is refused. */
+static vr_status command(reader *r, src *f, long line) {
+  char buf[4096];
+  rest_of_line(f, buf, sizeof buf);
+  char *save = NULL, *w = strtok_r(buf, " \t\r", &save);
+  if (!w || strcmp(w, "xform"))
+    return fail(r, f, line,
+                "'!%s': a command; .rad files are read here, never run through a shell (write "
+                "its output into the file)", w ? w : "");
+  vr_xform t;
+  vr_xform_identity(&t);
+  char mod[128] = "";
+  snprintf(mod, sizeof mod, "%s", f->mod);
+  int files = 0;
+  vr_status st = VR_OK;
+  while (!st && (w = strtok_r(NULL, " \t\r", &save))) {
+    vr_xform op;
+    vr_xform_identity(&op);
+    double v[3];
+    int need = 0;
+    const char *opt = w;
+    if (!strcmp(w, "-t")) need = 3;
+    else if (!strcmp(w, "-rx") || !strcmp(w, "-ry") || !strcmp(w, "-rz") || !strcmp(w, "-s"))
+      need = 1;
+    else if (!strcmp(w, "-n") || !strcmp(w, "-m")) {
+      const char *arg = strtok_r(NULL, " \t\r", &save);
+      if (!arg) return fail(r, f, line, "!xform: %s needs an argument", w);
+      if (!strcmp(w, "-m")) snprintf(mod, sizeof mod, "%s", arg);
+      continue;
+    } else if (!strcmp(w, "-mx") || !strcmp(w, "-my") || !strcmp(w, "-mz")) {
+      int ax = w[2] - 'x';
+      op.m[ax][ax] = -1;
+    } else if (w[0] == '-') {
+      return fail(r, f, line,
+                  "!xform option '%s' is not read (read: -t -rx -ry -rz -s -mx -my -mz -n -m)", w);
+    } else {
+      if (files == 0 && !strcmp(w, "-"))
+        return fail(r, f, line, "!xform reading its standard input is not read");
+      char path[1100];
+      const char *slash = strrchr(f->path, '/');
+      int dir = w[0] == '/' || !slash ? 0 : (int)(slash - f->path + 1);
+      snprintf(path, sizeof path, "%.*s%s", dir, f->path, w);
+      vr_xform all;
+      vr_xform_then(&t, &f->x, &all);
+      st = read_file(r, path, &all, mod, f->depth + 1, f, line);
+      files++;
+      continue;
+    }
+    for (int k = 0; k < need; k++) {
+      const char *arg = strtok_r(NULL, " \t\r", &save);
+      if (!arg || !to_real(arg, &v[k]))
+        return fail(r, f, line, "!xform %s: argument %d is missing or not a number", opt, k + 1);
+    }
+    if (!strcmp(opt, "-t"))
+      for (int k = 0; k < 3; k++) op.m[k][3] = v[k];
+    else if (!strcmp(opt, "-s")) {
+      if (!(v[0] > 0)) return fail(r, f, line, "!xform -s %g: the scale must be positive", v[0]);
+      for (int k = 0; k < 3; k++) op.m[k][k] = v[0];
+    } else if (opt[1] == 'r') {
+      int ax = opt[2] - 'x', i = (ax + 1) % 3, j = (ax + 2) % 3;
+      double c = cos(v[0] * M_PI / 180), s = sin(v[0] * M_PI / 180);
+      op.m[i][i] = c, op.m[i][j] = -s, op.m[j][i] = s, op.m[j][j] = c;
+    }
+    if (files)
+      return fail(r, f, line, "!xform: transform '%s' after its files (options come first)", opt);
+    vr_xform_then(&t, &op, &t);
+  }
+  if (!st && !files) return fail(r, f, line, "!xform names no file");
+  return st;
+}
+
+static vr_status parse(reader *r, src *f) {
+  char w[1024];
+  long line;
+  vr_status st = VR_OK;
+  while (!st) {
+    while (f->pos < f->len && isspace((unsigned char)f->text[f->pos]))
+      if (f->text[f->pos++] == '\n') f->line++;
+    if (f->pos >= f->len) break;
+    if (f->text[f->pos] == '#') {
+      rest_of_line(f, w, sizeof w);
+      continue;
+    }
+    if (f->text[f->pos] == '!') {
+      line = f->line;
+      f->pos++;
+      st = command(r, f, line);
+      continue;
+    }
+    prim p;
+    memset(&p, 0, sizeof p);
+    word(f, w, sizeof w, &p.line);
+    if (strlen(w) >= sizeof p.mod)
+      st = fail(r, f, p.line, "'%.40s...': longer than %zu characters", w, sizeof p.mod - 1);
+    else {
+      memcpy(p.mod, w, strlen(w) + 1);
+      st = read_prim(r, f, &p);
+    }
+    const char *t = p.type;
+    if (st) {
+    } else if (in(PATTERNS, t)) {
+      st = fail(r, f, p.line,
+                "%s '%s': patterns, textures and mixtures are not read (a sky is given by the "
+                "scene's sky line; map a textured material with material.NAME= in the scene)",
+                t, p.id);
+    } else if (in(UNREAD_MATERIALS, t)) {
+      st = fail(r, f, p.line,
+                "%s '%s': this material is not modelled here; map it to a database or scene "
+                "material with material.%s=NAME on the mesh line",
+                t, p.id, p.id);
+    } else if (!strcmp(t, "instance") || !strcmp(t, "mesh")) {
+      st = fail(r, f, p.line,
+                "%s '%s': octree instances and Radiance meshes are not read (give the model "
+                "file itself on a mesh line)", t, p.id);
+    } else if (!strcmp(t, "alias")) {
+      bool found;
+      int mat = p.nstr == 1 ? lookup(r, p.str[0], &found) : (found = false, -1);
+      if (p.nstr != 1 || p.nreal)
+        st = fail(r, f, p.line, "alias '%s': it takes one string argument, the identifier it copies",
+                  p.id);
+      else if (strcmp(p.mod, "void"))
+        st = fail(r, f, p.line, "alias '%s': a modifier other than void ('%s') is not read", p.id,
+                  p.mod);
+      else if (!found && !r->walk_only)
+        st = fail(r, f, p.line, "alias '%s': '%s' is not defined before it", p.id, p.str[0]);
+      else
+        st = define(r, p.id, mat);
+    } else if (!strcmp(t, "illum")) {
+      /* A secondary source: invisible unless it names an alternate
+       * material, which its surfaces then are. */
+      bool found = true;
+      int mat = -1;
+      if (p.nstr > 1 || p.nreal != 3)
+        st = fail(r, f, p.line, "illum '%s': it takes 0 or 1 string argument and 3 reals", p.id);
+      else if (p.nstr == 1 && strcmp(p.str[0], "void"))
+        mat = lookup(r, p.str[0], &found);
+      if (!st && !found && !r->walk_only)
+        st = fail(r, f, p.line, "illum '%s': its alternate material '%s' is not defined before it",
+                  p.id, p.str[0]);
+      if (!st) st = define(r, p.id, mat);
+    } else {
+      static const struct {
+        const char *type;
+        vr_rad_kind kind;
+      } M[] = {{"plastic", VR_RAD_PLASTIC}, {"metal", VR_RAD_METAL},
+               {"mirror", VR_RAD_MIRROR},   {"glass", VR_RAD_GLASS},
+               {"dielectric", VR_RAD_DIELECTRIC}, {"light", VR_RAD_LIGHT},
+               {"glow", VR_RAD_GLOW},       {"BSDF", VR_RAD_BSDF}};
+      static const char *const S[] = {"polygon", "sphere", "bubble", "cone", "cup",
+                                      "cylinder", "tube", "ring", "source", NULL};
+      size_t k = 0;
+      while (k < sizeof M / sizeof *M && strcmp(M[k].type, t)) k++;
+      if (k < sizeof M / sizeof *M) st = material(r, f, &p, M[k].kind);
+      else if (in(S, t)) st = surface(r, f, &p);
+      else st = fail(r, f, p.line, "'%s' (identifier '%s') is not a Radiance primitive type", t, p.id);
+    }
+    prim_free(&p);
+  }
+  return st;
+}
+
+static vr_status read_file(reader *r, const char *path, const vr_xform *x, const char *mod,
+                           int depth, const src *from, long from_line) {
+  if (depth > RAD_MAX_DEPTH)
+    return vr_error_at(r->err, VR_E_PARSE, from->path, from_line, 0,
+                       "!xform: files nested more than %d deep (a file that includes itself?)",
+                       RAD_MAX_DEPTH);
+  FILE *fp = fopen(path, "rb");
+  if (!fp) {
+    if (from)
+      return vr_error_at(r->err, VR_E_IO, from->path, from_line, 0, "!xform: cannot open '%s': %s",
+                         path, strerror(errno));
+    return vr_error_set(r->err, VR_E_IO, "mesh '%s': %s", path, strerror(errno));
+  }
+  /* A device or a pipe could be endless (!xform /dev/zero). */
+  struct stat sb;
+  if (fstat(fileno(fp), &sb) || !S_ISREG(sb.st_mode)) {
+    fclose(fp);
+    if (from)
+      return vr_error_at(r->err, VR_E_IO, from->path, from_line, 0,
+                         "!xform: '%s' is not a regular file", path);
+    return vr_error_set(r->err, VR_E_IO, "mesh '%s': not a regular file", path);
+  }
+  src f;
+  memset(&f, 0, sizeof f);
+  f.path = path;
+  f.line = 1;
+  f.x = *x;
+  f.depth = depth;
+  snprintf(f.mod, sizeof f.mod, "%s", mod);
+  double det = x->m[0][0] * (x->m[1][1] * x->m[2][2] - x->m[1][2] * x->m[2][1]) -
+               x->m[0][1] * (x->m[1][0] * x->m[2][2] - x->m[1][2] * x->m[2][0]) +
+               x->m[0][2] * (x->m[1][0] * x->m[2][1] - x->m[1][1] * x->m[2][0]);
+  f.flip = det < 0;
+  size_t cap = 0;
+  vr_status st = VR_OK;
+  for (;;) {
+    if (f.len + 65536 > cap) {
+      cap = cap ? 2 * cap : 65536;
+      char *t = realloc(f.text, cap + 1);
+      if (!t) {
+        st = nomem(r->err);
+        break;
+      }
+      f.text = t;
+    }
+    size_t got = fread(f.text + f.len, 1, cap - f.len, fp);
+    f.len += got;
+    if (got == 0) break;
+  }
+  if (!st && ferror(fp)) st = vr_error_set(r->err, VR_E_IO, "mesh '%s': read error", path);
+  fclose(fp);
+  char **files = st ? NULL : realloc(r->files, (r->nfiles + 1) * sizeof *files);
+  if (!st && !files) st = nomem(r->err);
+  if (!st) {
+    r->files = files;
+    if (!(files[r->nfiles] = strdup(path))) st = nomem(r->err);
+    else r->nfiles++;
+  }
+  if (!st) {
+    f.text[f.len] = '\0';
+    if (memchr(f.text, '\0', f.len))
+      st = vr_error_set(r->err, VR_E_PARSE, "%s: holds NUL bytes: not a Radiance scene text", path);
+  }
+  if (!st) st = parse(r, &f);
+  free(f.text);
+  return st;
+}
+
+static vr_status run(const char *path, reader *r) {
+  vr_xform id;
+  vr_xform_identity(&id);
+  return read_file(r, path, &id, "", 0, NULL, 0);
+}
+
+static void reader_free(reader *r) {
+  for (size_t i = 0; i < r->nfiles; i++) free(r->files[i]);
+  free(r->files);
+  free(r->defs);
+}
+
+vr_status vr_rad_read(const char *path, vr_rad_model *out, vr_error *err) {
+  memset(out, 0, sizeof *out);
+  reader r = {.m = out, .err = err};
+  vr_status st = run(path, &r);
+  out->files = r.nfiles;
+  reader_free(&r);
+  if (!st && out->mesh.ntris == 0)
+    st = vr_error_set(err, VR_E_PARSE, "mesh '%s': no surfaces (no triangles)", path);
+  if (st) vr_rad_free(out);
+  return st;
+}
+
+void vr_rad_free(vr_rad_model *m) {
+  vr_mesh_data_free(&m->mesh);
+  free(m->mats);
+  free(m->src);
+  memset(m, 0, sizeof *m);
+}
+
+vr_status vr_rad_digest(const char *path, char hex[65], vr_error *err) {
+  vr_rad_model m;
+  memset(&m, 0, sizeof m);
+  reader r = {.m = &m, .err = err, .walk_only = true};
+  vr_status st = run(path, &r);
+  vr_sha256 c;
+  vr_sha256_init(&c);
+  for (size_t i = 0; !st && i < r.nfiles; i++) {
+    char h[65];
+    if (!(st = vr_sha256_file(r.files[i], h, err))) vr_sha256_update(&c, h, 64);
+  }
+  if (!st) vr_sha256_final(&c, hex);
+  reader_free(&r);
+  vr_rad_free(&m);
+  return st;
+}
