@@ -8,12 +8,15 @@
 #     README.md there) within 4 of our standard errors plus 1 % for
 #     Radiance's own noise, and the mean over the 32 points within 4
 #     standard errors of that mean plus 0.5 %;
-#   - the decisions printed: each Radiance material and what it became;
+#   - the decisions printed: each Radiance material and what it became,
+#     and the model's floor and context ground found coinciding (21.6 and
+#     7.2 m2) as Honeybee wrote it;
 #   - refusals (docs/bad-input.md), each naming the .rad file and line,
 #     and no output written for them.
 set -u
 bin="$(cd "$VR_BIN" && pwd)/vr-render"
 source "$(dirname "$0")/harness.sh"
+not_grep() { ! grep -q "$@"; }
 office="$VR_SOURCE_DIR/tests/data/radiance/sample_office"
 cd "$tmp"
 
@@ -37,6 +40,12 @@ check "its wall material is read as Radiance wrote it" \
 check "its glass as a thin pane" \
   grep -q "Radiance material 'skylight_45_59c8c160' (2 triangles, .*sample_office.mat:1): glass 0.490702 0.490702 0.490702, n 1.52: a thin pane" office.err
 check "32 points" test "$(tail -n +2 office.sensors.csv | wc -l)" -eq 32
+check "no coinciding polygons once the ground is lowered" not_grep coincide office.err
+# As Honeybee wrote it, the floor (21.6 + 7.2 m2) lies in the ground's plane.
+sed "s#^mesh office.rad#mesh $office/office.rad#; s/sensor_samples=32768/sensor_samples=64/" office.scn > asis.scn
+"$bin" asis.scn --sensors-only -o asis 2> asis.err
+check "the model as written: its coinciding floor and ground said" \
+  grep -q "2 pairs of polygons coincide .*'context_e3bb11d6_0' (.*sample_office_envelope.rad:1) and 'room_geometry_cd906227_8' (.*sample_office_envelope.rad:51) over 21.6 m2; .* over 7.2 m2" asis.err
 # Radiance's reading beside ours (illuminance, standard error).
 paste -d, "$office/radiance_overcast.txt" <(tail -n +2 office.sensors.csv | cut -d, -f7,8) > both.csv
 check "Radiance's 32 readings beside ours" test "$(awk -F, 'NF == 3 && $1 > 0' both.csv | wc -l)" -eq 32

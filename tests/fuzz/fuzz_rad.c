@@ -2,7 +2,7 @@
  * written to a file of their own (the reader follows !xform lines from a
  * file's folder), read or refused with "FILE:LINE: message"; whatever
  * reads has triangles whose indices and materials are in range and whose
- * vertices are finite.  Never crash, leak or read out of bounds. */
+ * vertices are finite, and its coinciding polygons positive shared areas.  Never crash, leak or read out of bounds. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -31,6 +31,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       }
       for (size_t i = 0; i < 3 * m.mesh.nverts; i++)
         if (!isfinite(m.mesh.pos[i])) __builtin_trap();
+      vr_rad_overlap *o;
+      size_t n;
+      if (vr_rad_overlaps(&m, &o, &n, &err) == VR_OK) {
+        for (size_t k = 0; k < n; k++)
+          if (!(o[k].area > 0) || o[k].a >= o[k].b || o[k].b >= m.npolys) __builtin_trap();
+        free(o);
+      }
       vr_rad_free(&m);
     } else if (!strstr(err.message, "in.rad")) {
       __builtin_trap(); /* every refusal names the file */

@@ -22,6 +22,9 @@
  *     radiance (Radiance's luminous efficacy of its white);
  *   - a distant source (gensky's sun) gives E = L * 2 pi (1 - cos(a / 2))
  *     on a surface facing it;
+ *   - coinciding polygons found: the sample office's floor (21.6 and
+ *     7.2 m2) under its context ground, and squares that share half their
+ *     area, not those 1 mm apart or touching along an edge;
  *   - bad files refused with the file, the line and the primitive. */
 #include <math.h>
 #include <setjmp.h>
@@ -103,6 +106,57 @@ static void test_sample_office_areas(void **state) {
       fail_msg("%s: %.12g m2, the file's polygons %.12g m2", A[i].name, got, A[i].area);
   }
   vr_rad_free(&m);
+}
+
+/* Reads path and finds its coinciding polygons. */
+static void overlaps_of(const char *path, vr_rad_model *m, vr_rad_overlap **o, size_t *n) {
+  vr_error e = {0};
+  if (vr_rad_read(path, m, &e)) fail_msg("%s", e.message);
+  if (vr_rad_overlaps(m, o, n, &e)) fail_msg("%s", e.message);
+}
+
+/* The sample office's floor (two polygons, 21.6 + 7.2 m2: the room's
+ * 4 x 7.2 m) lies in the plane of its context ground and under it. */
+static void test_sample_office_overlaps(void **state) {
+  (void)state;
+  vr_rad_model m;
+  vr_rad_overlap *o;
+  size_t n;
+  overlaps_of(OFFICE, &m, &o, &n);
+  assert_int_equal(n, 2);
+  assert_string_equal(m.polys[o[0].a].id, "context_e3bb11d6_0");
+  assert_string_equal(m.polys[o[0].b].id, "room_geometry_cd906227_8");
+  assert_float_equal(o[0].area, 21.6, 1e-9);
+  assert_string_equal(m.polys[o[1].b].id, "room_geometry_cd906227_9");
+  assert_float_equal(o[1].area, 7.2, 1e-9);
+  free(o);
+  vr_rad_free(&m);
+}
+
+/* Synthetic cases: unit squares at z = 0 shifted by 0.5 in x share 0.5 m2
+ * whichever way they face; one 1 mm above shares nothing (beyond the
+ * 0.1 mm tolerance); one that only touches along an edge shares 0. */
+static void write_rad(char path[64], const char *name, const char *text);
+static void test_overlap_cases(void **state) {
+  (void)state;
+  char p[64];
+  write_rad(p, "ov.rad",
+            "void plastic w 0 0 5 .5 .5 .5 0 0\n"
+            "w polygon a 0 0 12 0 0 0 1 0 0 1 1 0 0 1 0\n"
+            "w polygon b 0 0 12 0.5 0 0 0.5 1 0 1.5 1 0 1.5 0 0\n" /* facing down */
+            "w polygon c 0 0 12 0 0 0.001 1 0 0.001 1 1 0.001 0 1 0.001\n"
+            "w polygon d 0 0 12 -1 0 0 0 0 0 0 1 0 -1 1 0\n");
+  vr_rad_model m;
+  vr_rad_overlap *o;
+  size_t n;
+  overlaps_of(p, &m, &o, &n);
+  assert_int_equal(n, 1);
+  assert_string_equal(m.polys[o[0].a].id, "a");
+  assert_string_equal(m.polys[o[0].b].id, "b");
+  assert_float_equal(o[0].area, 0.5, 1e-12);
+  free(o);
+  vr_rad_free(&m);
+  unlink(p);
 }
 
 /* The seamed wall alone, its triangles facing -y as its vertices do. */
@@ -343,7 +397,8 @@ static void test_refusals(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_sample_office_areas), cmocka_unit_test(test_seamed_wall),
+      cmocka_unit_test(test_sample_office_areas), cmocka_unit_test(test_sample_office_overlaps),
+      cmocka_unit_test(test_overlap_cases),       cmocka_unit_test(test_seamed_wall),
       cmocka_unit_test(test_quadrics),            cmocka_unit_test(test_orientation_and_xform),
       cmocka_unit_test(test_honeybee_glass),      cmocka_unit_test(test_integrating_sphere),
       cmocka_unit_test(test_refusals),

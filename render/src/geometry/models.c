@@ -265,6 +265,30 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
   return add_note(s, note, err);
 }
 
+/* A Radiance model's coinciding polygons, said once (the three that
+ * share the most, and how many pairs in all). */
+static vr_status overlap_note(vr_scene *s, const vr_scene_object *ob, const vr_rad_model *rm,
+                              vr_error *err) {
+  vr_rad_overlap *o;
+  size_t n;
+  vr_status st = vr_rad_overlaps(rm, &o, &n, err);
+  if (st || !n) return st;
+  char note[4000];
+  int len = snprintf(note, sizeof note,
+                     "mesh '%s': %zu pair%s of polygons coincide (one plane, shared area): a "
+                     "renderer sees either surface there, and Radiance need not pick the same:",
+                     base(ob->mesh_path), n, n == 1 ? "" : "s");
+  for (size_t k = 0; k < n && k < 3 && len > 0 && (size_t)len < sizeof note; k++) {
+    const vr_rad_poly *a = &rm->polys[o[k].a], *b = &rm->polys[o[k].b];
+    len += snprintf(note + len, sizeof note - (size_t)len, "%s '%s' (%s) and '%s' (%s) over %.4g m2",
+                    k ? ";" : "", a->id, a->where, b->id, b->where, o[k].area);
+  }
+  if (n > 3 && len > 0 && (size_t)len < sizeof note)
+    snprintf(note + len, sizeof note - (size_t)len, "; ...");
+  free(o);
+  return add_note(s, note, err);
+}
+
 /* Object i as one object per used material of its file, appended to *out. */
 static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *nout, vr_error *err) {
   vr_scene_object *ob = &s->objects[i];
@@ -290,6 +314,7 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
                rm.nsrc, rm.nsrc == 1 ? "" : "s");
       st = add_note(s, note, &e);
     }
+    if (!st) st = overlap_note(s, ob, &rm, &e);
     vr_rad_free(&rm);
     if (st) {
       vr_mesh_materials_free(mm, nm);

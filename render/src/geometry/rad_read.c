@@ -370,6 +370,15 @@ static vr_status surface(reader *r, src *f, prim *p) {
     bool degenerate;
     st = vr_rad_polygon(&m->mesh, a, (size_t)p->nreal / 3, (uint32_t)mat, &degenerate, &e);
     m->degenerate += degenerate;
+    if (!st && m->mesh.ntris > nt) {
+      vr_rad_poly *g = realloc(m->polys, (m->npolys + 1) * sizeof *g);
+      if (!g) return nomem(r->err);
+      m->polys = g;
+      vr_rad_poly *q = &g[m->npolys++];
+      snprintf(q->id, sizeof q->id, "%s", p->id);
+      snprintf(q->where, sizeof q->where, "%s:%ld", f->path, p->line);
+      q->first = nt, q->count = m->mesh.ntris - nt;
+    }
   } else if (!strcmp(t, "sphere") || !strcmp(t, "bubble")) {
     if (!(a[3] != 0)) return fail(r, f, p->line, "%s '%s': radius 0", t, p->id);
     /* A negative radius turns the surface inside out, as in Radiance. */
@@ -662,6 +671,7 @@ void vr_rad_free(vr_rad_model *m) {
   vr_mesh_data_free(&m->mesh);
   free(m->mats);
   free(m->src);
+  free(m->polys);
   memset(m, 0, sizeof *m);
 }
 

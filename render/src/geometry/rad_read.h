@@ -55,6 +55,20 @@ typedef struct vr_rad_source {
   char where[1100];
 } vr_rad_source;
 
+/* A polygon as read: its name, where, material and its triangles
+ * [first, first + count) of the model's mesh. */
+typedef struct vr_rad_poly {
+  char id[128];
+  char where[1100];
+  size_t first, count;
+} vr_rad_poly;
+
+/* Two polygons that lie in one plane and overlap (rad_overlap.c). */
+typedef struct vr_rad_overlap {
+  size_t a, b;       /* indices into the model's polys, a < b */
+  double area;       /* the area they share, m2 in the file's units */
+} vr_rad_overlap;
+
 typedef struct vr_rad_model {
   vr_mesh_data mesh;        /* tri_material indexes mats */
   vr_rad_material *mats;
@@ -64,6 +78,8 @@ typedef struct vr_rad_model {
   size_t illum_dropped;     /* illum surfaces with no alternate material (invisible) */
   size_t degenerate;        /* polygons of no area, skipped as oconv skips them */
   size_t files;             /* files read, the top one and its !xform includes */
+  vr_rad_poly *polys;       /* every polygon with triangles, in reading order */
+  size_t npolys;
 } vr_rad_model;
 
 /* Reads path and the files its !xform lines name.  Errors are VR_E_IO or
@@ -102,6 +118,14 @@ vr_status vr_rad_scene_material(const vr_mesh_material *mm, const vr_scene_objec
  * the model more than one source. */
 vr_status vr_rad_add_sources(vr_scene *s, const vr_scene_object *ob, const vr_rad_model *rm,
                              vr_error *err);
+
+/* Polygons of the model that coincide: in the same plane (within 0.1 mm
+ * and 1e-4 in the normal, either facing) and sharing more than 1 cm2 of
+ * area, as a floor drawn over a ground.  A renderer then sees either
+ * surface there (Radiance and this one need not pick the same), so the
+ * reader says so.  *out (free()) holds the pairs, largest shared area
+ * first; *n their count. */
+vr_status vr_rad_overlaps(const vr_rad_model *m, vr_rad_overlap **out, size_t *n, vr_error *err);
 
 /* Tessellation (rad_shapes.c): appends the triangles of one primitive,
  * in world coordinates, to m with material mat.  outward false flips
