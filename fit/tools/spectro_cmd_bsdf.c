@@ -88,8 +88,12 @@ int spectro_metrics_bsdf_xml(vr_args *a, const char *path) {
     printf("# BSDF XML %s: %s%s%s%s%s\n", path, x->name[0] ? x->name : "(no name)",
            x->manufacturer[0] ? ", " : "", x->manufacturer, x->device_type[0] ? "; " : "",
            x->device_type);
-    printf("# basis %s, %d patches; incident theta %g, phi %g deg: patch %d (theta %g, phi %g)\n",
-           x->basis.name, x->basis.n, theta, phi, in + 1, tc, pc);
+    printf("# basis %s, %d patches%s; incident theta %g, phi %g deg: patch %d (theta %g, phi %g)\n",
+           x->basis.name, x->basis.n,
+           x->tensor_tree == 3   ? " (resampled from the file's TensorTree3)"
+           : x->tensor_tree == 4 ? " (resampled from the file's TensorTree4)"
+                                 : "",
+           theta, phi, in + 1, tc, pc);
     printf("# WINDOW's figures: direct-direct (the incident patch's own), direct-diffuse, "
            "direct-hemispherical, diffuse-diffuse (uniform incidence)\n");
     printf("%-10s %-20s %14s %14s %14s %14s\n", "band", "side", "direct-direct", "direct-diffuse",

@@ -5,6 +5,8 @@
  * refusal names the file, the line of the element and the element. */
 #include "vr/bsdf_xml.h"
 
+#include "bsdf_xml_tree.h"
+
 #include <errno.h>
 #include <stdarg.h>
 #include <math.h>
@@ -255,6 +257,100 @@ static vr_status read_block(reader *r, vr_bsdf_xml *x, vr_bsdf_band *band, const
   return read_matrix(r, sd, n, rows, band->m[side]);
 }
 
+/* Incident directions a Klems patch takes from a tensor tree, each with a
+ * 32 x 32 grid of exiting directions (bsdf_xml_tree.c). */
+#ifdef VR_FUZZING
+#define TT_SAMPLES 1 /* a fuzzing build: the same paths, within libFuzzer's time limit */
+#else
+#define TT_SAMPLES 32
+#endif
+
+/* A tensor-tree file (TensorTree3 or 4, nd dimensions): every block's
+ * tree, then each band resampled onto the Klems full basis
+ * (bsdf_xml_tree.h). */
+static vr_status read_trees(reader *r, const xmlNode *layer, vr_bsdf_xml *x, int nd) {
+  char buf[128];
+  vr_klems_full(&x->basis);
+  x->tensor_tree = nd;
+  vr_tt_tree *(*trees)[VR_BSDF_SIDES] = NULL;
+  size_t ntrees = 0;
+  vr_status st = VR_OK;
+  size_t blocks = 0;
+  for (xmlNode *wd = layer->children; wd && !st; wd = wd->next) {
+    if (!is(wd, "WavelengthData")) continue;
+    vr_bsdf_band *band = band_for(r, x, wd);
+    if (!band) {
+      st = r->err->status;
+      break;
+    }
+    size_t bi = (size_t)(band - x->bands);
+    if (bi >= ntrees) {
+      void *g = realloc(trees, (bi + 1) * sizeof *trees);
+      if (!g) {
+        st = fail(r, wd, VR_E_NOMEM, "out of memory");
+        break;
+      }
+      trees = g;
+      memset(trees + ntrees, 0, (bi + 1 - ntrees) * sizeof *trees);
+      ntrees = bi + 1;
+    }
+    for (xmlNode *blk = wd->children; blk && !st; blk = blk->next) {
+      if (!is(blk, "WavelengthDataBlock")) continue;
+      xmlNode *dir = child(blk, "WavelengthDataDirection");
+      int side = dir ? side_of(text(dir, buf, sizeof buf)) : -1;
+      if (side < 0) {
+        st = fail(r, dir ? dir : blk, VR_E_PARSE,
+                  "<WavelengthDataDirection> '%s': expected Transmission Front, Transmission "
+                  "Back, Reflection Front or Reflection Back", dir ? buf : "");
+        break;
+      }
+      xmlNode *ab = child(blk, "AngleBasis");
+      if (ab && strcasecmp(text(ab, buf, sizeof buf), "LBNL/Shirley-Chiu")) {
+        st = fail(r, ab, VR_E_PARSE, "<AngleBasis> '%s': a tensor tree is on LBNL/Shirley-Chiu", buf);
+        break;
+      }
+      if (trees[bi][side]) {
+        st = fail(r, dir, VR_E_PARSE, "'%s' of band %s is given twice",
+                  vr_bsdf_side_name((vr_bsdf_side)side), band->name);
+        break;
+      }
+      xmlNode *sd = child(blk, "ScatteringData");
+      if (!sd) {
+        st = fail(r, blk, VR_E_PARSE, "<WavelengthDataBlock> has no <ScatteringData>");
+        break;
+      }
+      xmlChar *t = xmlNodeGetContent(sd);
+      char msg[200];
+      long line = 0;
+      trees[bi][side] = t ? vr_tt_parse((const char *)t, nd, msg, sizeof msg, &line) : NULL;
+      xmlFree(t);
+      if (!trees[bi][side]) {
+        st = vr_error_at(r->err, VR_E_PARSE, r->path, xmlGetLineNo(sd) + line - 1, 0,
+                         "<ScatteringData> (TensorTree%d): %s", nd, t ? msg : "empty");
+        break;
+      }
+      blocks++;
+    }
+  }
+  if (!st && !blocks) st = fail(r, layer, VR_E_PARSE, "<Layer> has no <WavelengthData> block with data");
+  size_t nn = (size_t)x->basis.n * x->basis.n;
+  for (size_t b = 0; !st && b < x->nbands; b++) {
+    vr_tt_tree **tr = trees[b];
+    bool any_t = tr[VR_BSDF_TF] || tr[VR_BSDF_TB];
+    for (int s = 0; s < VR_BSDF_SIDES && !st; s++) {
+      bool transmission = s == VR_BSDF_TF || s == VR_BSDF_TB;
+      if (!(tr[s] || (transmission && any_t))) continue;
+      if (!(x->bands[b].m[s] = calloc(nn, sizeof(double)))) st = fail(r, layer, VR_E_NOMEM, "out of memory");
+    }
+    if (!st && vr_tt_to_klems(tr, &x->basis, TT_SAMPLES, x->bands[b].m))
+      st = fail(r, layer, VR_E_NOMEM, "out of memory");
+  }
+  for (size_t b = 0; b < ntrees; b++)
+    for (int s = 0; s < VR_BSDF_SIDES; s++) vr_tt_destroy(trees[b][s]);
+  free(trees);
+  return st;
+}
+
 static vr_status read_doc(reader *r, xmlNode *root, vr_bsdf_xml *x) {
   char buf[128];
   if (!is(root, "WindowElement"))
@@ -293,10 +389,8 @@ static vr_status read_doc(reader *r, xmlNode *root, vr_bsdf_xml *x) {
   int rows;
   if (!strcasecmp(buf, "Columns")) rows = 0;
   else if (!strcasecmp(buf, "Rows")) rows = 1;
-  else if (!strncasecmp(buf, "TensorTree", 10))
-    return fail(r, ids, VR_E_PARSE,
-                "<IncidentDataStructure> %s: a tensor-tree BSDF; only Klems matrices (Columns or "
-                "Rows) are read", buf);
+  else if (!strcasecmp(buf, "TensorTree3") || !strcasecmp(buf, "TensorTree4"))
+    return read_trees(r, layer, x, buf[10] - '0');
   else
     return fail(r, ids, VR_E_PARSE, "<IncidentDataStructure> '%s': expected Columns or Rows", buf);
   xmlNode *ab = child(dd, "AngleBasis");

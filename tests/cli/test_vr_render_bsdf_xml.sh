@@ -13,6 +13,8 @@
 #     shade's diffuse-diffuse back transmittance over the pane's Tvis
 #     (WinCalc's figures, test_bsdf_xml.c), within 1 % and 4 standard
 #     errors;
+#   - genBSDF's tensor tree b00kT (resampled onto the Klems basis as it is
+#     read) against the Klems file Radiance's bsdf2klems wrote from it;
 #   - the same image on 1 and 8 sub-domains through genBSDF's louvres;
 #   - refusals (docs/bad-input.md).
 set -u
@@ -93,6 +95,28 @@ print("# shade over clear pane at the centre: %.4f, expected %.4f (+- %.4f)" % (
 assert abs(ratio - want) <= 0.01 * want + 4 * se
 PY
 check "a clear pane through its BSDF XML reads as the pane; the IGSDB shade as its figures say" test $? -eq 0
+
+# A tensor tree (genBSDF's b00kT, TensorTree4) read and resampled onto the
+# Klems basis, against the Klems file Radiance's bsdf2klems wrote from it
+# (tests/data/bsdf/README.md), in the same skylight: their figures agree
+# within 0.6 % in diffuse-diffuse (tests/matdb/test_bsdf_xml_tree.c), so
+# the sensors within 1 % and 4 standard errors of the difference.
+zcat "$data/bsdf/bsdf2klems_b00kT.xml.gz" > b2k.xml
+scene "material window bsdf file=$data/bsdf/tensortree_b00kT.xml" | sed 's/sensor_samples=524288/sensor_samples=131072/' > tt.scn
+scene "material window bsdf file=b2k.xml" | sed 's/sensor_samples=524288/sensor_samples=131072/' > b2k.scn
+"$bin" tt.scn -o tt --sensors-only --quiet && "$bin" b2k.scn -o b2k --sensors-only --quiet
+check "the tensor tree and its bsdf2klems Klems file render" test $? -eq 0
+python3 - tt.sensors.csv b2k.sensors.csv <<'PY'
+import csv, math, sys
+tt, kl = [{r["sensor"]: (float(r["illuminance_lx"]), float(r["stderr_lx"])) for r in csv.DictReader(open(f))}
+          for f in sys.argv[1:3]]
+for name in tt:
+    (a, sa), (b, sb) = tt[name], kl[name]
+    tol = 0.01 * b + 4 * math.hypot(sa, sb)
+    print("# %s: tensor tree %.1f +- %.1f lx, bsdf2klems %.1f +- %.1f lx (%+.2f %%)" % (name, a, sa, b, sb, 100 * (a / b - 1)))
+    assert abs(a - b) <= tol, name
+PY
+check "the tensor tree reads as Radiance's Klems version of it" test $? -eq 0
 
 # The decomposition: the same image through the louvres on 1 and 8
 # sub-domains (rays cross cells between the window's vertices).

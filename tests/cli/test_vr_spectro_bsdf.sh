@@ -175,6 +175,14 @@ sys.stdout.write(s[:i] + ' 0.1 0.2 0.3 ' + s[j:])" > "$tmp/short.xml"
 refuse spectro-bsdf-xml-count "$bin" metrics "$tmp/short.xml"
 sed 's/<IncidentDataStructure>Columns/<IncidentDataStructure>TensorTree3/' < <(zcat "$x/cgdb_46016_seatex_midnight.xml.gz") > "$tmp/tt.xml"
 refuse spectro-bsdf-xml-tensor-tree "$bin" metrics "$tmp/tt.xml"
+# A real tensor tree (genBSDF's b00kT): read and resampled onto the Klems
+# full basis; its figures are checked against Radiance's bsdf2klems in
+# tests/matdb/test_bsdf_xml_tree.c.
+"$bin" metrics "$VR_SOURCE_DIR/tests/data/bsdf/tensortree_b00kT.xml" > "$tmp/ttm.txt" 2> "$tmp/ttm.err"
+check "metrics reads a TensorTree4 file" test $? -eq 0
+check "and says it was resampled" grep -q "basis LBNL/Klems Full, 145 patches (resampled from the file's TensorTree4)" "$tmp/ttm.txt"
+check "its normal-incidence Tvis (Transmission Back, direct-hemispherical 0.869)" \
+  grep -Eq "^Visible +Transmission Back +[0-9.]+ +[0-9.]+ +0\.86[89]" "$tmp/ttm.txt"
 refuse spectro-bsdf-xml-pane-option "$bin" metrics "$x/SquareSlat_genBSDF.xml.gz" --standard en410
 refuse spectro-phi-for-pane "$bin" metrics "$g/clear_float/CLEAR_3.DAT" --phi 90
 refuse spectro-bsdf-xml-no-out "$bin" bsdf-xml "$g/clear_float/CLEAR_3.DAT"

@@ -30,8 +30,13 @@
  * (checked against WinCalc's published results for real files, tests/
  * matdb/test_bsdf_xml.c).
  *
- * Tensor-tree files (Shirley-Chiu basis, IncidentDataStructure TensorTree3
- * or TensorTree4) are refused with their element and line, not read. */
+ * Tensor-tree files (genBSDF's and Radiance's variable-resolution form:
+ * AngleBasis LBNL/Shirley-Chiu, IncidentDataStructure TensorTree3 or
+ * TensorTree4) are read and resampled onto the Klems full basis, each
+ * matrix entry the tree's mean over the pair of patches (as Radiance's
+ * bsdf2klems does; matdb/src/bsdf_xml_tree.h), so that they serve as a
+ * Klems file would, at its resolution; a file's missing transmission
+ * block is the other one read backwards, as Radiance reads it. */
 #ifndef VR_BSDF_XML_H
 #define VR_BSDF_XML_H
 
@@ -105,13 +110,16 @@ typedef struct vr_bsdf_xml {
   vr_bsdf_band *bands;
   char name[128], manufacturer[128], device_type[64];
   double thickness_mm; /* NAN when not given */
+  int tensor_tree;     /* 3 or 4: read from a TensorTree3 or 4 file and resampled onto the
+                          Klems full basis; 0: the file's own Klems matrices */
 } vr_bsdf_xml;
 
 /* Reads a Klems BSDF XML file (gzip-compressed files too).  Refused, with
  * the file, line and element: malformed XML, a missing or inconsistent
  * basis, a block whose ScatteringData does not hold n x n finite,
  * non-negative numbers, an unknown direction or data type, a block given
- * twice, a tensor tree, different incident and exiting bases. */
+ * twice, different incident and exiting bases, a tensor tree that is not one
+ * (unbalanced braces, a leaf whose count is not 2^(d k), negative values). */
 vr_status vr_bsdf_xml_read(const char *path, vr_bsdf_xml **out, vr_error *err);
 /* The same from text in memory (name: what messages call it). */
 vr_status vr_bsdf_xml_parse(const char *text, size_t size, const char *name, vr_bsdf_xml **out,
