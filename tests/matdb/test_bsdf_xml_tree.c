@@ -10,6 +10,7 @@
  *     samples a patch pair, bsdf2klems_b00kT.xml.gz): diffuse-diffuse of
  *     every side and direct-hemispherical at every incident patch, within
  *     the bounds stated at each;
+ *   - a TensorTree3 file bsdf2ttree made, likewise at seven pairs;
  *   - Shirley and Chiu's map on the axes and the diagonals (JGT 1997);
  *   - bad trees refused with the file and line. */
 #include <math.h>
@@ -51,15 +52,17 @@ static char *block_text(const char *path, const char *label) {
   return out;
 }
 
-static vr_tt_tree *tree_of(const char *label) {
-  char *t = block_text(DATA "tensortree_b00kT.xml", label);
+static vr_tt_tree *tree_in(const char *file, int nd, const char *label) {
+  char *t = block_text(file, label);
   char msg[200];
   long line;
-  vr_tt_tree *tr = vr_tt_parse(t, 4, msg, sizeof msg, &line);
+  vr_tt_tree *tr = vr_tt_parse(t, nd, msg, sizeof msg, &line);
   if (!tr) fail_msg("%s: line %ld: %s", label, line, msg);
   free(t);
   return tr;
 }
+
+static vr_tt_tree *tree_of(const char *label) { return tree_in(DATA "tensortree_b00kT.xml", 4, label); }
 
 static void unit(double v[3]) {
   double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -98,6 +101,39 @@ static void point_values(void **state) {
     if (!(fabs(v / C[k].radiance - 1) < 3e-4)) fail_msg("pair %zu: %.6e vs Radiance %.6e", k, v, C[k].radiance);
   }
   vr_tt_destroy(tb), vr_tt_destroy(rb), vr_tt_destroy(rf);
+}
+
+/* A TensorTree3 file (an isotropic layer: the exiting direction relative
+ * to the incident azimuth) that Radiance 6.1's bsdf2ttree made from a
+ * function, tensortree3_lobe.xml (README.md there), and the values its
+ * bsdfquery gives, within 3e-4. */
+static void point_values_tt3(void **state) {
+  (void)state;
+  vr_tt_tree *t = tree_in(DATA "tensortree3_lobe.xml", 3, "Transmission Back"),
+             *r = tree_in(DATA "tensortree3_lobe.xml", 3, "Reflection Back");
+  static const struct {
+    double in[3], out[3];
+    int refl, side;
+    double radiance;
+  } C[] = {
+      {{0.1, -0.2, 0.97}, {0.3, 0.2, 0.932}, 1, VR_TT_FREFL, 5.000005e-02},
+      {{0.4, 0.1, 0.91}, {-0.5, 0.3, 0.81}, 1, VR_TT_FREFL, 5.000112e-02},
+      {{0, 0, 1}, {0.2, 0.1, -0.97}, 0, VR_TT_FXMIT, 2.227766e+00},
+      {{0.5, 0.1, 0.86}, {-0.3, 0.4, -0.866}, 0, VR_TT_FXMIT, 6.511267e-01},
+      {{-0.2, 0.5, 0.84}, {0.1, -0.6, -0.79}, 0, VR_TT_FXMIT, 2.696474e+00},
+      {{-0.35, -0.3, 0.89}, {0.4, 0.3, -0.866}, 0, VR_TT_FXMIT, 2.689228e+00},
+      /* From the back: Transmission Back read backwards. */
+      {{0.1, -0.2, -0.97}, {-0.1, 0.2, 0.97}, 0, VR_TT_FXMIT, 2.971607e+00},
+  };
+  for (size_t k = 0; k < sizeof C / sizeof *C; k++) {
+    double in[3], out[3];
+    memcpy(in, C[k].in, sizeof in), memcpy(out, C[k].out, sizeof out);
+    unit(in), unit(out);
+    double v = vr_tt_query(C[k].refl ? r : t, C[k].side, in, out);
+    print_message("TT3 pair %zu: ours %.6e, Radiance %.6e\n", k, v, C[k].radiance);
+    if (!(fabs(v / C[k].radiance - 1) < 3e-4)) fail_msg("TT3 pair %zu: %.6e vs Radiance %.6e", k, v, C[k].radiance);
+  }
+  vr_tt_destroy(t), vr_tt_destroy(r);
 }
 
 /* WINDOW's figures of the resampled matrices against those of the Klems
@@ -210,6 +246,7 @@ static void refusals(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(point_values),
+      cmocka_unit_test(point_values_tt3),
       cmocka_unit_test(figures_against_bsdf2klems),
       cmocka_unit_test(concentric_map),
       cmocka_unit_test(refusals),
