@@ -160,6 +160,7 @@ vr_status render_overrides_apply(const render_overrides *o, vr_scene *s, vr_erro
                           set->text, m->name, s->path, m->loc.line,
                           m->source == VR_MATSRC_BLACK      ? "black"
                           : m->source == VR_MATSRC_GLASS    ? "an inline glass"
+                          : m->source == VR_MATSRC_TRANSLUCENT ? "a translucent diffuser"
                           : m->source == VR_MATSRC_BSDF_XML ? "a BSDF XML file"
                                                             : "lambert");
     m->state = set->state;

@@ -85,7 +85,7 @@ static const char ABOUT[] =
     "spectral texture saved by vr-rgb2spec --texture renders per texel (texture=none: its mean).\n"
     "A mesh may be a Radiance scene (mesh office.rad): polygons, spheres, cones, cylinders,\n"
     "rings, a distant source as the sun, !xform lines parsed (never run), plastic, metal,\n"
-    "mirror, glass, dielectric, light, glow, illum and BSDF materials; the rest is refused.\n"
+    "mirror, glass, dielectric, trans, light, glow, illum and BSDF materials; the rest is refused.\n"
     "Outputs: PREFIX.exr (linear sRGB, Y in cd/m2), PREFIX.spectral.exr (spectral radiance\n"
     "in W/(m2 sr nm), Fichet-Pacanowski-Wilkie layout), PREFIX.png (8-bit sRGB of Y x\n"
     "2^exposure / 100 cd/m2 through the tone curve: with filmic 100 cd/m2 is 0.80 at EV 0\n"

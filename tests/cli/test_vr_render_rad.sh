@@ -73,7 +73,7 @@ rad bad.rad 'void plastic w 0 0 5 .5 .5 .5 0 0\nw polygon p 0 0 8 0 0 0 1 0 0 0 
 refuse render-rad-polygon-args "$bin" bad.scn -o bad4
 rad bad.rad 'void plastic w 0 0 5 .5 .5 nan 0 0\n'
 refuse render-rad-not-finite "$bin" bad.scn -o bad5
-rad bad.rad 'void trans t 0 0 7 .5 .5 .5 0 0 .5 0\n'
+rad bad.rad 'void plasfunc p 2 refl f.cal 0 4 .5 .5 .5 0\n'
 refuse render-rad-material-unread "$bin" bad.scn -o bad6
 rad bad.rad '!xform -t 1 0 0 missing.rad\n'
 refuse render-rad-xform-missing "$bin" bad.scn -o bad7
@@ -83,6 +83,9 @@ check "it names the material's line" grep -q "bad.rad:1: plastic 'w'" "$tmp/refu
 rad bad.rad 'void light sm 0 0 3 1e6 1e6 1e6\nsm source sun 0 0 4 0 0 1 0.5\nvoid plastic w 0 0 5 .5 .5 .5 0 0\nw polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n'
 printf 'sky overcast illuminance=10000\n' >> bad.scn
 refuse render-rad-sun-and-sky "$bin" bad.scn -o bad9
+rad tr.rad 'void trans d 0 0 7 .8 .8 .8 0 0 .6 0\nd polygon s 0 0 12 -5 -5 1 5 -5 1 5 5 1 -5 5 1\n'
+printf 'mesh tr.rad\ncamera pinhole from=0,0,0.5 to=0,0,1 up=0,1,0 resolution=8x8\nrender integrator=bdpt spp=1\n' > tr.scn
+refuse render-bdpt-translucent "$bin" tr.scn -o bad10
 check "no output of any refused run" test -z "$(ls bad[0-9]* 2>/dev/null)"
 
 # The sun from the file without the sky: E normal to it = L * solid angle.

@@ -45,6 +45,9 @@
  *                                       internal transmittance per pass
  *   glass model=interfaces (a Radiance  one interface, n constant, the
  *   dielectric)                         medium transmitting t per metre
+ *   translucent (inline, a Radiance     Lambertian reflection on either
+ *   trans without specular parts)       side, Lambertian transmission to
+ *                                       the other (a glossy-T lobe)
  *   chromogenic                         thin pane whose normal-incidence
  *                                       T, Rf, Rb follow the state s; the
  *                                       angles through the same equivalent

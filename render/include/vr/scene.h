@@ -79,8 +79,11 @@ typedef enum vr_mat_source {
   VR_MATSRC_LAMBERT_CONST,
   VR_MATSRC_BLACK,
   VR_MATSRC_BSDF_XML, /* a Klems BSDF XML file (bsdf file=F.xml) */
-  VR_MATSRC_GLASS     /* a non-dispersive dielectric given inline (a Radiance glass or
+  VR_MATSRC_GLASS,    /* a non-dispersive dielectric given inline (a Radiance glass or
                          dielectric): ior and transmission below */
+  VR_MATSRC_TRANSLUCENT /* a translucent diffuser (a Radiance trans without specular parts):
+                           the reflectance as for lambert, the Lambertian transmittance in
+                           transmission below */
 } vr_mat_source;
 
 typedef enum vr_pane_model {
@@ -122,7 +125,8 @@ typedef struct vr_scene_material {
    * spectrum of transmission: with pane = VR_PANE_THIN a thin pane's
    * internal transmittance per pass at normal incidence (Radiance's glass
    * "transmissivity"), with VR_PANE_INTERFACES an interface whose medium
-   * transmits that much per metre (Radiance's dielectric). */
+   * transmits that much per metre (Radiance's dielectric).
+   * VR_MATSRC_TRANSLUCENT: transmission is its Lambertian transmittance. */
   double ior;
   char *transmission;
   /* A texture that multiplies the reflectance per point (lambert

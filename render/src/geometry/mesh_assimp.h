@@ -69,7 +69,7 @@ typedef struct vr_mesh_material {
   /* A Radiance material (a .rad file, rad_read.h): its kind and arguments
    * (rad_kind is a vr_rad_kind, -1 for every other file). */
   int rad_kind;
-  double rad_arg[5], rad_up[3];
+  double rad_arg[7], rad_up[3];
   char rad_file[1024], rad_where[1100];
 } vr_mesh_material;
 

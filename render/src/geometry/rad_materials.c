@@ -25,7 +25,10 @@
  *                           0.065 B) cd/m2 (Radiance's luminance of a
  *                           radiance in W/(sr m2)) from its front, the
  *                           colour as its spectrum's shape
- *   BSDF 0 F.xml ux uy uz . the BSDF XML file F, up the given vector */
+ *   BSDF 0 F.xml ux uy uz . the BSDF XML file F, up the given vector
+ *   trans R G B 0 r t 0     a translucent diffuser: Lambertian reflectance
+ *                           R G B (1 - t) and transmittance R G B t (a
+ *                           specular part, spec or tspec > 0, is refused) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,7 +61,7 @@ vr_status vr_rad_mesh_materials(const vr_rad_model *rm, vr_mesh_material **out, 
 }
 
 static const char *KIND[] = {"plastic", "metal", "mirror", "glass", "dielectric", "light",
-                             "glow", "BSDF"};
+                             "glow", "BSDF", "trans"};
 
 static vr_status bad(const vr_mesh_material *mm, vr_error *err, const char *what) {
   return vr_error_set(err, VR_E_RANGE, "%s: %s '%s': %s", mm->rad_where, KIND[mm->rad_kind],
@@ -210,6 +213,30 @@ vr_status vr_rad_scene_material(const vr_mesh_material *mm, const vr_scene_objec
              mm->rad_kind == VR_RAD_GLOW ? " (a glow's radius of influence changes nothing in a "
                                            "path tracer: every emitter lights everything)"
                                          : "");
+    return VR_OK;
+  }
+  case VR_RAD_TRANS: {
+    /* Radiance's trans: of the light not reflected specularly (spec), the
+     * fraction trans is transmitted, tspec of it specularly; the rest of
+     * the colour's share is diffuse.  Without specular parts, a diffuse
+     * reflectance R G B (1 - trans) and transmittance R G B trans. */
+    if (a[0] > 1 || a[1] > 1 || a[2] > 1) return bad(mm, err, "a colour above 1 (not physical)");
+    if (a[3] != 0 || a[6] != 0)
+      return bad(mm, err, "a specular part (spec or tspec other than 0) is not modelled; map it "
+                          "with material.NAME= (a database glass, a BSDF XML file)");
+    if (!(a[5] >= 0 && a[5] <= 1)) return bad(mm, err, "its transmissivity is outside [0, 1]");
+    double rr[3] = {a[0] * (1 - a[5]), a[1] * (1 - a[5]), a[2] * (1 - a[5])};
+    double tt[3] = {a[0] * a[5], a[1] * a[5], a[2] * a[5]};
+    m->source = VR_MATSRC_TRANSLUCENT;
+    if (rr[0] == rr[1] && rr[1] == rr[2]) m->reflectance = rr[0];
+    else if ((st = table(mm, rr, true, &m->reflectance_spectrum, err))) return st;
+    if (tt[0] == 0 && tt[1] == 0 && tt[2] == 0) m->transmission = strdup("[360:0,830:0]");
+    else if ((st = table(mm, tt, true, &m->transmission, err))) return st;
+    if (!m->transmission) return nomem(err);
+    snprintf(note, cap,
+             "trans %g %g %g 0 %g %g 0: a translucent diffuser, reflectance %.3g %.3g %.3g and "
+             "transmittance %.3g %.3g %.3g, both Lambertian",
+             a[0], a[1], a[2], a[4], a[5], rr[0], rr[1], rr[2], tt[0], tt[1], tt[2]);
     return VR_OK;
   }
   case VR_RAD_BSDF: {

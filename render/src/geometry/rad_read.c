@@ -213,7 +213,7 @@ static const char *const PATTERNS[] = {
     "colortext", "brighttext", "mixfunc", "mixdata", "mixpict", "mixtext", "specfunc", "specdata",
     "specfile", "specpict", NULL};
 static const char *const UNREAD_MATERIALS[] = {
-    "trans", "trans2", "plastic2", "metal2", "ashik2", "plasfunc", "metfunc", "transfunc",
+    "trans2", "plastic2", "metal2", "ashik2", "plasfunc", "metfunc", "transfunc",
     "plasdata", "metdata", "transdata", "BRTDfunc", "aBSDF", "antimatter", "prism1", "prism2",
     "mist", "interface", "spotlight", "WGMDfunc", NULL};
 
@@ -232,7 +232,7 @@ static vr_status material(reader *r, src *f, prim *p, vr_rad_kind kind) {
                 p->type, p->id, p->mod, p->id);
   static const long want[] = {[VR_RAD_PLASTIC] = 5, [VR_RAD_METAL] = 5, [VR_RAD_MIRROR] = 3,
                               [VR_RAD_GLASS] = 3,   [VR_RAD_DIELECTRIC] = 5, [VR_RAD_LIGHT] = 3,
-                              [VR_RAD_GLOW] = 4,    [VR_RAD_BSDF] = 0};
+                              [VR_RAD_GLOW] = 4,    [VR_RAD_BSDF] = 0, [VR_RAD_TRANS] = 7};
   bool nreal_ok = p->nreal == want[kind] || (kind == VR_RAD_GLASS && p->nreal == 4);
   if (!nreal_ok)
     return fail(r, f, p->line, "%s '%s': %ld real arguments, %s takes %ld%s", p->type, p->id,
@@ -252,7 +252,7 @@ static vr_status material(reader *r, src *f, prim *p, vr_rad_kind kind) {
   lookup(r, p->id, &found);
   if (found) snprintf(mt.name, sizeof mt.name, "%.100s@%ld", p->id, p->line);
   else snprintf(mt.name, sizeof mt.name, "%s", p->id);
-  for (long i = 0; i < p->nreal && i < 5; i++) mt.arg[i] = p->real[i];
+  for (long i = 0; i < p->nreal && i < 7; i++) mt.arg[i] = p->real[i];
   if (kind == VR_RAD_GLASS && p->nreal == 3) mt.arg[3] = 1.52;
   if (kind == VR_RAD_BSDF) {
     if (p->nstr < 6)
@@ -561,7 +561,8 @@ static vr_status parse(reader *r, src *f) {
       } M[] = {{"plastic", VR_RAD_PLASTIC}, {"metal", VR_RAD_METAL},
                {"mirror", VR_RAD_MIRROR},   {"glass", VR_RAD_GLASS},
                {"dielectric", VR_RAD_DIELECTRIC}, {"light", VR_RAD_LIGHT},
-               {"glow", VR_RAD_GLOW},       {"BSDF", VR_RAD_BSDF}};
+               {"glow", VR_RAD_GLOW},       {"BSDF", VR_RAD_BSDF},
+               {"trans", VR_RAD_TRANS}};
       static const char *const S[] = {"polygon", "sphere", "bubble", "cone", "cup",
                                       "cylinder", "tube", "ring", "source", NULL};
       size_t k = 0;

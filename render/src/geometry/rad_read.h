@@ -7,13 +7,13 @@
  *   surfaces   polygon, sphere, bubble, cone, cup, cylinder, tube, ring,
  *              tessellated (rad_shapes.c); source (a distant source);
  *   materials  plastic, metal, mirror, glass, dielectric, light, glow,
- *              illum, BSDF, and alias chains to any of them;
+ *              illum, BSDF, trans, and alias chains to any of them;
  *   commands   !xform with -t -rx -ry -rz -s -mx -my -mz -n -m and one or
  *              more files: parsed here and the files read, never run
  *              through a shell.
  * Everything else is refused with the file, the line and the primitive:
  * patterns, textures and mixtures (brightfunc, colorpict, mixfunc, ...),
- * materials this renderer does not model (trans, plasfunc, ...), octree
+ * materials this renderer does not model (plasfunc, BRTDfunc, ...), octree
  * instances and Radiance meshes, any other !command. */
 #ifndef VR_RAD_READ_H
 #define VR_RAD_READ_H
@@ -33,13 +33,14 @@ typedef enum vr_rad_kind {
   VR_RAD_DIELECTRIC,  /* rtn gtn btn n hc: transmission per unit length, index, Hartmann */
   VR_RAD_LIGHT,       /* R G B radiance, W/(sr m2) in Radiance's convention */
   VR_RAD_GLOW,        /* R G B maxrad */
-  VR_RAD_BSDF         /* thickness, BSDF XML file, up vector; no extra reals */
+  VR_RAD_BSDF,        /* thickness, BSDF XML file, up vector; no extra reals */
+  VR_RAD_TRANS        /* R G B spec rough trans tspec */
 } vr_rad_kind;
 
 typedef struct vr_rad_material {
   char name[128];     /* its identifier; a redefinition is NAME@LINE */
   vr_rad_kind kind;
-  double arg[5];      /* its real arguments as written (glass: n filled with 1.52) */
+  double arg[7];      /* its real arguments as written (glass: n filled with 1.52) */
   char file[1024];    /* BSDF: the XML file, resolved against the .rad file's folder */
   double up[3];       /* BSDF: the up vector (after the !xform that placed it) */
   char where[1100];   /* "FILE:LINE", for messages */

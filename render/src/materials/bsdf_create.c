@@ -256,6 +256,40 @@ static vr_status make_glass(vr_bsdf *b, const vr_scene_material *sm, vr_error *e
   return vr_bsdfi_table_slab(b, d_nm, err);
 }
 
+/* A translucent diffuser: the reflectance as a lambert's, the Lambertian
+ * transmittance from its inline spectrum; reflectance plus transmittance
+ * at most 1 at every wavelength. */
+static vr_status make_translucent(vr_bsdf *b, const vr_scene_material *sm, vr_error *err) {
+  vr_status st = make_lambert(b, sm, NULL, err);
+  if (st) return st;
+  vr_spectrum *sp = vr_scene_inline_spectrum(sm->transmission ? sm->transmission : "", err);
+  if (!sp) return err ? err->status : VR_E_PARSE;
+  if (!(b->trans = grid_alloc(b))) {
+    vr_spectrum_destroy(sp);
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  }
+  double sr = 0, stt = 0;
+  for (size_t i = 0; i < b->nl; i++) {
+    double nm = node_nm(b, i);
+    if (!vr_spectrum_covers(sp, nm, nm)) b->extrapolated = true;
+    b->trans[i] = vr_bsdfi_clamp01(vr_spectrum_eval(sp, nm, VR_INTERP_LINEAR));
+    if (b->refl[i] + b->trans[i] > 1.0 + 1e-9) {
+      vr_spectrum_destroy(sp);
+      return vr_error_set(err, VR_E_RANGE,
+                          "reflectance %g plus transmittance %g at %g nm is above 1", b->refl[i],
+                          b->trans[i], nm);
+    }
+    sr += b->refl[i], stt += b->trans[i];
+  }
+  vr_spectrum_destroy(sp);
+  b->kind = VR_BK_TRANSLUCENT;
+  b->lobes = VR_LOBE_DIFFUSE | VR_LOBE_GLOSSY_T;
+  b->refl_share = sr + stt > 0 ? sr / (sr + stt) : 1.0;
+  snprintf(b->desc, sizeof b->desc, "translucent diffuser (mean reflectance %.3g, transmittance %.3g)",
+           sr / (double)b->nl, stt / (double)b->nl);
+  return VR_OK;
+}
+
 static vr_status make_glazing(vr_bsdf *b, const vr_scene_material *sm, const vr_material *m,
                               vr_error *err) {
   /* The measured pane's own thickness first: T and R belong to it. */
@@ -335,6 +369,7 @@ static vr_status build(vr_bsdf *b, const vr_scene_material *sm, const vr_materia
     return sm->pbr ? make_pbr(b, sm, err) : make_lambert(b, sm, NULL, err);
   if (sm->source == VR_MATSRC_BSDF_XML) return vr_bsdfi_klems_create(b, sm, err);
   if (sm->source == VR_MATSRC_GLASS) return make_glass(b, sm, err);
+  if (sm->source == VR_MATSRC_TRANSLUCENT) return make_translucent(b, sm, err);
   if (!m) return vr_error_set(err, VR_E_ARG, "the database material was not resolved");
   vr_status st = check_settings(sm, m->kind, err);
   if (st) return st;
@@ -410,8 +445,8 @@ vr_status vr_bsdf_create(const vr_scene_material *sm, const vr_material *m,
 
 void vr_bsdf_destroy(vr_bsdf *b) {
   if (!b) return;
-  double *arrays[] = {b->refl, b->n,   b->k,  b->sigma_a, b->T,   b->Rf,  b->Rb,
-                      b->T0,   b->dOD, b->Rf0, b->dRf,    b->Rb0, b->dRb};
+  double *arrays[] = {b->refl, b->n,   b->k,   b->sigma_a, b->T,   b->Rf,  b->Rb,
+                      b->T0,   b->dOD, b->Rf0, b->dRf,     b->Rb0, b->dRb, b->trans};
   for (size_t i = 0; i < sizeof arrays / sizeof *arrays; i++) free(arrays[i]);
   vr_bsdfi_klems_destroy(b->klems);
   free(b);

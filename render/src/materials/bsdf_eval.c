@@ -58,6 +58,9 @@ void vr_bsdf_eval_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, vr
     }
     vr_bsdfi_conductor_eval(b, o, i, nwl, nm, f, pdf);
     break;
+  case VR_BK_TRANSLUCENT:
+    vr_bsdfi_translucent_eval(b, pt ? pt->only : 0, o, i, nwl, nm, f, pdf);
+    break;
   case VR_BK_INTERFACE:
     vr_bsdfi_dielectric_eval(b, o, i, nwl, nm, mode, f, pdf);
     break;
@@ -118,6 +121,9 @@ bool vr_bsdf_sample_at(const vr_bsdf *b, const vr_bsdf_point *pt, double state, 
   case VR_BK_LAMBERT:
     ok = lambert_sample(b, o, nwl, nm, u1, u2, out);
     break;
+  case VR_BK_TRANSLUCENT:
+    ok = vr_bsdfi_translucent_sample(b, o, nwl, nm, u1, u2, u3, out);
+    break;
   case VR_BK_CONDUCTOR: {
     bool below = o.z < 0.0;
     ok = vr_bsdfi_conductor_sample(b, below ? flip(o) : o, nwl, nm, u1, u2, out);
@@ -167,6 +173,10 @@ void vr_bsdf_rta(const vr_bsdf *b, double state, double cos_theta, double nm, do
     break;
   case VR_BK_LAMBERT:
     r = vr_bsdfi_lerp(b->refl, vr_bsdfi_at(b, nm));
+    break;
+  case VR_BK_TRANSLUCENT:
+    r = vr_bsdfi_lerp(b->refl, vr_bsdfi_at(b, nm));
+    t = vr_bsdfi_lerp(b->trans, vr_bsdfi_at(b, nm));
     break;
   case VR_BK_CONDUCTOR:
     r = vr_bsdfi_conductor_albedo(b, nm, cos_theta);

@@ -28,7 +28,8 @@ typedef enum vr_bsdf_kind {
   VR_BK_PANE,      /* thin element from tables over (cos, wavelength) */
   VR_BK_CHROMO,    /* thin element whose normal-incidence T, R follow the state */
   VR_BK_PBR,       /* glTF metallic-roughness (bsdf_pbr.c) */
-  VR_BK_KLEMS      /* a Klems BSDF XML file (bsdf_klems.c) */
+  VR_BK_KLEMS,     /* a Klems BSDF XML file (bsdf_klems.c) */
+  VR_BK_TRANSLUCENT /* Lambertian reflection (refl) and transmission (trans), bsdf_translucent.c */
 } vr_bsdf_kind;
 
 typedef struct vr_klems_bsdf vr_klems_bsdf;
@@ -48,6 +49,9 @@ struct vr_bsdf {
   double lmin;
   size_t nl;
   double *refl;           /* Lambertian reflectance */
+  double *trans;          /* translucent: Lambertian transmittance */
+  double refl_share;      /* translucent: the mean reflectance over reflectance + transmittance,
+                             the probability of sampling the reflection */
   double *n, *k;          /* conductor, interface (and a pane's glass while building) */
   double *sigma_a;        /* interface: 4 pi k / lambda, 1/m */
 
@@ -195,5 +199,15 @@ void vr_bsdfi_klems_rt(const vr_bsdf *b, double cos_i, double *R, double *T);
 
 bool vr_bsdfi_pane_sample(const vr_bsdf *b, double state, vr_vec3 wo, int nwl, const double *nm,
                           double u3, vr_bsdf_sample *out);
+
+/* Translucent (bsdf_translucent.c), in the local frame: Lambertian
+ * reflection on wo's side (VR_LOBE_DIFFUSE) and Lambertian transmission to
+ * the other side (VR_LOBE_GLOSSY_T: not a delta, not stored in photon
+ * maps), chosen in proportion to their mean albedos; `only` restricts both
+ * to those lobes. */
+void vr_bsdfi_translucent_eval(const vr_bsdf *b, unsigned only, vr_vec3 o, vr_vec3 i, int nwl,
+                               const double *nm, double *f, double *pdf);
+bool vr_bsdfi_translucent_sample(const vr_bsdf *b, vr_vec3 o, int nwl, const double *nm, double u1,
+                                 double u2, double u3, vr_bsdf_sample *out);
 
 #endif
