@@ -96,8 +96,9 @@ static int parse_node(parser *p, int depth, size_t *out) {
       p->pos = (size_t)(end - p->s);
     }
     size_t n = t->nvals - first;
+    /* n = 2^(nd lg); lg kept so that the shift stays below 60 bits. */
     int lg = 0;
-    while (lg < 16 && ((size_t)1 << (t->nd * lg)) < n) lg++;
+    while ((lg + 1) * t->nd < 60 && ((size_t)1 << (t->nd * lg)) < n) lg++;
     if (n == 0 || ((size_t)1 << (t->nd * lg)) != n) {
       char buf[160];
       snprintf(buf, sizeof buf, "a leaf of %zu values; a grid holds 2^(%d k) of them", n, t->nd);

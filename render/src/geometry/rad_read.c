@@ -14,43 +14,14 @@
 #include <strings.h>
 #include <sys/stat.h>
 
-#include "geometry/rad_read.h"
+#include "geometry/rad_parse.h"
 #include "vr/scene.h"
 #include "vr/sha256.h"
 
 #define RAD_MAX_DEPTH 32
 #define RAD_MAX_ARGS 1000000
 
-/* An identifier's meaning: a material (mat >= 0), or an illum with no
- * alternate (mat = -1: invisible, its surfaces dropped). */
-typedef struct def {
-  char name[128];
-  int mat;
-} def;
-
-typedef struct reader {
-  vr_rad_model *m;
-  vr_error *err;
-  def *defs;
-  size_t ndefs;
-  char **files; /* every file read, in order */
-  size_t nfiles;
-  bool walk_only; /* vr_rad_digest: follow !xform, build nothing */
-} reader;
-
-/* One file being read. */
-typedef struct src {
-  const char *path;
-  char *text;
-  size_t len, pos;
-  long line;
-  vr_xform x;          /* file coordinates -> the model's */
-  bool flip;           /* x mirrors: reverse the triangles' order */
-  char mod[128];       /* !xform -m: every surface takes this modifier, "" none */
-  int depth;
-} src;
-
-static vr_status nomem(vr_error *err) { return vr_error_set(err, VR_E_NOMEM, "out of memory"); }
+vr_status rad_nomem(vr_error *err) { return vr_error_set(err, VR_E_NOMEM, "out of memory"); }
 
 bool vr_rad_is(const char *path) {
   size_t n = strlen(path);
@@ -94,10 +65,7 @@ static void rest_of_line(src *f, char *out, size_t cap) {
   out[n] = '\0';
 }
 
-static vr_status fail(reader *r, const src *f, long line, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-
-static vr_status fail(reader *r, const src *f, long line, const char *fmt, ...) {
+vr_status rad_fail(reader *r, const src *f, long line, const char *fmt, ...) {
   char msg[900];
   va_list ap;
   va_start(ap, fmt);
@@ -116,7 +84,7 @@ static bool to_long(const char *w, long *out) {
   return true;
 }
 
-static bool to_real(const char *w, double *out) {
+bool rad_to_real(const char *w, double *out) {
   char *end;
   errno = 0;
   double v = strtod(w, &end);
@@ -124,16 +92,6 @@ static bool to_real(const char *w, double *out) {
   *out = v;
   return true;
 }
-
-/* A primitive's arguments. */
-typedef struct prim {
-  char mod[128], type[64], id[128];
-  long line;
-  long nstr;
-  char **str;
-  long nreal;
-  double *real;
-} prim;
 
 static void prim_free(prim *p) {
   for (long i = 0; i < p->nstr; i++) free(p->str[i]);
@@ -150,46 +108,46 @@ static vr_status read_prim(reader *r, src *f, prim *p) {
   size_t caps[] = {sizeof p->type, sizeof p->id};
   for (int k = 0; k < 2; k++) {
     if (!word(f, w, sizeof w, &line))
-      return fail(r, f, p->line, "'%s': the file ends before %s", p->mod, what[k]);
+      return rad_fail(r, f, p->line, "'%s': the file ends before %s", p->mod, what[k]);
     if (strlen(w) >= caps[k])
-      return fail(r, f, line, "'%.40s...': longer than %zu characters", w, caps[k] - 1);
+      return rad_fail(r, f, line, "'%.40s...': longer than %zu characters", w, caps[k] - 1);
     memcpy(slots[k], w, strlen(w) + 1);
   }
   long n;
   if (!word(f, w, sizeof w, &line) || !to_long(w, &n))
-    return fail(r, f, p->line, "%s '%s': the count of string arguments is missing or not a count",
+    return rad_fail(r, f, p->line, "%s '%s': the count of string arguments is missing or not a count",
                 p->type, p->id);
-  if (!(p->str = calloc((size_t)n + 1, sizeof *p->str))) return nomem(r->err);
+  if (!(p->str = calloc((size_t)n + 1, sizeof *p->str))) return rad_nomem(r->err);
   for (long i = 0; i < n; i++) {
     if (!word(f, w, sizeof w, &line))
-      return fail(r, f, p->line, "%s '%s': the file ends inside its %ld string arguments", p->type,
+      return rad_fail(r, f, p->line, "%s '%s': the file ends inside its %ld string arguments", p->type,
                   p->id, n);
-    if (!(p->str[i] = strdup(w))) return nomem(r->err);
+    if (!(p->str[i] = strdup(w))) return rad_nomem(r->err);
     p->nstr = i + 1;
   }
   if (!word(f, w, sizeof w, &line) || !to_long(w, &n))
-    return fail(r, f, p->line, "%s '%s': the count of integer arguments is missing or not a count",
+    return rad_fail(r, f, p->line, "%s '%s': the count of integer arguments is missing or not a count",
                 p->type, p->id);
   if (n)
-    return fail(r, f, p->line, "%s '%s': %ld integer arguments (no primitive read here takes any)",
+    return rad_fail(r, f, p->line, "%s '%s': %ld integer arguments (no primitive read here takes any)",
                 p->type, p->id, n);
   if (!word(f, w, sizeof w, &line) || !to_long(w, &n))
-    return fail(r, f, p->line, "%s '%s': the count of real arguments is missing or not a count",
+    return rad_fail(r, f, p->line, "%s '%s': the count of real arguments is missing or not a count",
                 p->type, p->id);
-  if (!(p->real = calloc((size_t)n + 1, sizeof *p->real))) return nomem(r->err);
+  if (!(p->real = calloc((size_t)n + 1, sizeof *p->real))) return rad_nomem(r->err);
   for (long i = 0; i < n; i++) {
     if (!word(f, w, sizeof w, &line))
-      return fail(r, f, p->line, "%s '%s': the file ends inside its %ld real arguments", p->type,
+      return rad_fail(r, f, p->line, "%s '%s': the file ends inside its %ld real arguments", p->type,
                   p->id, n);
-    if (!to_real(w, &p->real[i]))
-      return fail(r, f, line, "%s '%s': real argument %ld '%s' is not a finite number", p->type,
+    if (!rad_to_real(w, &p->real[i]))
+      return rad_fail(r, f, line, "%s '%s': real argument %ld '%s' is not a finite number", p->type,
                   p->id, i + 1, w);
   }
   p->nreal = n;
   return VR_OK;
 }
 
-static int lookup(const reader *r, const char *name, bool *found) {
+int rad_lookup(const reader *r, const char *name, bool *found) {
   for (size_t i = r->ndefs; i-- > 0;)
     if (!strcmp(r->defs[i].name, name)) {
       *found = true;
@@ -199,9 +157,9 @@ static int lookup(const reader *r, const char *name, bool *found) {
   return -1;
 }
 
-static vr_status define(reader *r, const char *name, int mat) {
+vr_status rad_define(reader *r, const char *name, int mat) {
   def *d = realloc(r->defs, (r->ndefs + 1) * sizeof *d);
-  if (!d) return nomem(r->err);
+  if (!d) return rad_nomem(r->err);
   r->defs = d;
   snprintf(d[r->ndefs].name, sizeof d->name, "%s", name);
   d[r->ndefs++].mat = mat;
@@ -223,194 +181,6 @@ static bool in(const char *const *list, const char *w) {
   return false;
 }
 
-/* A material definition. */
-static vr_status material(reader *r, src *f, prim *p, vr_rad_kind kind) {
-  if (strcmp(p->mod, "void"))
-    return fail(r, f, p->line,
-                "%s '%s': its modifier '%s' is not void; patterns and textures are not read "
-                "(map the material with material.%s=NAME in the scene)",
-                p->type, p->id, p->mod, p->id);
-  static const long want[] = {[VR_RAD_PLASTIC] = 5, [VR_RAD_METAL] = 5, [VR_RAD_MIRROR] = 3,
-                              [VR_RAD_GLASS] = 3,   [VR_RAD_DIELECTRIC] = 5, [VR_RAD_LIGHT] = 3,
-                              [VR_RAD_GLOW] = 4,    [VR_RAD_BSDF] = 0, [VR_RAD_TRANS] = 7};
-  bool nreal_ok = p->nreal == want[kind] || (kind == VR_RAD_GLASS && p->nreal == 4);
-  if (!nreal_ok)
-    return fail(r, f, p->line, "%s '%s': %ld real arguments, %s takes %ld%s", p->type, p->id,
-                p->nreal, p->type, want[kind],
-                kind == VR_RAD_GLASS ? " or 4"
-                : kind == VR_RAD_BSDF ? " here (its extra diffuse components are not read)"
-                                      : "");
-  if (kind != VR_RAD_BSDF && p->nstr)
-    return fail(r, f, p->line, "%s '%s': %ld string arguments (%s takes none here%s)", p->type,
-                p->id, p->nstr, p->type,
-                kind == VR_RAD_MIRROR ? "; a mirror's alternate material is not read" : "");
-  vr_rad_material mt;
-  memset(&mt, 0, sizeof mt);
-  mt.kind = kind;
-  snprintf(mt.where, sizeof mt.where, "%s:%ld", f->path, p->line);
-  bool found;
-  lookup(r, p->id, &found);
-  if (found) snprintf(mt.name, sizeof mt.name, "%.100s@%ld", p->id, p->line);
-  else snprintf(mt.name, sizeof mt.name, "%s", p->id);
-  for (long i = 0; i < p->nreal && i < 7; i++) mt.arg[i] = p->real[i];
-  if (kind == VR_RAD_GLASS && p->nreal == 3) mt.arg[3] = 1.52;
-  if (kind == VR_RAD_BSDF) {
-    if (p->nstr < 6)
-      return fail(r, f, p->line,
-                  "BSDF '%s': %ld string arguments; it takes 6 (thickness, XML file, up vector x "
-                  "y z, function file)", p->id, p->nstr);
-    if (p->nstr > 6)
-      return fail(r, f, p->line, "BSDF '%s': a transform after the function file is not read",
-                  p->id);
-    double thick;
-    if (!to_real(p->str[0], &thick) || thick != 0)
-      return fail(r, f, p->line,
-                  "BSDF '%s': thickness '%s': only 0 is read (a thick BSDF's proxy geometry is "
-                  "not modelled)", p->id, p->str[0]);
-    for (int k = 0; k < 3; k++)
-      if (!to_real(p->str[2 + k], &mt.up[k]))
-        return fail(r, f, p->line, "BSDF '%s': up vector component '%s' is not a number", p->id,
-                    p->str[2 + k]);
-    if (strcmp(p->str[5], "."))
-      return fail(r, f, p->line,
-                  "BSDF '%s': function file '%s' is not read (only '.', no function file)", p->id,
-                  p->str[5]);
-    vr_xform_vector(&f->x, mt.up, mt.up);
-    const char *slash = strrchr(f->path, '/');
-    int dir = p->str[1][0] == '/' || !slash ? 0 : (int)(slash - f->path + 1);
-    snprintf(mt.file, sizeof mt.file, "%.*s%s", dir, f->path, p->str[1]);
-  }
-  if (r->walk_only) return VR_OK;
-  vr_rad_model *m = r->m;
-  vr_rad_material *g = realloc(m->mats, (m->nmats + 1) * sizeof *g);
-  if (!g) return nomem(r->err);
-  m->mats = g;
-  g[m->nmats] = mt;
-  return define(r, p->id, (int)m->nmats++);
-}
-
-/* Places the triangles appended since nv, nt through the file's transform,
- * turned round when flip. */
-static void place(vr_mesh_data *mesh, const src *f, size_t nv, size_t nt, bool flip) {
-  for (size_t i = nv; i < mesh->nverts; i++) vr_xform_point(&f->x, mesh->pos + 3 * i, mesh->pos + 3 * i);
-  if (!flip) return;
-  for (size_t t = nt; t < mesh->ntris; t++) {
-    uint32_t s = mesh->tris[3 * t + 1];
-    mesh->tris[3 * t + 1] = mesh->tris[3 * t + 2];
-    mesh->tris[3 * t + 2] = s;
-  }
-}
-
-static double len3(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
-
-/* A surface: its material, then its triangles. */
-static vr_status surface(reader *r, src *f, prim *p) {
-  static const struct {
-    const char *type;
-    long nreal;
-  } K[] = {{"polygon", -1}, {"sphere", 4}, {"bubble", 4}, {"cone", 8}, {"cup", 8},
-           {"cylinder", 7}, {"tube", 7},   {"ring", 8},   {"source", 4}};
-  size_t k = 0;
-  while (strcmp(K[k].type, p->type)) k++;
-  if (p->nstr)
-    return fail(r, f, p->line, "%s '%s': %ld string arguments (it takes none)", p->type, p->id,
-                p->nstr);
-  if (K[k].nreal >= 0 && p->nreal != K[k].nreal)
-    return fail(r, f, p->line, "%s '%s': %ld real arguments, it takes %ld", p->type, p->id,
-                p->nreal, K[k].nreal);
-  if (K[k].nreal < 0 && (p->nreal < 9 || p->nreal % 3))
-    return fail(r, f, p->line,
-                "polygon '%s': %ld real arguments; it takes 3 per vertex and at least 3 vertices",
-                p->id, p->nreal);
-  const double *a = p->real;
-  const char *modname = f->mod[0] ? f->mod : p->mod;
-  if (!strcmp(modname, "void"))
-    return fail(r, f, p->line, "%s '%s': its modifier is void (no material)", p->type, p->id);
-  bool found;
-  int mat = lookup(r, modname, &found);
-  if (!found && !r->walk_only)
-    return fail(r, f, p->line, "%s '%s': its modifier '%s' is not defined before it", p->type,
-                p->id, modname);
-  if (r->walk_only) return VR_OK;
-  vr_rad_model *m = r->m;
-  if (!strcmp(p->type, "source")) {
-    if (mat < 0 || m->mats[mat].kind != VR_RAD_LIGHT)
-      return fail(r, f, p->line,
-                  "source '%s': its modifier '%s' is not a light (a glow or illum source, a sky, "
-                  "is given by the scene's sky line)", p->id, modname);
-    if (a[3] >= 180)
-      return fail(r, f, p->line,
-                  "source '%s': %g deg wide, a sky or a ground: give it in the scene's sky line "
-                  "(sources narrower than 180 deg are read, as the sun)", p->id, a[3]);
-    if (!(len3(a) > 0) || !(a[3] > 0))
-      return fail(r, f, p->line, "source '%s': direction (%g %g %g) or angle %g deg is not valid",
-                  p->id, a[0], a[1], a[2], a[3]);
-    vr_rad_source *s = realloc(m->src, (m->nsrc + 1) * sizeof *s);
-    if (!s) return nomem(r->err);
-    m->src = s;
-    vr_rad_source *o = &s[m->nsrc++];
-    vr_xform_vector(&f->x, a, o->dir);
-    double l = len3(o->dir);
-    for (int q = 0; q < 3; q++) o->dir[q] /= l;
-    o->angle_deg = a[3];
-    o->material = mat;
-    snprintf(o->where, sizeof o->where, "%s:%ld", f->path, p->line);
-    return VR_OK;
-  }
-  if (mat < 0) {
-    m->illum_dropped++;
-    return VR_OK;
-  }
-  size_t nv = m->mesh.nverts, nt = m->mesh.ntris;
-  vr_status st = VR_OK;
-  vr_error e = {0};
-  const char *t = p->type;
-  bool out = !strcmp(t, "sphere") || !strcmp(t, "cone") || !strcmp(t, "cylinder");
-  if (!strcmp(t, "polygon")) {
-    bool degenerate;
-    st = vr_rad_polygon(&m->mesh, a, (size_t)p->nreal / 3, (uint32_t)mat, &degenerate, &e);
-    m->degenerate += degenerate;
-    if (!st && m->mesh.ntris > nt) {
-      vr_rad_poly *g = realloc(m->polys, (m->npolys + 1) * sizeof *g);
-      if (!g) return nomem(r->err);
-      m->polys = g;
-      vr_rad_poly *q = &g[m->npolys++];
-      snprintf(q->id, sizeof q->id, "%s", p->id);
-      snprintf(q->where, sizeof q->where, "%s:%ld", f->path, p->line);
-      q->first = nt, q->count = m->mesh.ntris - nt;
-    }
-  } else if (!strcmp(t, "sphere") || !strcmp(t, "bubble")) {
-    if (!(a[3] != 0)) return fail(r, f, p->line, "%s '%s': radius 0", t, p->id);
-    /* A negative radius turns the surface inside out, as in Radiance. */
-    st = vr_rad_sphere(&m->mesh, a, fabs(a[3]), out == (a[3] > 0), (uint32_t)mat, &e);
-  } else if (!strcmp(t, "ring")) {
-    if (!(len3(a + 3) > 0) || !(a[6] >= 0) || !(a[7] > a[6]))
-      return fail(r, f, p->line,
-                  "ring '%s': the normal must not be 0 and the radii 0 <= r0 < r1 (%g, %g)",
-                  p->id, a[6], a[7]);
-    st = vr_rad_ring(&m->mesh, a, a + 3, a[6], a[7], (uint32_t)mat, &e);
-  } else {
-    bool cyl = !strcmp(t, "cylinder") || !strcmp(t, "tube");
-    double r0 = a[6], r1 = cyl ? a[6] : a[7];
-    double ax[3] = {a[3] - a[0], a[4] - a[1], a[5] - a[2]};
-    if (!(len3(ax) > 0))
-      return fail(r, f, p->line, "%s '%s': its two ends are the same point", t, p->id);
-    if (!(r0 >= 0 && r1 >= 0 && r0 + r1 > 0) || (cyl && !(r0 > 0)))
-      return fail(r, f, p->line, "%s '%s': radii %g, %g (they must not be negative, nor both 0)",
-                  t, p->id, r0, r1);
-    st = vr_rad_cone(&m->mesh, a, a + 3, r0, r1, out, (uint32_t)mat, &e);
-  }
-  if (st) return vr_error_at(r->err, st, f->path, p->line, 0, "%s '%s': %s", t, p->id, e.message);
-  /* A mirroring transform turns the triangles round to keep their side;
-   * so does a BSDF material: Radiance reads a BSDF XML file with its front
-   * and back "reversed from WINDOW 6 orientations" (its bsdf_m.c), so a
-   * Radiance BSDF surface's normal faces the file's back, where the
-   * renderer's faces the file's front. */
-  place(&m->mesh, f, nv, nt, f->flip != (m->mats[mat].kind == VR_RAD_BSDF));
-  m->mats[mat].triangles += m->mesh.ntris - nt;
-  return VR_OK;
-}
-
 static vr_status read_file(reader *r, const char *path, const vr_xform *x, const char *mod,
                            int depth, const src *from, long from_line);
 
@@ -420,7 +190,7 @@ static vr_status command(reader *r, src *f, long line) {
   rest_of_line(f, buf, sizeof buf);
   char *save = NULL, *w = strtok_r(buf, " \t\r", &save);
   if (!w || strcmp(w, "xform"))
-    return fail(r, f, line,
+    return rad_fail(r, f, line,
                 "'!%s': a command; .rad files are read here, never run through a shell (write "
                 "its output into the file)", w ? w : "");
   vr_xform t;
@@ -440,18 +210,18 @@ static vr_status command(reader *r, src *f, long line) {
       need = 1;
     else if (!strcmp(w, "-n") || !strcmp(w, "-m")) {
       const char *arg = strtok_r(NULL, " \t\r", &save);
-      if (!arg) return fail(r, f, line, "!xform: %s needs an argument", w);
+      if (!arg) return rad_fail(r, f, line, "!xform: %s needs an argument", w);
       if (!strcmp(w, "-m")) snprintf(mod, sizeof mod, "%s", arg);
       continue;
     } else if (!strcmp(w, "-mx") || !strcmp(w, "-my") || !strcmp(w, "-mz")) {
       int ax = w[2] - 'x';
       op.m[ax][ax] = -1;
     } else if (w[0] == '-') {
-      return fail(r, f, line,
+      return rad_fail(r, f, line,
                   "!xform option '%s' is not read (read: -t -rx -ry -rz -s -mx -my -mz -n -m)", w);
     } else {
       if (files == 0 && !strcmp(w, "-"))
-        return fail(r, f, line, "!xform reading its standard input is not read");
+        return rad_fail(r, f, line, "!xform reading its standard input is not read");
       char path[1100];
       const char *slash = strrchr(f->path, '/');
       int dir = w[0] == '/' || !slash ? 0 : (int)(slash - f->path + 1);
@@ -464,13 +234,13 @@ static vr_status command(reader *r, src *f, long line) {
     }
     for (int k = 0; k < need; k++) {
       const char *arg = strtok_r(NULL, " \t\r", &save);
-      if (!arg || !to_real(arg, &v[k]))
-        return fail(r, f, line, "!xform %s: argument %d is missing or not a number", opt, k + 1);
+      if (!arg || !rad_to_real(arg, &v[k]))
+        return rad_fail(r, f, line, "!xform %s: argument %d is missing or not a number", opt, k + 1);
     }
     if (!strcmp(opt, "-t"))
       for (int k = 0; k < 3; k++) op.m[k][3] = v[k];
     else if (!strcmp(opt, "-s")) {
-      if (!(v[0] > 0)) return fail(r, f, line, "!xform -s %g: the scale must be positive", v[0]);
+      if (!(v[0] > 0)) return rad_fail(r, f, line, "!xform -s %g: the scale must be positive", v[0]);
       for (int k = 0; k < 3; k++) op.m[k][k] = v[0];
     } else if (opt[1] == 'r') {
       int ax = opt[2] - 'x', i = (ax + 1) % 3, j = (ax + 2) % 3;
@@ -478,10 +248,10 @@ static vr_status command(reader *r, src *f, long line) {
       op.m[i][i] = c, op.m[i][j] = -s, op.m[j][i] = s, op.m[j][j] = c;
     }
     if (files)
-      return fail(r, f, line, "!xform: transform '%s' after its files (options come first)", opt);
+      return rad_fail(r, f, line, "!xform: transform '%s' after its files (options come first)", opt);
     vr_xform_then(&t, &op, &t);
   }
-  if (!st && !files) return fail(r, f, line, "!xform names no file");
+  if (!st && !files) return rad_fail(r, f, line, "!xform names no file");
   return st;
 }
 
@@ -507,7 +277,7 @@ static vr_status parse(reader *r, src *f) {
     memset(&p, 0, sizeof p);
     word(f, w, sizeof w, &p.line);
     if (strlen(w) >= sizeof p.mod)
-      st = fail(r, f, p.line, "'%.40s...': longer than %zu characters", w, sizeof p.mod - 1);
+      st = rad_fail(r, f, p.line, "'%.40s...': longer than %zu characters", w, sizeof p.mod - 1);
     else {
       memcpy(p.mod, w, strlen(w) + 1);
       st = read_prim(r, f, &p);
@@ -515,45 +285,45 @@ static vr_status parse(reader *r, src *f) {
     const char *t = p.type;
     if (st) {
     } else if (in(PATTERNS, t)) {
-      st = fail(r, f, p.line,
+      st = rad_fail(r, f, p.line,
                 "%s '%s': patterns, textures and mixtures are not read (a sky is given by the "
                 "scene's sky line; map a textured material with material.NAME= in the scene)",
                 t, p.id);
     } else if (in(UNREAD_MATERIALS, t)) {
-      st = fail(r, f, p.line,
+      st = rad_fail(r, f, p.line,
                 "%s '%s': this material is not modelled here; map it to a database or scene "
                 "material with material.%s=NAME on the mesh line",
                 t, p.id, p.id);
     } else if (!strcmp(t, "instance") || !strcmp(t, "mesh")) {
-      st = fail(r, f, p.line,
+      st = rad_fail(r, f, p.line,
                 "%s '%s': octree instances and Radiance meshes are not read (give the model "
                 "file itself on a mesh line)", t, p.id);
     } else if (!strcmp(t, "alias")) {
       bool found;
-      int mat = p.nstr == 1 ? lookup(r, p.str[0], &found) : (found = false, -1);
+      int mat = p.nstr == 1 ? rad_lookup(r, p.str[0], &found) : (found = false, -1);
       if (p.nstr != 1 || p.nreal)
-        st = fail(r, f, p.line, "alias '%s': it takes one string argument, the identifier it copies",
+        st = rad_fail(r, f, p.line, "alias '%s': it takes one string argument, the identifier it copies",
                   p.id);
       else if (strcmp(p.mod, "void"))
-        st = fail(r, f, p.line, "alias '%s': a modifier other than void ('%s') is not read", p.id,
+        st = rad_fail(r, f, p.line, "alias '%s': a modifier other than void ('%s') is not read", p.id,
                   p.mod);
       else if (!found && !r->walk_only)
-        st = fail(r, f, p.line, "alias '%s': '%s' is not defined before it", p.id, p.str[0]);
+        st = rad_fail(r, f, p.line, "alias '%s': '%s' is not defined before it", p.id, p.str[0]);
       else
-        st = define(r, p.id, mat);
+        st = rad_define(r, p.id, mat);
     } else if (!strcmp(t, "illum")) {
       /* A secondary source: invisible unless it names an alternate
        * material, which its surfaces then are. */
       bool found = true;
       int mat = -1;
       if (p.nstr > 1 || p.nreal != 3)
-        st = fail(r, f, p.line, "illum '%s': it takes 0 or 1 string argument and 3 reals", p.id);
+        st = rad_fail(r, f, p.line, "illum '%s': it takes 0 or 1 string argument and 3 reals", p.id);
       else if (p.nstr == 1 && strcmp(p.str[0], "void"))
-        mat = lookup(r, p.str[0], &found);
+        mat = rad_lookup(r, p.str[0], &found);
       if (!st && !found && !r->walk_only)
-        st = fail(r, f, p.line, "illum '%s': its alternate material '%s' is not defined before it",
+        st = rad_fail(r, f, p.line, "illum '%s': its alternate material '%s' is not defined before it",
                   p.id, p.str[0]);
-      if (!st) st = define(r, p.id, mat);
+      if (!st) st = rad_define(r, p.id, mat);
     } else {
       static const struct {
         const char *type;
@@ -567,9 +337,9 @@ static vr_status parse(reader *r, src *f) {
                                       "cylinder", "tube", "ring", "source", NULL};
       size_t k = 0;
       while (k < sizeof M / sizeof *M && strcmp(M[k].type, t)) k++;
-      if (k < sizeof M / sizeof *M) st = material(r, f, &p, M[k].kind);
-      else if (in(S, t)) st = surface(r, f, &p);
-      else st = fail(r, f, p.line, "'%s' (identifier '%s') is not a Radiance primitive type", t, p.id);
+      if (k < sizeof M / sizeof *M) st = rad_material(r, f, &p, M[k].kind);
+      else if (in(S, t)) st = rad_surface(r, f, &p);
+      else st = rad_fail(r, f, p.line, "'%s' (identifier '%s') is not a Radiance primitive type", t, p.id);
     }
     prim_free(&p);
   }
@@ -616,7 +386,7 @@ static vr_status read_file(reader *r, const char *path, const vr_xform *x, const
       cap = cap ? 2 * cap : 65536;
       char *t = realloc(f.text, cap + 1);
       if (!t) {
-        st = nomem(r->err);
+        st = rad_nomem(r->err);
         break;
       }
       f.text = t;
@@ -628,10 +398,10 @@ static vr_status read_file(reader *r, const char *path, const vr_xform *x, const
   if (!st && ferror(fp)) st = vr_error_set(r->err, VR_E_IO, "mesh '%s': read error", path);
   fclose(fp);
   char **files = st ? NULL : realloc(r->files, (r->nfiles + 1) * sizeof *files);
-  if (!st && !files) st = nomem(r->err);
+  if (!st && !files) st = rad_nomem(r->err);
   if (!st) {
     r->files = files;
-    if (!(files[r->nfiles] = strdup(path))) st = nomem(r->err);
+    if (!(files[r->nfiles] = strdup(path))) st = rad_nomem(r->err);
     else r->nfiles++;
   }
   if (!st) {
