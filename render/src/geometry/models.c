@@ -194,11 +194,8 @@ static vr_status material_for(vr_scene *s, size_t i, const vr_scene_object *ob,
     /* A Radiance material: its kind decides (rad_materials.c); the
      * emission goes to the objects (expand). */
     char what[600], note[4000];
-    vr_quantity q;
-    char *es = NULL;
     vr_error e = {0};
-    vr_status st = vr_rad_scene_material(mm, ob, m, &q, &es, what, sizeof what, &e);
-    free(es);
+    vr_status st = vr_rad_scene_material(mm, ob, m, what, sizeof what, &e);
     if (st)
       return vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "mesh '%s': %s",
                          base(ob->mesh_path), e.message);
@@ -382,12 +379,9 @@ static vr_status expand(vr_scene *s, size_t i, vr_scene_object **out, size_t *no
     if (!st && from_file && (mm[k].rad_kind == VR_RAD_LIGHT || mm[k].rad_kind == VR_RAD_GLOW)) {
       /* A Radiance light or glow emits (the mesh line's own emission=
        * gives way to it). */
-      vr_scene_material scratch;
-      memset(&scratch, 0, sizeof scratch);
-      char what[600], *es = NULL;
+      char *es = NULL;
       vr_error e2 = {0};
-      if ((st = vr_rad_scene_material(&mm[k], ob, &scratch, &c->emission, &es, what, sizeof what,
-                                      &e2)))
+      if ((st = vr_rad_emission(&mm[k], &c->emission, &es, &e2)))
         st = vr_error_at(err, st, s->path, ob->loc.line, ob->loc.col, "%s", e2.message);
       free(c->emission_spectrum);
       c->emission_spectrum = es;

@@ -35,6 +35,7 @@
 #include <string.h>
 
 #include "geometry/rad_read.h"
+#include "scene/scene_parse.h"
 
 static vr_status nomem(vr_error *err) { return vr_error_set(err, VR_E_NOMEM, "out of memory"); }
 
@@ -124,11 +125,20 @@ static double lum(const double rgb[3]) {
   return 179.0 * (0.265 * rgb[0] + 0.670 * rgb[1] + 0.065 * rgb[2]);
 }
 
-vr_status vr_rad_scene_material(const vr_mesh_material *mm, const vr_scene_object *ob,
-                                vr_scene_material *m, vr_quantity *emission,
-                                char **emission_spectrum, char *note, size_t cap, vr_error *err) {
+vr_status vr_rad_emission(const vr_mesh_material *mm, vr_quantity *emission, char **spectrum,
+                          vr_error *err) {
   emission->value = 0, emission->unit = VR_UNIT_NONE;
-  *emission_spectrum = NULL;
+  *spectrum = NULL;
+  if (mm->rad_kind != VR_RAD_LIGHT && mm->rad_kind != VR_RAD_GLOW) return VR_OK;
+  vr_status st = table(mm, mm->rad_arg, false, spectrum, err);
+  if (st) return st;
+  emission->value = lum(mm->rad_arg);
+  emission->unit = VR_UNIT_CD_M2;
+  return VR_OK;
+}
+
+vr_status vr_rad_scene_material(const vr_mesh_material *mm, const vr_scene_object *ob,
+                                vr_scene_material *m, char *note, size_t cap, vr_error *err) {
   const double *a = mm->rad_arg;
   const char *kind = KIND[mm->rad_kind];
   bool rgb_kind = mm->rad_kind != VR_RAD_BSDF;
@@ -205,9 +215,6 @@ vr_status vr_rad_scene_material(const vr_mesh_material *mm, const vr_scene_objec
     m->source = VR_MATSRC_BLACK;
     double L = lum(a);
     if (!(L > 0)) return bad(mm, err, "it emits nothing (R G B all 0)");
-    if ((st = table(mm, a, false, emission_spectrum, err))) return st;
-    emission->value = L;
-    emission->unit = VR_UNIT_CD_M2;
     snprintf(note, cap, "%s %g %g %g: black, emitting %g cd/m2 from its front%s", kind, a[0], a[1],
              a[2], L,
              mm->rad_kind == VR_RAD_GLOW ? " (a glow's radius of influence changes nothing in a "
@@ -255,6 +262,14 @@ vr_status vr_rad_scene_material(const vr_mesh_material *mm, const vr_scene_objec
   return bad(mm, err, "unknown kind");
 }
 
+/* The light kind that is the sun, from the registry of light kinds. */
+static vr_light_kind sun_kind(void) {
+  vr_scn_light_syntax k;
+  size_t i = 0;
+  while (vr_scn_light_kind(i, &k) && !k.sun) i++;
+  return (vr_light_kind)i;
+}
+
 vr_status vr_rad_add_sources(vr_scene *s, const vr_scene_object *ob, const vr_rad_model *rm,
                              vr_error *err) {
   for (size_t i = 0; i < rm->nsrc; i++) {
@@ -268,7 +283,7 @@ vr_status vr_rad_add_sources(vr_scene *s, const vr_scene_object *ob, const vr_ra
                           "in the scene (light sun) so that the sky is placed with it",
                           src->where, s->sky.loc.line);
     for (size_t j = 0; j < s->nlights; j++)
-      if (s->lights[j].kind == VR_LIGHT_SUN)
+      if (s->lights[j].kind == sun_kind())
         return vr_error_set(err, VR_E_PARSE,
                             "%s: a distant source, and the scene has a sun already (line %ld)",
                             src->where, s->lights[j].loc.line);
@@ -278,7 +293,7 @@ vr_status vr_rad_add_sources(vr_scene *s, const vr_scene_object *ob, const vr_ra
     s->lights = l;
     l = &l[s->nlights];
     memset(l, 0, sizeof *l);
-    l->kind = VR_LIGHT_SUN;
+    l->kind = sun_kind();
     l->normal[2] = -1;
     double d[3];
     vr_xform_vector(&ob->xform, src->dir, d);

@@ -100,6 +100,16 @@ static void prim_free(prim *p) {
   p->str = NULL, p->real = NULL, p->nstr = p->nreal = 0;
 }
 
+/* The count that leads a list of arguments (what: their kind). */
+static vr_status count(reader *r, src *f, const prim *p, const char *what, long *n) {
+  char w[64];
+  long line;
+  if (!word(f, w, sizeof w, &line) || !to_long(w, n))
+    return rad_fail(r, f, p->line, "%s '%s': the count of %s arguments is missing or not a count",
+                    p->type, p->id, what);
+  return VR_OK;
+}
+
 static vr_status read_prim(reader *r, src *f, prim *p) {
   char w[1024];
   long line;
@@ -114,9 +124,8 @@ static vr_status read_prim(reader *r, src *f, prim *p) {
     memcpy(slots[k], w, strlen(w) + 1);
   }
   long n;
-  if (!word(f, w, sizeof w, &line) || !to_long(w, &n))
-    return rad_fail(r, f, p->line, "%s '%s': the count of string arguments is missing or not a count",
-                p->type, p->id);
+  vr_status st = count(r, f, p, "string", &n);
+  if (st) return st;
   if (!(p->str = calloc((size_t)n + 1, sizeof *p->str))) return rad_nomem(r->err);
   for (long i = 0; i < n; i++) {
     if (!word(f, w, sizeof w, &line))
@@ -125,15 +134,11 @@ static vr_status read_prim(reader *r, src *f, prim *p) {
     if (!(p->str[i] = strdup(w))) return rad_nomem(r->err);
     p->nstr = i + 1;
   }
-  if (!word(f, w, sizeof w, &line) || !to_long(w, &n))
-    return rad_fail(r, f, p->line, "%s '%s': the count of integer arguments is missing or not a count",
-                p->type, p->id);
+  if ((st = count(r, f, p, "integer", &n))) return st;
   if (n)
     return rad_fail(r, f, p->line, "%s '%s': %ld integer arguments (no primitive read here takes any)",
                 p->type, p->id, n);
-  if (!word(f, w, sizeof w, &line) || !to_long(w, &n))
-    return rad_fail(r, f, p->line, "%s '%s': the count of real arguments is missing or not a count",
-                p->type, p->id);
+  if ((st = count(r, f, p, "real", &n))) return st;
   if (!(p->real = calloc((size_t)n + 1, sizeof *p->real))) return rad_nomem(r->err);
   for (long i = 0; i < n; i++) {
     if (!word(f, w, sizeof w, &line))

@@ -103,13 +103,14 @@ vr_status vr_rad_mesh_materials(const vr_rad_model *rm, vr_mesh_material **out, 
                                 vr_error *err);
 
 /* Scene material m (initialised by the caller: name, loc, defaults) from
- * Radiance material mm of object ob; a light or glow also gives the
- * object's emission (*emission, *emission_spectrum owned by the caller;
- * value 0 for the others).  note: what was decided, for the user.  Errors
- * name mm's file and line. */
+ * Radiance material mm of object ob.  note: what was decided, for the
+ * user.  Errors name mm's file and line. */
 vr_status vr_rad_scene_material(const vr_mesh_material *mm, const vr_scene_object *ob,
-                                vr_scene_material *m, vr_quantity *emission,
-                                char **emission_spectrum, char *note, size_t cap, vr_error *err);
+                                vr_scene_material *m, char *note, size_t cap, vr_error *err);
+/* The emission a light or glow gives its objects (*spectrum owned by the
+ * caller); value 0 and NULL for the other kinds. */
+vr_status vr_rad_emission(const vr_mesh_material *mm, vr_quantity *emission, char **spectrum,
+                          vr_error *err);
 
 /* The model's distant source, if any, as the scene's sun (light sun): its
  * direction through ob's transform, its radius half the source's angle,

@@ -219,6 +219,21 @@ static vr_status circles(vr_mesh_data *m, const double a[3], const double c0[3],
   return st;
 }
 
+/* The triangles between the two circles circles() made (first at
+ * *first): circle 0 (j) circle 0 (j+1) circle 1 (j+1) faces along
+ * d/dphi x (circle 1 - circle 0), out of a cone whose circle 1 is its
+ * top; forward false turns them round. */
+static vr_status band(vr_mesh_data *m, uint32_t first, bool forward, uint32_t mat, vr_error *err) {
+  vr_status st = VR_OK;
+  for (int j = 0; j < RAD_SEGMENTS && !st; j++) {
+    uint32_t b0 = first + 2 * (uint32_t)j, t0 = b0 + 1;
+    uint32_t b1 = first + 2 * (uint32_t)((j + 1) % RAD_SEGMENTS), t1 = b1 + 1;
+    st = forward ? triangle(m, b0, b1, t1, mat, err) : triangle(m, b0, t1, b1, mat, err);
+    if (!st) st = forward ? triangle(m, b0, t1, t0, mat, err) : triangle(m, b0, t0, t1, mat, err);
+  }
+  return st;
+}
+
 vr_status vr_rad_cone(vr_mesh_data *m, const double p0[3], const double p1[3], double r0, double r1,
                       bool outward, uint32_t mat, vr_error *err) {
   double a[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
@@ -226,14 +241,7 @@ vr_status vr_rad_cone(vr_mesh_data *m, const double p0[3], const double p1[3], d
   for (int k = 0; k < 3; k++) a[k] /= l;
   uint32_t first = 0;
   vr_status st = circles(m, a, p0, p1, r0, r1, &first, err);
-  /* d/dphi x d/daxis points out: bottom(j) bottom(j+1) top(j+1) faces out. */
-  for (int j = 0; j < RAD_SEGMENTS && !st; j++) {
-    uint32_t b0 = first + 2 * (uint32_t)j, t0 = b0 + 1;
-    uint32_t b1 = first + 2 * (uint32_t)((j + 1) % RAD_SEGMENTS), t1 = b1 + 1;
-    st = outward ? triangle(m, b0, b1, t1, mat, err) : triangle(m, b0, t1, b1, mat, err);
-    if (!st) st = outward ? triangle(m, b0, t1, t0, mat, err) : triangle(m, b0, t0, t1, mat, err);
-  }
-  return st;
+  return st ? st : band(m, first, outward, mat, err);
 }
 
 vr_status vr_rad_ring(vr_mesh_data *m, const double c[3], const double n[3], double r0, double r1,
@@ -243,12 +251,7 @@ vr_status vr_rad_ring(vr_mesh_data *m, const double c[3], const double n[3], dou
   for (int k = 0; k < 3; k++) a[k] /= l;
   uint32_t first = 0;
   vr_status st = circles(m, a, c, c, r0, r1, &first, err);
-  /* Counter-clockwise about the normal: inner(j) outer(j) outer(j+1). */
-  for (int j = 0; j < RAD_SEGMENTS && !st; j++) {
-    uint32_t i0 = first + 2 * (uint32_t)j, o0 = i0 + 1;
-    uint32_t i1 = first + 2 * (uint32_t)((j + 1) % RAD_SEGMENTS), o1 = i1 + 1;
-    st = triangle(m, i0, o0, o1, mat, err);
-    if (!st) st = triangle(m, i0, o1, i1, mat, err);
-  }
-  return st;
+  /* The inner circle as the band's first: counter-clockwise about the
+   * normal is the band's inward order. */
+  return st ? st : band(m, first, false, mat, err);
 }
