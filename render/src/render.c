@@ -85,6 +85,14 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
     if (!st) st = vr_accum_keep_features(&acc, err);
     r->film_bytes += (size_t)W * (size_t)H * (VR_FEATURES + (job.adaptive ? 0 : 3)) * sizeof(double);
   }
+  if (!st && opt->pixel_patches) {
+    if (s->settings.integrator != VR_INT_PATH || job.adaptive || opt->denoise)
+      st = vr_error_set(err, VR_E_ARG,
+                        "an image's sky-patch coefficients need the path integrator with a fixed "
+                        "number of samples per pixel");
+    if (!st) st = vr_accum_keep_patches(&acc, err);
+    r->film_bytes += (size_t)W * (size_t)H * VR_SENSOR_PATCHES * sizeof(double);
+  }
   res->film_bytes = r->film_bytes;
   if (!st) st = ig->render(&job, err);
   if (st) goto done;
@@ -114,6 +122,8 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   /* The sums become the result where they lie: no copy of the film. */
   res->xyz = vr_accum_take_mean(&acc.xyz, px * 3, job.passes);
   res->spectral = fb ? vr_accum_take_mean(&acc.bins, px * fb, job.passes) : NULL;
+  if (acc.pixel_patches)
+    res->pixel_patch_Y = vr_accum_take_mean(&acc.pixel_patches, px * VR_SENSOR_PATCHES, job.passes);
   if (job.adaptive && (st = adaptive_film(res, &acc, &job, fb, err))) goto done;
   if (opt->denoise) {
     /* The features on every rank; the denoised image where the files are
@@ -475,6 +485,7 @@ void vr_render_result_destroy(vr_render_result *r) {
   free(r->readings);
   free(r->sensor_spectral);
   free(r->sky_patch_lx);
+  free(r->pixel_patch_Y);
   free(r->sensor_names);
   free(r->photochromic_state);
   free(r->photochromic_uv);

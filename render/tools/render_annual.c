@@ -22,7 +22,8 @@ void render_annual_report(const vr_scene *scene, const vr_annual_result *res, co
                                        "its own UV exposure"};
     printf("glass    %s, %s, control: %s", res->glass_name,
            res->glass == VR_ANNUAL_PHOTOCHROMIC ? "photochromic" : "electrochromic",
-           RULE[a->control]);
+           a->control == VR_CONTROL_GLARE && res->nviews ? "glare (DGP at the glare views)"
+                                                         : RULE[a->control]);
     if (a->control == VR_CONTROL_ILLUMINANCE || a->control == VR_CONTROL_SUN ||
         a->control == VR_CONTROL_GLARE)
       printf(" (max %g%s%s%s)", a->max, a->control == VR_CONTROL_GLARE ? "" : " lx", a->control_sensor >= 0 ? " at " : "",
@@ -82,6 +83,16 @@ void render_annual_report(const vr_scene *scene, const vr_annual_result *res, co
              100 * pt->en17037_share[1], 100 * pt->en17037_share[2], 100 * pt->en17037_share[3],
              pt->df_pct);
   }
-  printf("wrote    %s.annual.csv %s.annual-hourly.csv %s.manifest.json\n", prefix, prefix,
-         prefix);
+  double nh = res->occupied_hours ? (double)res->occupied_hours : 1;
+  for (size_t v = 0; v < res->nviews; v++) {
+    const vr_annual_view *w = &res->views[v];
+    printf("view     %s  DGP>=0.35 %.0f h (%.1f %%), >=0.40 %.0f h (%.1f %%), >=0.45 %.0f h "
+           "(%.1f %%) of the occupied hours; EN 17037 glare protection: %s\n",
+           w->sensor, w->hours[0], 100 * w->hours[0] / nh, w->hours[1], 100 * w->hours[1] / nh,
+           w->hours[2], 100 * w->hours[2] / nh,
+           w->en17037_level >= 0 ? VR_EN17037_LEVEL_NAME[w->en17037_level] : "none (DGP >= 0.45 in more than 5 % of the hours)");
+  }
+  printf("wrote    %s.annual.csv %s.annual-hourly.csv ", prefix, prefix);
+  if (res->nviews) printf("%s.annual-glare.csv ", prefix);
+  printf("%s.manifest.json\n", prefix);
 }

@@ -85,6 +85,26 @@ check "a study with a shade exits 0" test $rc -eq 0
 check "it says when the shade was drawn" grep -q "^shade    roller in place of pane, drawn by IES LM-83-12's rule .*: [0-9]* of the [0-9]* occupied daylit hours; ASE is the open window's" "$tmp/shade.out"
 check "the hourly table gives the shade's state" bash -c 'cut -d, -f2 "$1" | sort -u | tr "
 " " " | grep -q "^0 1 glass_state $"' _ "$tmp/shade.annual-hourly.csv"
+# Annual glare at a view (glare_views=): the views' table, the hourly DGP
+# column and the set's manifest; the DGP itself is checked in
+# tests/render/test_annual_glare.c.
+year_scene "$tmp/gl.scn" "hours=9,15 glare_views=eye glare_resolution=32"
+"$bin" "$tmp/gl.scn" -o "$tmp/gl" > "$tmp/gl.out" 2> "$tmp/gl.err"; rc=$?
+check "a study with a glare view exits 0" test $rc -eq 0
+check "it prints the view's DGP hours and EN 17037 level" grep -q "^view     eye  DGP>=0.35 [0-9]* h ([0-9.]* %), >=0.40 [0-9]* h ([0-9.]* %), >=0.45 [0-9]* h ([0-9.]* %) of the occupied hours; EN 17037 glare protection: " "$tmp/gl.out"
+check "it says how the views' coefficients were rendered" grep -q "annual: 1 glare view: 32 x 32 fisheye coefficients, 1 sky and [0-9]* sun renders each" "$tmp/gl.err"
+check "the views' table has its header and one view" bash -c 'head -1 "$1" | grep -q "^view,x,y,z,dx,dy,dz,dgp_0.35_hours,dgp_0.40_hours,dgp_0.45_hours,dgp_0.35_pct,dgp_0.40_pct,dgp_0.45_pct,en17037_glare_protection$" && test "$(wc -l < "$1")" -eq 2' _ "$tmp/gl.annual-glare.csv"
+check "the hourly table ends with the view's DGP" bash -c 'head -1 "$1" | grep -q ",dgp:eye$"' _ "$tmp/gl.annual-hourly.csv"
+check "the view's hours at 0.35 are the hourly DGPs at or above it" bash -c '
+  want=$(awk -F, "NR > 1 && \$NF >= 0.35 { n++ } END { print n + 0 }" "$1")
+  got=$(awk -F, "NR == 2 { print \$8 }" "$2")
+  test "$want" = "$got"' _ "$tmp/gl.annual-hourly.csv" "$tmp/gl.annual-glare.csv"
+check "the manifest lists the views' table" grep -q "gl.annual-glare.csv" "$tmp/gl.manifest.json"
+check "the set with the views' table verifies" "$bin" --verify "$tmp/gl"
+year_scene "$tmp/b9.scn" "glare_views=plane"
+refuse render-annual-glare-grid "$bin" "$tmp/b9.scn" -o "$tmp/b9"
+year_scene "$tmp/b10.scn" "glare_views=nobody"
+refuse render-annual-glare-unknown "$bin" "$tmp/b10.scn" -o "$tmp/b10"
 year_scene "$tmp/b7.scn" "shade=ground"
 refuse render-annual-shade-window "$bin" "$tmp/b7.scn" -o "$tmp/b7"
 year_scene "$tmp/b8.scn" "shade=ground window=nothing"

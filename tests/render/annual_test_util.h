@@ -1,9 +1,29 @@
-/* Shared by the annual-study tests (test_annual.c, test_annual_metrics.c). */
+/* Shared by the annual-study tests (test_annual.c, test_annual_metrics.c,
+ * test_annual_glare.c). */
 #ifndef VR_ANNUAL_TEST_UTIL_H
 #define VR_ANNUAL_TEST_UTIL_H
 
+#include "vr/annual.h"
 #include "vr/sun.h"
 #include "vr/weather.h"
+
+/* Parses text (named as a scene of tests/data, so that its relative paths
+ * resolve there; render_test_util.h's parse_text) and runs its annual
+ * study on two threads, sensors only; a failure fails the test. */
+static inline vr_annual_result *annual_run_text(const char *text, struct vr_matdb *db) {
+  vr_scene *s = parse_text(text, VR_TEST_DATA "/annual.scn");
+  vr_render_options o;
+  vr_render_options_default(&o);
+  o.threads = 2;
+  o.no_camera = true;
+  vr_annual_result *r = NULL;
+  vr_error err = {0};
+  vr_status st = vr_annual_run(s, db, &o, &r, &err);
+  if (st) fprintf(stderr, "annual: %s\n", err.message);
+  assert_int_equal(st, VR_OK);
+  vr_scene_destroy(s);
+  return r;
+}
 
 /* The sun's altitude at the centre of a .wea record's hour (local
  * standard time, the year 2021 as the renderer takes it). */

@@ -72,21 +72,6 @@ static void tregenza(void **state) {
   assert_int_equal(vr_sky_patch_of(e80), 7);
 }
 
-static vr_annual_result *run_annual(const char *text, vr_matdb *db) {
-  vr_scene *s = parse_text(text, VR_TEST_DATA "/annual.scn");
-  vr_render_options o;
-  vr_render_options_default(&o);
-  o.threads = 2;
-  o.no_camera = true;
-  vr_annual_result *r = NULL;
-  vr_error err = {0};
-  vr_status st = vr_annual_run(s, db, &o, &r, &err);
-  if (st) fprintf(stderr, "annual: %s\n", err.message);
-  assert_int_equal(st, VR_OK);
-  vr_scene_destroy(s);
-  return r;
-}
-
 static vr_render_result *run_hour(const char *text, vr_matdb *db) {
   vr_scene *s = parse_text(text, VR_TEST_DATA "/hour.scn");
   vr_render_result *r = render_scene_with(s, db, 1, 2, true, false);
@@ -96,7 +81,7 @@ static vr_render_result *run_hour(const char *text, vr_matdb *db) {
 
 static void unobstructed_point(void **state) {
   (void)state;
-  vr_annual_result *r = run_annual("material ground lambert reflectance=0.2\n"
+  vr_annual_result *r = annual_run_text("material ground lambert reflectance=0.2\n"
                                    "rect center=0,0,0 normal=0,0,1 size=10,10 material=ground\n"
                                    "light sun spectrum=D65\n"
                                    "sky perez weather=" WEA "\n"
@@ -171,7 +156,7 @@ static void room_against_direct_renders(void **state) {
   (void)state;
   char text[4096];
   room(text, sizeof text, "", "", "annual hours=10,14\n");
-  vr_annual_result *r = run_annual(text, NULL);
+  vr_annual_result *r = annual_run_text(text, NULL);
   /* 11 March 13:30, overcast (no direct sun; 281 W/m2 diffuse): every
    * point; 21 June 12:30, sunny (734 W/m2 direct): the north wall, where
    * the high sun does not reach, so the sun's place within its patch
@@ -238,9 +223,9 @@ static void electrochromic_control(void **state) {
   char path[256], text[4096];
   vr_matdb *db = glass_db(path, sizeof path);
   room(text, sizeof text, "", GLASS("ec"), "annual hours=10,14 glass=glass control=illuminance max=1000 control_sensor=wall\n");
-  vr_annual_result *ctl = run_annual(text, db);
+  vr_annual_result *ctl = annual_run_text(text, db);
   room(text, sizeof text, "", GLASS("ec"), "annual hours=10,14 glass=glass\n");
-  vr_annual_result *clear = run_annual(text, db);
+  vr_annual_result *clear = annual_run_text(text, db);
   assert_int_equal(ctl->spec.nstates, 4);
   assert_int_equal(clear->spec.nstates, 1);
   assert_true(ctl->glass == VR_ANNUAL_ELECTROCHROMIC);
@@ -282,9 +267,9 @@ static void electrochromic_glare_control(void **state) {
    * 0.184) / 6.22e-5 = 1864.95 lx. */
   room(text, sizeof text, "", GLASS("ec"),
        "annual hours=12,13 glass=glass control=glare max=0.30 states=0,1 control_sensor=wall\n");
-  vr_annual_result *ctl = run_annual(text, db);
+  vr_annual_result *ctl = annual_run_text(text, db);
   room(text, sizeof text, "", GLASS("ec"), "annual hours=12,13 glass=glass\n");
-  vr_annual_result *clear = run_annual(text, db);
+  vr_annual_result *clear = annual_run_text(text, db);
   assert_int_equal(ctl->spec.control, VR_CONTROL_GLARE);
   size_t np = ctl->npoints, tinted = 0, kept = 0;
   for (size_t h = 0; h < ctl->occupied_hours; h++) {
@@ -302,12 +287,50 @@ static void electrochromic_glare_control(void **state) {
   temp_db_close(db, path);
 }
 
+/* control=glare with a glare view: the hour's state is the lightest whose
+ * DGP at the view (contrast term included, vr/annual.h) stays within max:
+ * clear in the hours whose DGP with the clear glass (the same study with
+ * the glass fixed) is within it, dark in the others. */
+static void electrochromic_dgp_control(void **state) {
+  (void)state;
+  char path[256], text[4096];
+  vr_matdb *db = glass_db(path, sizeof path);
+  const char *eye = "sensor eye point position=2,3,1.2 normal=0,-1,0\n";
+  char extra[512];
+  snprintf(extra, sizeof extra,
+           "%sannual hours=11,14 glass=glass control=glare max=0.35 states=0,1 glare_views=eye "
+           "glare_resolution=32\n",
+           eye);
+  room(text, sizeof text, "", GLASS("ec"), extra);
+  vr_annual_result *ctl = annual_run_text(text, db);
+  snprintf(extra, sizeof extra, "%sannual hours=11,14 glass=glass glare_views=eye glare_resolution=32\n",
+           eye);
+  room(text, sizeof text, "", GLASS("ec"), extra);
+  vr_annual_result *clear = annual_run_text(text, db);
+  assert_int_equal(ctl->nviews, 1);
+  size_t tinted = 0, kept = 0;
+  for (size_t h = 0; h < ctl->occupied_hours; h++) {
+    double dclear = clear->hourly_dgp[h], dctl = ctl->hourly_dgp[h];
+    bool glare = dclear > 0.35;
+    assert_near(ctl->hourly_state[h], glare ? 1.0 : 0.0, 0);
+    if (glare) assert_true(dctl < dclear);
+    else assert_near(dctl, dclear, 1e-9);
+    tinted += glare, kept += !glare;
+  }
+  printf("DGP control: %zu of %zu hours tinted; DGP >= 0.35 in %.0f hours, clear glass %.0f\n",
+         tinted, ctl->occupied_hours, ctl->views[0].hours[0], clear->views[0].hours[0]);
+  assert_true(tinted > 20 && kept > 20);
+  vr_annual_result_destroy(ctl);
+  vr_annual_result_destroy(clear);
+  temp_db_close(db, path);
+}
+
 static void photochromic_follows_uv(void **state) {
   (void)state;
   char path[256], text[4096];
   vr_matdb *db = glass_db(path, sizeof path);
   room(text, sizeof text, "", GLASS("pc"), "annual hours=10,14 glass=glass\n");
-  vr_annual_result *r = run_annual(text, db);
+  vr_annual_result *r = annual_run_text(text, db);
   assert_true(r->glass == VR_ANNUAL_PHOTOCHROMIC);
   double K = 0.0124 / 0.002; /* b/a at T_ref, W/m2 */
   size_t lit = 0;
@@ -399,7 +422,7 @@ static void workplane_lm83(void **state) {
                      "render sensor_samples=64\n";
   char t[2048];
   snprintf(t, sizeof t, text, "");
-  vr_annual_result *r = run_annual(t, NULL);
+  vr_annual_result *r = annual_run_text(t, NULL);
   assert_int_equal(r->npoints, 6);
   assert_int_equal(r->workplane_points, 5); /* every grid's points: plane and desk */
   size_t eye = 0, direct = 0;
@@ -420,7 +443,7 @@ static void workplane_lm83(void **state) {
    * which the sunlit grid passes and the north-facing eye does not, the
    * eye counted would change it. */
   snprintf(t, sizeof t, text, " workplane=plane udi=100,20000");
-  r = run_annual(t, NULL);
+  r = annual_run_text(t, NULL);
   assert_int_equal(r->workplane_points, 4);
   double udi[3] = {0}, every = 0;
   for (size_t p = 0; p < r->npoints; p++) {
@@ -446,6 +469,7 @@ int main(void) {
       cmocka_unit_test(room_against_direct_renders),
       cmocka_unit_test(electrochromic_control),
       cmocka_unit_test(electrochromic_glare_control),
+      cmocka_unit_test(electrochromic_dgp_control),
       cmocka_unit_test(photochromic_follows_uv),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -69,6 +69,10 @@
  *            2009) of a point's illuminance reaches 0.35, the threshold of
  *            perceptible glare: meaningful where the sensor faces a view
  *            at eye height (E is then the vertical illuminance at the eye);
+ *   DGP      at the glare views (glare_views=): hour by hour with its
+ *            contrast term, from fisheye image daylight coefficients (see
+ *            vr_annual_view below); with control=glare the glass then
+ *            keeps the views' DGP within max;
  *   EN 17037 (annual en17037=yes) over the year's daylight hours and by
  *            daylight factor: see vr_en17037 below. */
 #ifndef VR_ANNUAL_H
@@ -139,6 +143,26 @@ typedef struct vr_en17037 {
 void vr_en17037_assess(const struct vr_annual_point *pts, size_t npoints, double edmed_lx,
                        vr_en17037 *e);
 
+/* A glare view (annual glare_views=): the daylight glare probability DGP
+ * of Wienold & Christoffersen (2006), contrast term included, hour by hour
+ * from fisheye image daylight coefficients (render/src/annual/annual_glare.c),
+ * its E_v the view sensor's illuminance.  Counted: the occupied hours with
+ * DGP at or above each of VR_GLARE_DGP, Wienold's (2009) bounds of
+ * perceptible, disturbing and intolerable glare, which are also EN
+ * 17037:2018's DGP_e of high, medium and minimum glare protection: a view
+ * meets a level when DGP reaches its DGP_e in at most 5 % of the occupied
+ * hours. */
+#define VR_GLARE_CLASSES 3
+extern const double VR_GLARE_DGP[VR_GLARE_CLASSES]; /* 0.35, 0.40, 0.45 */
+
+typedef struct vr_annual_view {
+  const char *sensor;        /* the view sensor's name (the result's storage) */
+  size_t point;              /* its point */
+  double position[3], direction[3];
+  double hours[VR_GLARE_CLASSES]; /* occupied hours with DGP >= VR_GLARE_DGP[k] */
+  int en17037_level;         /* 2 high (0.35), 1 medium (0.40), 0 minimum (0.45), -1 none */
+} vr_annual_view;
+
 typedef enum vr_annual_glass {
   VR_ANNUAL_NO_GLASS = 0, VR_ANNUAL_ELECTROCHROMIC, VR_ANNUAL_PHOTOCHROMIC,
   VR_ANNUAL_SHADE            /* an operable shade: state 0 open, 1 drawn (LM-83 rule) */
@@ -170,6 +194,10 @@ typedef struct vr_annual_result {
    * glass's state (NAN without one); its mean UV irradiance (W/m2,
    * photochromic glass, NAN otherwise). */
   double *hourly_lx;
+  /* The glare views and their DGP hour by hour (occupied hours x nviews). */
+  size_t nviews;
+  vr_annual_view *views;
+  double *hourly_dgp;
   long *hourly_line;
   double *hourly_state, *hourly_uv;
   char *names;               /* storage */

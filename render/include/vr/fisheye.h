@@ -72,6 +72,10 @@ typedef struct vr_dgp_result {
 void vr_fisheye_dgp(const vr_scene_camera *c, const double *luminance, double threshold,
                     vr_dgp_result *out);
 
+/* DGP from E_v (lx) and the contrast sum sum L_s^2 w_s / (E_v^1.87 P_s^2)
+ * as above: the formula with the low-light correction, at most 1. */
+double vr_dgp_formula(double ev, double contrast);
+
 #ifdef __cplusplus
 }
 #endif

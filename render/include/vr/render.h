@@ -86,6 +86,12 @@ typedef struct vr_render_options {
   bool denoise;
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
+  /* Image daylight coefficients: the camera's film also keeps each pixel's
+   * luminance by the sky patch it came from (the result's pixel_patch_Y),
+   * for the annual study's glare views (vr/annual.h).  The path integrator
+   * only, with a fixed spp (no adaptive sampling, no denoiser).  Default
+   * false. */
+  bool pixel_patches;
   /* The camera's film keeps XYZ only, not its spectral bins: 3 doubles a
    * pixel instead of 3 + bins (33 with the default 30 bins), for a render
    * whose outputs do not include the spectral EXR.  The result's spectral
@@ -207,6 +213,10 @@ typedef struct vr_render_result {
    * the ground glow), lx; they sum to the sky and ground parts.  The
    * daylight coefficients of vr/annual.h.  NULL for photon sensors. */
   double *sky_patch_lx;
+  /* With pixel_patches: each pixel's luminance by the Tregenza patch it
+   * came from (VR_SKY_PATCHES + 1 values a pixel, the last the ground
+   * glow), cd/m2, row-major like xyz; NULL otherwise. */
+  double *pixel_patch_Y;
   /* A fisheye camera: the illuminance at the lens on the plane facing the
    * view (vr_fisheye_vertical_illuminance of the image's luminance); NaN
    * for other cameras or without a camera pass. */

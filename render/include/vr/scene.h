@@ -386,6 +386,7 @@ typedef struct vr_scene_settings {
 /* The annual study of a scene whose sky is a whole weather file (vr/annual.h):
  * the 'annual' line, or its defaults when the scene has none. */
 #define VR_ANNUAL_MAX_STATES 16
+#define VR_ANNUAL_MAX_VIEWS 16
 typedef enum vr_annual_control {
   VR_CONTROL_FIXED = 0,   /* the glass keeps the scene's state all year */
   VR_CONTROL_ILLUMINANCE, /* the lightest state keeping every control point <= max (lx) */
@@ -430,6 +431,14 @@ typedef struct vr_scene_annual {
    * shaded system, typically) in the hours the LM-83 rule draws it.
    * Material indices, -1: none. */
   int shade, shade_window;
+  /* glare_views=NAME,...: point sensors at the eye facing a view (up is
+   * +z), whose daylight glare probability DGP, contrast term included, is
+   * computed hour by hour from fisheye image daylight coefficients of
+   * glare_resolution x glare_resolution pixels (default 64).  Sensor
+   * indices. */
+  int nviews;
+  int views[VR_ANNUAL_MAX_VIEWS];
+  int view_resolution;
   vr_scene_loc loc;
 } vr_scene_annual;
 

@@ -32,6 +32,8 @@ void vr_annual_result_destroy(vr_annual_result *r) {
   free(r->hourly_line);
   free(r->hourly_state);
   free(r->hourly_uv);
+  free(r->hourly_dgp);
+  free(r->views);
   free(r->names);
   free(r->glass_names);
   free(r);
@@ -202,18 +204,6 @@ static vr_status glass_setup(const vr_scene *s, struct vr_matdb *db, vr_annual_r
   return VR_OK;
 }
 
-/* One record of the weather file, ready for the sums. */
-typedef struct vr_annual_hour {
-  const vr_weather_record *r;
-  bool occ;                 /* an occupied hour */
-  bool dlh;                 /* one of EN 17037's daylight hours (en17037=yes) */
-  bool daylit;
-  int ks;                   /* the sun's patch, -1 without direct sun */
-  double sun[3], centre[3]; /* the true sun and its patch centre */
-  double Edn;               /* direct normal illuminance, lx */
-  double Edh, Egh;          /* diffuse and global horizontal illuminance, lx */
-  double L[NPATCH];         /* patch and ground luminances, cd/m2 */
-} vr_annual_hour;
 
 /* The ratio of the cosines of the hour's true sun and its patch centre on
  * a surface of normal n (absolute values when either face counts), held in
@@ -245,9 +235,7 @@ static void hour_lx(const vr_annual_hour *h, const vr_dc_set *d, const vr_annual
   }
 }
 
-/* Between two states' readings: geometric where both are positive (the
- * transmittance is exponential in the state), linear otherwise. */
-static double between(double a, double b, double f) {
+double annual_between(double a, double b, double f) {
   return a > 0 && b > 0 ? a * pow(b / a, f) : a + f * (b - a);
 }
 
@@ -366,8 +354,8 @@ static vr_status read_hours(const vr_scene *s, const vr_weather *w, const bool *
 /* The year's sums: each needed hour's state, illuminance and the metrics
  * (over the occupied hours; EN 17037's over its daylight hours). */
 static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set *dcs,
-                      const vr_uv_set *uv, const vr_material *pc, double T_K, unsigned pc_flags,
-                      const char *control, vr_annual_result *res, vr_error *err) {
+                      const vr_uv_set *uv, const vr_glare_set *g, const vr_material *pc, double T_K,
+                      unsigned pc_flags, const char *control, vr_annual_result *res, vr_error *err) {
   const vr_scene_annual *a = &res->spec;
   size_t np = res->npoints, nh = res->occupied_hours;
   int ns = a->nstates;
@@ -378,9 +366,12 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
   res->hourly_line = calloc(nh + 1, sizeof *res->hourly_line);
   res->hourly_state = calloc(nh + 1, sizeof *res->hourly_state);
   res->hourly_uv = calloc(nh + 1, sizeof *res->hourly_uv);
+  size_t nv = res->nviews;
+  res->hourly_dgp = calloc(nh * nv + 1, sizeof *res->hourly_dgp);
+  double *view_dgp = calloc(nv + 1, sizeof *view_dgp);
   vr_status st = VR_OK;
   if (!E || !D || !cur || !texel_state || !res->hourly_lx || !res->hourly_line ||
-      !res->hourly_state || !res->hourly_uv) {
+      !res->hourly_state || !res->hourly_uv || !res->hourly_dgp || !view_dgp) {
     st = vr_error_set(err, VR_E_NOMEM, "out of memory for the year");
     goto done;
   }
@@ -395,6 +386,8 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
     }
     double *dir = D, state = res->glass ? a->states[0] : NAN, uv_mean = NAN;
     int pick = 0;
+    int glo = 0, ghi = 0; /* the states whose images the glare views blend, by gf */
+    double gf = 0;
     if (a->control == VR_CONTROL_UV) {
       /* The state carries over from the record before when that one was
        * evaluated too. */
@@ -412,10 +405,11 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
       hour_lx(h, &dcs[lo], res->points, np, E, D);
       hour_lx(h, &dcs[lo + 1], res->points, np, E + np, D + np);
       for (size_t p = 0; p < np; p++) {
-        cur[p] = between(E[p], E[np + p], f);
-        D[p] = between(D[p], D[np + p], f);
+        cur[p] = annual_between(E[p], E[np + p], f);
+        D[p] = annual_between(D[p], D[np + p], f);
       }
       pick = f < 0.5 ? lo : lo + 1;
+      glo = lo, ghi = lo + 1, gf = f;
     } else {
       for (int k = 0; k < ns; k++) hour_lx(h, &dcs[k], res->points, np, E + (size_t)k * np, D + (size_t)k * np);
       if (a->control == VR_CONTROL_LM83) {
@@ -426,6 +420,18 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
           if (res->points[p].workplane) nw++, lit += D[p] >= LM83_SUN_LX;
         pick = (double)lit > LM83_SHARE * (double)nw ? 1 : 0;
         state = pick;
+      } else if (a->control == VR_CONTROL_GLARE && nv) {
+        /* With glare views, the lightest state whose DGP (contrast term
+         * included) stays within max at every view the control watches
+         * (control_sensor=, else every view); the darkest when none does. */
+        for (pick = 0; pick < ns - 1; pick++) {
+          annual_glare_hour(g, h, pick, pick, 0, dcs, E + (size_t)pick * np, view_dgp);
+          bool ok = true;
+          for (size_t v = 0; v < nv && ok; v++)
+            if (!control || !strcmp(res->views[v].sensor, control)) ok = view_dgp[v] <= a->max;
+          if (ok) break;
+        }
+        state = a->states[pick];
       } else if (a->control != VR_CONTROL_FIXED) {
         /* The lightest state that keeps every control point within the
          * threshold; the darkest when none does. */
@@ -445,6 +451,7 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
         state = a->states[pick];
       }
       memcpy(cur, E + (size_t)pick * np, np * sizeof *cur);
+      glo = ghi = pick;
       /* ASE through the glass as controlled; with a shade, through the
        * open window (LM-83 defines ASE without operable shading). */
       dir = D + (a->control == VR_CONTROL_LM83 ? 0 : (size_t)pick * np);
@@ -458,6 +465,12 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
     res->hourly_state[oi] = state;
     res->hourly_uv[oi] = uv_mean;
     memcpy(res->hourly_lx + oi * np, cur, np * sizeof *cur);
+    if (nv) {
+      double *dgp = res->hourly_dgp + oi * nv;
+      annual_glare_hour(g, h, glo, ghi, gf, dcs, cur, dgp);
+      for (size_t v = 0; v < nv; v++)
+        for (int k = 0; k < VR_GLARE_CLASSES; k++) res->views[v].hours[k] += dgp[v] >= VR_GLARE_DGP[k];
+    }
     oi++;
     if (h->daylit && res->glass) {
       res->state_hours[pick] += 1;
@@ -491,11 +504,19 @@ static vr_status year(const vr_annual_hour *hours, size_t nrec, const vr_dc_set 
     ase += pt->direct_hours > a->ase_hours;
   }
   res->workplane_points = nw;
+  for (size_t v = 0; v < nv; v++) {
+    vr_annual_view *vw = &res->views[v];
+    /* EN 17037's glare protection: the highest level whose DGP_e is
+     * reached in at most 5 % of the occupied hours. */
+    vw->en17037_level = -1;
+    for (int k = VR_GLARE_CLASSES - 1; k >= 0; k--)
+      if (vw->hours[k] <= 0.05 * (double)nh) vw->en17037_level = VR_GLARE_CLASSES - 1 - k;
+  }
   for (int k = 0; k < 3; k++) res->udi_plane[k] /= nw ? (double)nw : 1;
   res->sda = nw ? (double)sda / (double)nw : 0;
   res->ase = nw ? (double)ase / (double)nw : 0;
 done:
-  free(E), free(D), free(cur), free(texel_state);
+  free(E), free(D), free(cur), free(texel_state), free(view_dgp);
   return st;
 }
 
@@ -516,6 +537,24 @@ static vr_status en17037_finish(vr_annual_job *j, vr_annual_result *res, vr_erro
   free(df);
   if (!st) vr_en17037_assess(res->points, res->npoints, e->edmed_lx, e);
   return st;
+}
+
+/* The glare views: their cameras and the result's table of them. */
+static vr_status views_setup(vr_annual_job *j, vr_glare_set *g, vr_error *err) {
+  vr_annual_result *res = j->res;
+  vr_status st = annual_glare_setup(j, g, err);
+  if (st) return st;
+  res->nviews = (size_t)g->n;
+  if (!(res->views = calloc(res->nviews + 1, sizeof *res->views)))
+    return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  for (size_t v = 0; v < res->nviews; v++) {
+    const vr_annual_point *pt = &res->points[g->v[v].point];
+    res->views[v].sensor = pt->sensor;
+    res->views[v].point = g->v[v].point;
+    memcpy(res->views[v].position, pt->position, sizeof pt->position);
+    memcpy(res->views[v].direction, g->v[v].frame[2], sizeof res->views[v].direction);
+  }
+  return VR_OK;
 }
 
 vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_options *o,
@@ -539,6 +578,7 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
   bool *occ = NULL;
   vr_dc_set dcs[VR_ANNUAL_MAX_STATES] = {{0}};
   vr_uv_set uv = {0};
+  vr_glare_set glare = {0};
   vr_status st = glass_setup(s, db, res, &pc, err);
   if (!st) st = vr_weather_read(s->sky.weather_path, &w, err);
   if (st) goto done;
@@ -564,6 +604,14 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
     if (!st) say(o, "annual: %s: 1 sky and %zu sun renders (%zu in all, %.1f s)",
                  res->glass ? "a tint state rendered" : "the coefficients rendered", res->sun_patches,
                  res->renders, now_s() - t0);
+    if (!st && k == 0 && s->annual.nviews) st = views_setup(&j, &glare, err);
+    if (!st && glare.n) {
+      st = annual_view_dc(&j, res->spec.states[k], k, &glare, err);
+      if (!st) say(o, "annual: %d glare view%s: %d x %d fisheye coefficients, 1 sky and %zu sun "
+                      "renders each (%zu renders in all, %.1f s)",
+                   glare.n, glare.n > 1 ? "s" : "", s->annual.view_resolution,
+                   s->annual.view_resolution, res->sun_patches, res->renders, now_s() - t0);
+    }
   }
   if (!st && res->spec.control == VR_CONTROL_UV) {
     st = annual_uv(&j, &uv, err);
@@ -587,7 +635,7 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
                     s->materials[res->spec.glass].loc.line, s->materials[res->spec.glass].name);
     goto done;
   }
-  st = year(hours, w->nrecords, dcs, &uv, pc, T_K, pc_flags, control, res, err);
+  st = year(hours, w->nrecords, dcs, &uv, &glare, pc, T_K, pc_flags, control, res, err);
   if (!st && res->en17037.run) st = en17037_finish(&j, res, err);
   for (size_t p = 0; !st && !res->en17037.run && p < res->npoints; p++) {
     for (int k = 0; k < 4; k++) res->points[p].en17037_share[k] = NAN;
@@ -601,6 +649,7 @@ vr_status vr_annual_run(const vr_scene *s, struct vr_matdb *db, const vr_render_
 done:
   for (int k = 0; k < VR_ANNUAL_MAX_STATES; k++) annual_dc_free(&dcs[k]);
   annual_uv_free(&uv);
+  annual_glare_free(&glare);
   free(hours);
   free(occ);
   vr_material_destroy(pc);

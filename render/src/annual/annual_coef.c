@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "annual/annual_internal.h"
+#include "vr/filter.h"
 
 /* The scene with its sky and lights taken out and the glass in `state`
  * (NAN: left to its UV exposure); the materials are a copy. */
@@ -65,20 +66,32 @@ static void sun_of(const vr_annual_job *j, int k, vr_annual_variant *v) {
   v->s.nlights = 1;
 }
 
-static vr_status render(vr_annual_job *j, const vr_annual_variant *v, vr_render_result **res, vr_error *err) {
+/* One render of the variant: its sensors (their readings checked), or
+ * with `view` its camera only, the image's sky-patch coefficients kept. */
+static vr_status render_as(vr_annual_job *j, const vr_annual_variant *v, bool view,
+                           vr_render_result **res, vr_error *err) {
   vr_render_options ro = *j->o;
-  ro.no_camera = true;
+  ro.no_camera = !view;
+  if (view) {
+    ro.pixel_patches = true;
+    ro.film_without_bins = true;
+    ro.target_error = 0, ro.time_limit_s = 0, ro.max_spp = 0, ro.denoise = false;
+  }
   /* The first render says what the passes decide; the others decide the
    * same, and annual.c reports them a state at a time. */
   if (j->res->renders++ > 0) ro.log = NULL, ro.progress = NULL;
   vr_status st = vr_render_scene(&v->s, j->db, &ro, res, err);
-  if (!st && (*res)->nreadings != j->npoints) {
+  if (!st && !view && (*res)->nreadings != j->npoints) {
     st = vr_error_set(err, VR_E_NUMERIC, "annual: a render gave %zu readings, not %zu",
                       (*res)->nreadings, j->npoints);
     vr_render_result_destroy(*res);
     *res = NULL;
   }
   return st;
+}
+
+static vr_status render(vr_annual_job *j, const vr_annual_variant *v, vr_render_result **res, vr_error *err) {
+  return render_as(j, v, false, res, err);
 }
 
 /* The points' names, places and normals, as the renderer lays them out. */
@@ -120,13 +133,14 @@ static vr_status fill_points(vr_annual_job *j, const vr_render_result *r, vr_err
  * out), each result handed to take with its patch. */
 typedef void (*vr_sun_take)(void *ctx, int k, const vr_render_result *r);
 
-static vr_status each_sun(vr_annual_job *j, vr_annual_variant *v, vr_sun_take take, void *ctx, vr_error *err) {
+static vr_status each_sun(vr_annual_job *j, vr_annual_variant *v, bool view, vr_sun_take take,
+                          void *ctx, vr_error *err) {
   memset(&v->s.sky, 0, sizeof v->s.sky);
   for (int k = 0; k < VR_SKY_PATCHES; k++) {
     if (!j->need[k]) continue;
     sun_of(j, k, v);
     vr_render_result *r = NULL;
-    vr_status st = render(j, v, &r, err);
+    vr_status st = render_as(j, v, view, &r, err);
     if (st) return st;
     take(ctx, k, r);
     vr_render_result_destroy(r);
@@ -166,7 +180,66 @@ vr_status annual_dc(vr_annual_job *j, double state, vr_dc_set *d, vr_error *err)
     vr_render_result_destroy(r);
   }
   vr_dc_take_ctx c = {d, np};
-  if (!st) st = each_sun(j, &v, dc_take, &c, err);
+  if (!st) st = each_sun(j, &v, false, dc_take, &c, err);
+  free(v.mats);
+  return st;
+}
+
+/* The variant as one glare view's render: a 180-degree equisolid fisheye
+ * at the view sensor looking along its normal, up +z, box pixels; no
+ * sensors; the path integrator (the only one that knows the patch a
+ * pixel's light came from). */
+static void as_view(const vr_annual_job *j, const vr_glare_view *gv, vr_annual_variant *v) {
+  vr_scene_camera *c = &v->s.camera;
+  memset(c, 0, sizeof *c);
+  c->model = VR_CAM_FISHEYE;
+  c->projection = VR_FISHEYE_EQUISOLID;
+  c->fov_deg = 180;
+  c->width = c->height = gv->cam.width;
+  memcpy(c->from, gv->cam.from, sizeof c->from);
+  memcpy(c->to, gv->cam.to, sizeof c->to);
+  memcpy(c->up, gv->cam.up, sizeof c->up);
+  vr_filter_init(&c->filter, VR_FILTER_BOX, 0.5, 0);
+  c->given = true;
+  c->loc = j->s->annual.loc;
+  v->s.nsensors = 0;
+  v->s.sensors = NULL;
+  v->s.settings.integrator = VR_INT_PATH;
+}
+
+typedef struct vr_view_take_ctx {
+  const vr_glare_view *gv;
+  double *sun;
+} vr_view_take_ctx;
+
+static void view_take(void *ctx, int k, const vr_render_result *r) {
+  const vr_view_take_ctx *c = ctx;
+  for (size_t i = 0; i < c->gv->npx; i++)
+    c->sun[i * VR_SKY_PATCHES + (size_t)k] = r->xyz[3 * c->gv->pixel[i] + 1] / SUN_LX;
+}
+
+vr_status annual_view_dc(vr_annual_job *j, double state, int si, vr_glare_set *g, vr_error *err) {
+  vr_annual_variant v;
+  vr_status st = make_variant(j, state, &v, err);
+  for (int i = 0; !st && i < g->n; i++) {
+    vr_glare_view *gv = &g->v[i];
+    gv->sky[si] = calloc(gv->npx * NPATCH + 1, sizeof *gv->sky[si]);
+    gv->sun[si] = calloc(gv->npx * VR_SKY_PATCHES + 1, sizeof *gv->sun[si]);
+    if (!gv->sky[si] || !gv->sun[si]) {
+      st = vr_error_set(err, VR_E_NOMEM, "out of memory for a glare view's coefficients");
+      break;
+    }
+    as_view(j, gv, &v);
+    sky_of(j->s, &v.s.sky);
+    vr_render_result *r = NULL;
+    if ((st = render_as(j, &v, true, &r, err))) break;
+    for (size_t p = 0; p < gv->npx; p++)
+      memcpy(gv->sky[si] + p * NPATCH, r->pixel_patch_Y + gv->pixel[p] * NPATCH,
+             NPATCH * sizeof *gv->sky[si]);
+    vr_render_result_destroy(r);
+    vr_view_take_ctx c = {gv, gv->sun[si]};
+    st = each_sun(j, &v, true, view_take, &c, err);
+  }
   free(v.mats);
   return st;
 }
@@ -255,7 +328,7 @@ vr_status annual_uv(vr_annual_job *j, vr_uv_set *u, vr_error *err) {
   }
   vr_render_result_destroy(r);
   vr_uv_take_ctx c = {u, idx};
-  st = each_sun(j, &v, uv_take, &c, err);
+  st = each_sun(j, &v, false, uv_take, &c, err);
 done:
   free(idx);
   free(v.mats);

@@ -1,4 +1,5 @@
-/* The annual study's two CSV files (vr/annual.h), written as one set: both
+/* The annual study's CSV files (vr/annual.h), written as one set: the two
+ * tables and, with glare views, the views' table,
  * staged, moved into place together, then PREFIX.manifest.json (the run's
  * id, each file's size and SHA-256) written last, as a render's images are
  * (film_set.c), so `vr-render --verify PREFIX` checks a year's tables too
@@ -68,6 +69,12 @@ static void write_hourly(const vr_annual_result *r, FILE *f) {
              r->points[p].i, r->points[p].j);
     vr_csv_write_field(f, name);
   }
+  for (size_t v = 0; v < r->nviews; v++) {
+    fputc(',', f);
+    char name[300];
+    snprintf(name, sizeof name, "dgp:%s", r->views[v].sensor);
+    vr_csv_write_field(f, name);
+  }
   fputc('\n', f);
   for (size_t h = 0; h < r->occupied_hours; h++) {
     fprintf(f, "%ld,", r->hourly_line[h]);
@@ -75,7 +82,25 @@ static void write_hourly(const vr_annual_result *r, FILE *f) {
     fputc(',', f);
     num(f, r->hourly_uv[h]);
     for (size_t p = 0; p < r->npoints; p++) fprintf(f, ",%.6g", r->hourly_lx[h * r->npoints + p]);
+    for (size_t v = 0; v < r->nviews; v++) fprintf(f, ",%.4f", r->hourly_dgp[h * r->nviews + v]);
     fputc('\n', f);
+  }
+}
+
+/* One line per glare view: where it looks from and to, its hours of DGP
+ * at each class bound, their shares and EN 17037's glare protection. */
+static void write_views(const vr_annual_result *r, FILE *f) {
+  fputs("view,x,y,z,dx,dy,dz,dgp_0.35_hours,dgp_0.40_hours,dgp_0.45_hours,dgp_0.35_pct,"
+        "dgp_0.40_pct,dgp_0.45_pct,en17037_glare_protection\n", f);
+  double nh = r->occupied_hours ? (double)r->occupied_hours : 1;
+  for (size_t v = 0; v < r->nviews; v++) {
+    const vr_annual_view *w = &r->views[v];
+    vr_csv_write_field(f, w->sensor);
+    fprintf(f, ",%.9g,%.9g,%.9g,%.6g,%.6g,%.6g", w->position[0], w->position[1], w->position[2],
+            w->direction[0], w->direction[1], w->direction[2]);
+    for (int k = 0; k < VR_GLARE_CLASSES; k++) fprintf(f, ",%.9g", w->hours[k]);
+    for (int k = 0; k < VR_GLARE_CLASSES; k++) fprintf(f, ",%.6g", 100 * w->hours[k] / nh);
+    fprintf(f, ",%s\n", w->en17037_level >= 0 ? VR_EN17037_LEVEL_NAME[w->en17037_level] : "none");
   }
 }
 
@@ -97,6 +122,14 @@ vr_status vr_annual_write(const vr_annual_result *r, const char *prefix, vr_erro
   if (!st) {
     write_hourly(r, f);
     st = close_staged(g, f, err);
+  }
+  if (!st && r->nviews) {
+    st = film_set_add(&set, ".annual-glare.csv", &g, err);
+    if (!st) st = open_staged(g, &f, err);
+    if (!st) {
+      write_views(r, f);
+      st = close_staged(g, f, err);
+    }
   }
   if (!st) st = film_set_commit(&set, run_id, err);
   if (st && set.dir) film_set_abort(&set);

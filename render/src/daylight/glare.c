@@ -45,17 +45,21 @@ void vr_fisheye_dgp(const vr_scene_camera *c, const double *luminance, double th
       ws += w, ls += L * w;
     }
   double contrast = ev > 0 ? sum / pow(ev, 1.87) : 0;
-  double dgp = 5.87e-5 * ev + 9.18e-2 * log10(1.0 + contrast) + 0.16;
-  if (ev < 1000) {
-    double q = exp(0.024 * ev - 4.0);
-    dgp *= q / (1.0 + q);
-  }
-  out->dgp = fmin(dgp, 1.0);
+  out->dgp = vr_dgp_formula(ev, contrast);
   out->vertical_lx = ev;
   out->threshold_cd_m2 = threshold;
   out->source_omega_sr = ws;
   out->source_cd_m2 = ws > 0 ? ls / ws : 0;
   out->contrast = contrast;
+}
+
+double vr_dgp_formula(double ev, double contrast) {
+  double dgp = 5.87e-5 * ev + 9.18e-2 * log10(1.0 + contrast) + 0.16;
+  if (ev < 1000) {
+    double q = exp(0.024 * ev - 4.0);
+    dgp *= q / (1.0 + q);
+  }
+  return fmin(dgp, 1.0);
 }
 
 double vr_dgps(double vertical_lx) { return 6.22e-5 * vertical_lx + 0.184; }

@@ -93,6 +93,7 @@ void vr_accum_destroy(vr_accum *a) {
   free(a->bins);
   free(a->half_xyz);
   free(a->feat);
+  free(a->pixel_patches);
   free(a->sensor_lx);
   free(a->sensor_bins);
   free(a->sensor_parts);
@@ -159,6 +160,15 @@ vr_status vr_accum_keep_features(vr_accum *a, vr_error *err) {
   return VR_OK;
 }
 
+vr_status vr_accum_keep_patches(vr_accum *a, vr_error *err) {
+  if (a->pixel_patches) return VR_OK;
+  a->pixel_patches = zeros((size_t)a->width * (size_t)a->height * VR_SENSOR_PATCHES);
+  if (!a->pixel_patches)
+    return vr_error_set(err, VR_E_NOMEM, "film sky patches of %d x %d pixels: out of memory",
+                        a->width, a->height);
+  return VR_OK;
+}
+
 void vr_accum_features(vr_accum *a, uint32_t pixel, double w, int nwl, const double *wl,
                        const double *albedo, const double n[3], double depth) {
   if (!a->feat || !(w > 0)) return;
@@ -201,6 +211,19 @@ void vr_accum_pixel_half(vr_accum *a, uint32_t pixel, bool second_half, int nwl,
   for (int k = 0; k < 3; k++) vr_atomic_add(&a->xyz[(size_t)pixel * 3 + (size_t)k], xyz[k]);
   if (a->half_xyz && second_half)
     for (int k = 0; k < 3; k++) vr_atomic_add(&a->half_xyz[(size_t)pixel * 3 + (size_t)k], xyz[k]);
+}
+
+void vr_accum_pixel_patch(vr_accum *a, uint32_t pixel, int patch, int nwl, const double *wl,
+                          const double *L, double wl_weight) {
+  if (!a->pixel_patches || patch < 0 || patch >= VR_SENSOR_PATCHES) return;
+  double Y = 0;
+  for (int i = 0; i < nwl; i++) {
+    if (L[i] == 0.0) continue;
+    double c[3];
+    cmf(a, wl[i], c);
+    Y += KM * c[1] * L[i] * wl_weight;
+  }
+  vr_atomic_add(&a->pixel_patches[(size_t)pixel * VR_SENSOR_PATCHES + (size_t)patch], Y);
 }
 
 /* The illuminance of E, in lx. */

@@ -32,6 +32,10 @@ typedef struct vr_accum {
    * VR_FEATURES sums over the camera samples' first non-delta vertex
    * (VR_FEAT_*), weighted by the samples' filter weights; NULL otherwise. */
   _Atomic uint64_t *feat;
+  /* Image daylight coefficients (vr_accum_keep_patches): per pixel
+   * VR_SENSOR_PATCHES sums of the luminance (cd/m2) that came from each
+   * sky patch and from the ground glow; NULL otherwise. */
+  _Atomic uint64_t *pixel_patches;
   size_t npoints;             /* sensor points */
   int groups;                 /* batches for the standard error */
   _Atomic uint64_t *sensor_lx;  /* npoints*groups */
@@ -76,6 +80,13 @@ void vr_atomic_add(_Atomic uint64_t *cell, double v);
 double *vr_accum_take_mean(_Atomic uint64_t **cells, size_t n, double by);
 double vr_atomic_get(_Atomic uint64_t *cell);
 /* Adds radiance samples (already divided by their wavelength pdf) of a pixel. */
+/* Keep the film's luminance by sky patch (pixel_patches). */
+vr_status vr_accum_keep_patches(vr_accum *a, vr_error *err);
+/* Adds a pixel's radiance samples (as vr_accum_pixel) to its tally for the
+ * sky patch (or VR_SKY_GROUND_PATCH) they came from, as luminance; nothing
+ * without pixel_patches. */
+void vr_accum_pixel_patch(vr_accum *a, uint32_t pixel, int patch, int nwl, const double *wl,
+                          const double *L, double wl_weight);
 void vr_accum_pixel(vr_accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,
                     double wl_weight);
 /* The same, from a sample of the second half when second_half: with

@@ -281,6 +281,7 @@ static void defaults(vr_scene *s) {
   a->from_h = 8, a->to_h = 18, a->da_lx = 300, a->sda_share = 0.5;
   a->udi_lo = 100, a->udi_hi = 3000, a->ase_lx = 1000, a->ase_hours = 250;
   a->glass = -1, a->control_sensor = -1, a->workplane = -1, a->max = NAN;
+  a->view_resolution = 64;
   a->edmed_lx = NAN, a->shade = a->shade_window = -1;
 }
 
@@ -365,6 +366,7 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
   free(p.annual_glass);
   free(p.annual_sensor);
   free(p.annual_workplane);
+  free(p.annual_views);
   free(p.annual_shade);
   free(p.annual_window);
   if (st) {

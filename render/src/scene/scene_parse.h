@@ -32,6 +32,8 @@ typedef struct vr_scn_parser {
   vr_scene_loc annual_shade_loc, annual_window_loc;
   vr_scene_loc annual_glass_loc, annual_sensor_loc;
   char *annual_workplane;             /* annual workplane= until resolved */
+  char *annual_views;                 /* annual glare_views= until resolved */
+  vr_scene_loc annual_views_loc;
   vr_scene_loc annual_workplane_loc;
   bool have_render;
 } vr_scn_parser;

@@ -68,7 +68,7 @@ vr_status scn_annual(vr_scn_stmt *t) {
   static const char *const KEYS[] = {"hours", "da",      "sda",   "udi",            "ase",
                                      "glass", "states",  "control", "max",          "control_sensor",
                                      "workplane", "occupancy", "en17037", "edmed", "shade", "window",
-                                     NULL};
+                                     "glare_views", "glare_resolution", NULL};
   static const char *const CONTROLS[] = {"fixed", "illuminance", "sun", "glare", NULL};
   static const char *const YESNO[] = {"no", "yes", NULL};
   vr_scn_parser *p = t->p;
@@ -93,6 +93,20 @@ vr_status scn_annual(vr_scn_stmt *t) {
       (st = scn_range(t, "edmed", 0, INFINITY, true, true, &a->edmed_lx)))
     return st;
   a->en17037 = en == 1;
+  double res = a->view_resolution;
+  if ((st = scn_range(t, "glare_resolution", 8, 512, false, false, &res))) return st;
+  if (res != floor(res))
+    return scn_fail(p, scn_get(t, "glare_resolution")->word, "\"%s\": a whole number of pixels",
+                    scn_get(t, "glare_resolution")->word);
+  a->view_resolution = (int)res;
+  const vr_scn_opt *gv = scn_get(t, "glare_views");
+  if (gv) {
+    if (!(p->annual_views = strdup(gv->val))) return scn_nomem(p);
+    p->annual_views_loc = scn_loc(p, gv->word);
+  } else if (scn_get(t, "glare_resolution"))
+    return scn_fail(p, scn_get(t, "glare_resolution")->word,
+                    "\"%s\": the images are the glare views': give glare_views=SENSOR,...",
+                    scn_get(t, "glare_resolution")->word);
   if (scn_get(t, "edmed") && !a->en17037)
     return scn_fail(p, scn_get(t, "edmed")->word,
                     "\"%s\": the median diffuse illuminance is EN 17037's: give en17037=yes",
@@ -172,6 +186,42 @@ static vr_status sensor_named(vr_scn_parser *p, const char *key, const char *nam
   return VR_OK;
 }
 
+/* glare_views=NAME,...: point sensors whose normal (the line of sight)
+ * is not vertical, since the view's up is +z; each named once. */
+static vr_status views_named(vr_scn_parser *p) {
+  vr_scene_annual *a = &p->s->annual;
+  vr_scene_loc at = p->annual_views_loc;
+  char *save = NULL;
+  a->nviews = 0;
+  for (char *tok = strtok_r(p->annual_views, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    if (a->nviews == VR_ANNUAL_MAX_VIEWS)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, at.line, at.col,
+                         "glare_views=: at most %d views", VR_ANNUAL_MAX_VIEWS);
+    int k = -1;
+    vr_status st = sensor_named(p, "glare_views", tok, at, &k);
+    if (st) return st;
+    const vr_scene_sensor *sn = &p->s->sensors[k];
+    if (sn->grid)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, at.line, at.col,
+                         "glare_views=%s: a grid; a glare view is a point sensor at the eye, "
+                         "its normal the line of sight",
+                         tok);
+    if (fabs(sn->normal[2]) > 0.99)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, at.line, at.col,
+                         "glare_views=%s: the sensor looks straight %s; a glare view's up is "
+                         "+z, so its line of sight must not be vertical",
+                         tok, sn->normal[2] > 0 ? "up" : "down");
+    for (int i = 0; i < a->nviews; i++)
+      if (a->views[i] == k)
+        return vr_error_at(p->err, VR_E_PARSE, p->file, at.line, at.col,
+                           "glare_views=: %s named twice", tok);
+    a->views[a->nviews++] = k;
+  }
+  if (!a->nviews)
+    return vr_error_at(p->err, VR_E_PARSE, p->file, at.line, at.col, "glare_views=: no sensor named");
+  return VR_OK;
+}
+
 vr_status scn_annual_finish(vr_scn_parser *p) {
   vr_scene *s = p->s;
   vr_scene_annual *a = &s->annual;
@@ -233,9 +283,20 @@ vr_status scn_annual_finish(vr_scn_parser *p) {
                          "(IES LM-83): name a 'sensor NAME grid' or 'sensor NAME points' line",
                          p->annual_workplane);
   }
+  if (p->annual_views && (st = views_named(p))) return st;
   if (p->annual_sensor &&
       (st = sensor_named(p, "control_sensor", p->annual_sensor, p->annual_sensor_loc,
                          &a->control_sensor)))
     return st;
+  if (a->control == VR_CONTROL_GLARE && a->nviews && a->control_sensor >= 0) {
+    bool view = false;
+    for (int i = 0; i < a->nviews; i++) view |= a->views[i] == a->control_sensor;
+    if (!view)
+      return vr_error_at(p->err, VR_E_PARSE, p->file, p->annual_sensor_loc.line,
+                         p->annual_sensor_loc.col,
+                         "control_sensor=%s: with glare views, control=glare keeps their DGP "
+                         "within max; name one of glare_views=",
+                         p->annual_sensor);
+  }
   return VR_OK;
 }
