@@ -74,6 +74,45 @@ static void uniform_surround(void **state) {
   assert_near(vr_dgps(1000), 0.2462, 1e-12); /* 6.22e-5 x 1000 + 0.184 */
 }
 
+/* The sun's disc in view: a camera sees it (its radiance the normal
+ * illuminance over the disc's solid angle 2 pi (1 - cos r)), so the image
+ * of a sun of normal illuminance E_n, apparent radius r, theta0 from the
+ * line of sight, over a black ground and no sky, gives at the lens
+ *   E_v = E_n cos(theta0) (1 + cos r) / 2
+ * (the mean of the direction over a spherical cap of half-angle r is its
+ * axis times (1 + cos r) / 2).  A large disc (r = 10 deg) keeps the pixels
+ * its rim cuts few beside those it covers. */
+static void sun_disc_in_view(void **state) {
+  (void)state;
+  const double En = 10000, r = 10, theta0 = 40;
+  for (int p = 0; p < 2; p++) {
+    char scn[1024];
+    snprintf(scn, sizeof scn,
+             "material black lambert reflectance=0\n"
+             "rect center=0,0,-1 normal=0,0,1 size=20,20 material=black\n"
+             "light sun altitude=%g azimuth=180 illuminance=%glx radius=%g spectrum=D65\n"
+             "camera fisheye from=0,0,0 to=0,-1,0 resolution=128x128 projection=%s\n"
+             "render integrator=path spp=64\n",
+             theta0, En, r, p ? "angular" : "equisolid");
+    vr_render_result *res = render_text_with(scn, 1, 2, false);
+    double want = En * cos(theta0 * M_PI / 180) * (1 + cos(r * M_PI / 180)) / 2;
+    /* The noise is the rim's: each pixel it cuts holds a share f of the
+     * disc estimated from n = 64 samples, variance at most 1 / (4 n) of
+     * its full value L w cos.  With w about (pi / 128)^2 sr (180 degrees
+     * over 128 pixels), at most 2 pi r / (180 / 128) x 2 = 90 pixels on
+     * the rim, the disc's w = 2 pi (1 - cos r): sigma / E_v <= (w_px /
+     * w_disc) sqrt(90 / (4 x 64)) = 0.0052 (independent samples; the
+     * sampler stratifies, so less).  Bound: 4 sigma. */
+    double wpx = pow(M_PI / 128, 2), wdisc = 2 * M_PI * (1 - cos(r * M_PI / 180));
+    double sigma = wpx / wdisc * sqrt(90.0 / (4 * 64));
+    print_message("  %s: E_v %.2f lx, expected %.2f (%+.3f %%, bound %.2f %%)\n",
+                  p ? "angular  " : "equisolid", res->eye_illuminance_lx, want,
+                  100 * (res->eye_illuminance_lx / want - 1), 400 * sigma);
+    assert_near(res->eye_illuminance_lx, want, 4 * sigma * want);
+    vr_render_result_destroy(res);
+  }
+}
+
 static void position_index(void **state) {
   (void)state;
   /* On the line of sight P = 1.  30 deg straight above it (tau = 0):
@@ -157,6 +196,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(projections),
       cmocka_unit_test(uniform_surround),
+      cmocka_unit_test(sun_disc_in_view),
       cmocka_unit_test(position_index),
       cmocka_unit_test(glare_probability),
   };

@@ -89,8 +89,9 @@ typedef struct vr_render_options {
   /* Image daylight coefficients: the camera's film also keeps each pixel's
    * luminance by the sky patch it came from (the result's pixel_patch_Y),
    * for the annual study's glare views (vr/annual.h).  The path integrator
-   * only, with a fixed spp (no adaptive sampling, no denoiser).  Default
-   * false. */
+   * only, with a fixed spp (no adaptive sampling, no denoiser).  Such a
+   * render leaves the sun's disc out of the picture (the study adds it at
+   * the hour's true sun).  Default false. */
   bool pixel_patches;
   /* The camera's film keeps XYZ only, not its spectral bins: 3 doubles a
    * pixel instead of 3 + bins (33 with the default 30 bins), for a render

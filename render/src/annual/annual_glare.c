@@ -16,8 +16,8 @@
  *     coefficients and only the sources from an image;
  *   - the glare sources from the image, pixel by pixel;
  *   - the solar disc as one more source where the view sees the sun
- *     straight (the renderer's camera never sees the sun itself, only
- *     what it lights): its luminance E_n / w_sun from the sensor's direct
+ *     straight (the coefficient images leave the disc out: it would sit at
+ *     the patch centre): its luminance E_n / w_sun from the sensor's direct
  *     sun E_n normal to the beam (transmission on the way included), at the
  *     hour's true sun position.  A parallel-beam sun (radius=0) is taken as
  *     the real sun's disc, 0.2665 degrees.

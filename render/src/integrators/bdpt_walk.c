@@ -274,6 +274,13 @@ int bdpt_walk(const vr_bdpt *b, vr_bdpt_tls *tl, const vr_bdpt_sample *sm, vr_bd
       if (far) {
         double L[VR_MAX_WL];
         vr_lights_environment(&rs->L, dir, prev->type == BV_CAMERA || prev->delta, nwl, sm->wl, L);
+        /* The sun's disc where every vertex since the eye was delta (its
+         * next-event sample covers it everywhere else). */
+        bool all_delta = rs->sun_disc;
+        for (int i = 1; i < n && all_delta; i++) all_delta = path[i].delta;
+        double Ls[VR_MAX_WL];
+        if (all_delta && vr_lights_sun_disc(&rs->L, dir, nwl, sm->wl, Ls))
+          for (int k = 0; k < nwl; k++) L[k] += Ls[k];
         absorb(rs, medium, INFINITY, nwl, sm->wl, L);
         for (int k = 0; k < nwl; k++) far[k] += beta[k] * L[k];
       }

@@ -220,6 +220,10 @@ static bool continue_path(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr
       p->flags |= VR_PF_SPECULAR_LAST;
     else
       p->flags &= (uint16_t)~VR_PF_SPECULAR_LAST;
+    /* The sun's disc has no next-event estimate from the eye's side of a
+     * non-delta vertex only where it is a delta light: past any such
+     * vertex its light arrives by the sun's own samples. */
+    if (!(bs.lobe & VR_LOBE_DELTA)) p->flags &= (uint16_t)~VR_PF_SEES_SUN;
   }
   /* What a BSDF XML layer reflects towards a sensor is reflected light
    * (what it transmits keeps its component, vr_path_closest). */
@@ -322,6 +326,14 @@ void vr_path_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit
     p.patch = (uint8_t)vr_sky_patch_of(r->dir);
     if (vr_features_wanted(c, &p)) vr_features_escape(c, &p);
     vr_path_deliver(c, &p, L);
+    /* The sun's disc, seen by the eye straight or through delta lobes. */
+    if ((p.flags & VR_PF_SEES_SUN) && p.target == VR_TARGET_PIXEL && rs->sun_disc &&
+        vr_lights_sun_disc(&rs->L, r->dir, p.nwl, p.wl, L)) {
+      for (int k = 0; k < p.nwl; k++) L[k] *= p.beta[k];
+      p.source = VR_SRC_SUN;
+      p.patch = VR_NO_PATCH;
+      vr_path_deliver(c, &p, L);
+    }
     return;
   }
   if (vr_path_pass_through(c, w, r, hit)) return;
@@ -427,7 +439,8 @@ void vr_camera_generate(void *ctx, vr_flow_worker *w, long unit) {
       p.sample = (uint32_t)(s + c->sample_offset);
       p.index = pixel;
       p.target = VR_TARGET_PIXEL;
-      p.flags = VR_PF_SPECULAR_LAST; /* the camera sees emitters and the sky directly */
+      /* The camera sees emitters, the sky and the sun's disc directly. */
+      p.flags = VR_PF_SPECULAR_LAST | VR_PF_SEES_SUN;
       p.nwl = (uint8_t)rs->nwl;
       p.medium = -1;
       vr_rng_key key = {rs->seed, p.stream, p.sample, 0};

@@ -99,6 +99,13 @@ bool vr_lights_sample_emitter(const vr_lights *L, const double x[3], int nwl, co
 bool vr_lights_sample_sky(const vr_lights *L, const double x[3], const double n[3], int nwl,
                           const double *wl, const vr_rng_key *key, vr_light_sample *out);
 /* Radiance arriving from the environment along dir (sky above, ground glow below). */
+/* The sun's disc seen along dir (unit): its radiance, the normal
+ * irradiance over the disc's solid angle 2 pi (1 - cos r), into L; false
+ * (L untouched) without a sun, for a parallel beam (radius 0) or outside
+ * the disc.  The sun is a delta light for next-event estimation, so only
+ * a path whose every vertex was delta may count it (the eye's). */
+bool vr_lights_sun_disc(const vr_lights *L, const double dir[3], int nwl, const double *wl,
+                        double *Lsun);
 void vr_lights_environment(const vr_lights *L, const double dir[3], bool include_sky, int nwl,
                            const double *wl, double *L_out);
 /* The share of the ground glow's radiance at nm that the sun lit (the rest

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "lights/kinds.h"
+#include "lights/lights.h"
 #include "vr/vec3.h"
 
 #define COS_SUN(l) ((l)->k[0])
@@ -150,6 +151,18 @@ static double pdf_le_dir(const vr_light *l, const double p[3], const double n[3]
                          const double dir[3]) {
   (void)l, (void)p, (void)n, (void)dir;
   return 0;
+}
+
+bool vr_lights_sun_disc(const vr_lights *Ls, const double dir[3], int nwl, const double *wl,
+                        double *L) {
+  if (Ls->sun >= Ls->n) return false;
+  const vr_light *l = &Ls->light[Ls->sun];
+  double c = COS_SUN(l);
+  if (!(c < 1) || vr_dot3(dir, l->axis) < c) return false;
+  /* The disc's radiance: its normal irradiance over its solid angle. */
+  double omega = 2 * M_PI * (1 - c);
+  for (int k = 0; k < nwl; k++) L[k] = vr_rspd_at(&l->spd, wl[k]) / omega;
+  return true;
 }
 
 const vr_light_ops vr_light_sun = {

@@ -171,6 +171,7 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
                        rs->scene_radius};
   if (!st) st = resolve_materials(rs, db, err);
   if (!st) st = vr_lights_create(&rs->L, s, &lu, rs->t, err);
+  rs->sun_disc = !(opt && opt->pixel_patches);
   if (!st) st = vr_rscene_textures(rs, opt && opt->threads > 0 ? opt->threads : 1, err);
   if (!st) st = resolve_objects(rs, err);
   if (!st) st = vr_rscene_cell_maps(rs, err);

@@ -72,6 +72,8 @@ typedef struct vr_rscene {
   vr_rmaterial *mat;
   vr_robject *obj;
   vr_lights L;              /* the lights, emitters, sky and photon sources */
+  bool sun_disc;            /* camera paths see the sun's disc (not in the annual study's
+                               image coefficients, which add it at the true sun) */
   double scene_lo[3], scene_hi[3], scene_radius, scene_centre[3];
   vr_camera cam;
   double film_lo, film_step;
