@@ -91,7 +91,7 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
                         "an image's sky-patch coefficients need the path integrator with a fixed "
                         "number of samples per pixel");
     if (!st) st = vr_accum_keep_patches(&acc, err);
-    r->film_bytes += (size_t)W * (size_t)H * VR_SENSOR_PATCHES * sizeof(double);
+    r->film_bytes += (size_t)W * (size_t)H * VR_PIXEL_SOURCES * sizeof(double);
   }
   res->film_bytes = r->film_bytes;
   if (!st) st = ig->render(&job, err);
@@ -123,7 +123,7 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   res->xyz = vr_accum_take_mean(&acc.xyz, px * 3, job.passes);
   res->spectral = fb ? vr_accum_take_mean(&acc.bins, px * fb, job.passes) : NULL;
   if (acc.pixel_patches)
-    res->pixel_patch_Y = vr_accum_take_mean(&acc.pixel_patches, px * VR_SENSOR_PATCHES, job.passes);
+    res->pixel_patch_Y = vr_accum_take_mean(&acc.pixel_patches, px * VR_PIXEL_SOURCES, job.passes);
   if (job.adaptive && (st = adaptive_film(res, &acc, &job, fb, err))) goto done;
   if (opt->denoise) {
     /* The features on every rank; the denoised image where the files are

@@ -81,8 +81,13 @@ static vr_render_result *run_hour(const char *text, vr_matdb *db) {
 
 static void unobstructed_point(void **state) {
   (void)state;
+  /* A lamp 7 m away gives the point 5657 lx (1e7 cd/m2 x 0.04 m2 x cos 45
+   * deg / 50 m2) that a daylight study must leave out: it hides 8e-4 sr
+   * of sky. */
   vr_annual_result *r = annual_run_text("material ground lambert reflectance=0.2\n"
                                    "rect center=0,0,0 normal=0,0,1 size=10,10 material=ground\n"
+                                   "rect center=5,0,5 normal=-1,0,-1 size=0.2,0.2 material=ground "
+                                   "emission=1e7cd/m2\n"
                                    "light sun spectrum=D65\n"
                                    "sky perez weather=" WEA "\n"
                                    "sensor top point position=0,0,0.001 normal=0,0,1\n"

@@ -87,7 +87,8 @@ typedef struct vr_render_options {
   long photons;       /* > 0 overrides the scene's photon counts */
   bool no_camera;     /* sensors only */
   /* Image daylight coefficients: the camera's film also keeps each pixel's
-   * luminance by the sky patch it came from (the result's pixel_patch_Y),
+   * luminance by the sky patch (or the ground glow, or the sun) it came
+   * from (the result's pixel_patch_Y),
    * for the annual study's glare views (vr/annual.h).  The path integrator
    * only, with a fixed spp (no adaptive sampling, no denoiser).  Such a
    * render leaves the sun's disc out of the picture (the study adds it at
@@ -214,9 +215,10 @@ typedef struct vr_render_result {
    * the ground glow), lx; they sum to the sky and ground parts.  The
    * daylight coefficients of vr/annual.h.  NULL for photon sensors. */
   double *sky_patch_lx;
-  /* With pixel_patches: each pixel's luminance by the Tregenza patch it
-   * came from (VR_SKY_PATCHES + 1 values a pixel, the last the ground
-   * glow), cd/m2, row-major like xyz; NULL otherwise. */
+  /* With pixel_patches: each pixel's luminance by where it came from:
+   * VR_SKY_PATCHES + 2 values a pixel, the Tregenza patches
+   * (vr/skypatch.h), the ground glow, then the sun; cd/m2, row-major like
+   * xyz; NULL otherwise. */
   double *pixel_patch_Y;
   /* A fisheye camera: the illuminance at the lens on the plane facing the
    * view (vr_fisheye_vertical_illuminance of the image's luminance); NaN

@@ -153,10 +153,15 @@ typedef struct vr_dc_take_ctx {
   size_t np;
 } vr_dc_take_ctx;
 
+/* The sun's light at every point: the reading without what the scene's
+ * emitters gave (a daylight study counts daylight only; the sky's
+ * coefficients, by patch, leave them out too). */
 static void dc_take(void *ctx, int k, const vr_render_result *r) {
   const vr_dc_take_ctx *c = ctx;
   for (size_t p = 0; p < c->np; p++) {
-    c->d->sun_total[p * VR_SKY_PATCHES + (size_t)k] = r->readings[p].illuminance_lx / SUN_LX;
+    const vr_sensor_reading *rd = &r->readings[p];
+    c->d->sun_total[p * VR_SKY_PATCHES + (size_t)k] =
+        (rd->illuminance_lx - rd->part_lx[VR_PART_ELECTRIC]) / SUN_LX;
     c->d->sun_direct[p * VR_SKY_PATCHES + (size_t)k] = r->readings[p].part_lx[VR_PART_SUN] / SUN_LX;
   }
 }
@@ -212,10 +217,13 @@ typedef struct vr_view_take_ctx {
   double *sun;
 } vr_view_take_ctx;
 
+/* The sun's own light in the picture (its slot after the sky's patches
+ * and the ground's): not an emitter's, which a daylight study leaves out. */
 static void view_take(void *ctx, int k, const vr_render_result *r) {
   const vr_view_take_ctx *c = ctx;
   for (size_t i = 0; i < c->gv->npx; i++)
-    c->sun[i * VR_SKY_PATCHES + (size_t)k] = r->xyz[3 * c->gv->pixel[i] + 1] / SUN_LX;
+    c->sun[i * VR_SKY_PATCHES + (size_t)k] =
+        r->pixel_patch_Y[c->gv->pixel[i] * (NPATCH + 1) + NPATCH] / SUN_LX;
 }
 
 vr_status annual_view_dc(vr_annual_job *j, double state, int si, vr_glare_set *g, vr_error *err) {
@@ -234,7 +242,7 @@ vr_status annual_view_dc(vr_annual_job *j, double state, int si, vr_glare_set *g
     vr_render_result *r = NULL;
     if ((st = render_as(j, &v, true, &r, err))) break;
     for (size_t p = 0; p < gv->npx; p++)
-      memcpy(gv->sky[si] + p * NPATCH, r->pixel_patch_Y + gv->pixel[p] * NPATCH,
+      memcpy(gv->sky[si] + p * NPATCH, r->pixel_patch_Y + gv->pixel[p] * (NPATCH + 1),
              NPATCH * sizeof *gv->sky[si]);
     vr_render_result_destroy(r);
     vr_view_take_ctx c = {gv, gv->sun[si]};

@@ -162,7 +162,7 @@ vr_status vr_accum_keep_features(vr_accum *a, vr_error *err) {
 
 vr_status vr_accum_keep_patches(vr_accum *a, vr_error *err) {
   if (a->pixel_patches) return VR_OK;
-  a->pixel_patches = zeros((size_t)a->width * (size_t)a->height * VR_SENSOR_PATCHES);
+  a->pixel_patches = zeros((size_t)a->width * (size_t)a->height * VR_PIXEL_SOURCES);
   if (!a->pixel_patches)
     return vr_error_set(err, VR_E_NOMEM, "film sky patches of %d x %d pixels: out of memory",
                         a->width, a->height);
@@ -215,7 +215,7 @@ void vr_accum_pixel_half(vr_accum *a, uint32_t pixel, bool second_half, int nwl,
 
 void vr_accum_pixel_patch(vr_accum *a, uint32_t pixel, int patch, int nwl, const double *wl,
                           const double *L, double wl_weight) {
-  if (!a->pixel_patches || patch < 0 || patch >= VR_SENSOR_PATCHES) return;
+  if (!a->pixel_patches || patch < 0 || patch >= VR_PIXEL_SOURCES) return;
   double Y = 0;
   for (int i = 0; i < nwl; i++) {
     if (L[i] == 0.0) continue;
@@ -223,7 +223,7 @@ void vr_accum_pixel_patch(vr_accum *a, uint32_t pixel, int patch, int nwl, const
     cmf(a, wl[i], c);
     Y += KM * c[1] * L[i] * wl_weight;
   }
-  vr_atomic_add(&a->pixel_patches[(size_t)pixel * VR_SENSOR_PATCHES + (size_t)patch], Y);
+  vr_atomic_add(&a->pixel_patches[(size_t)pixel * VR_PIXEL_SOURCES + (size_t)patch], Y);
 }
 
 /* The illuminance of E, in lx. */

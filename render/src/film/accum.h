@@ -16,6 +16,10 @@
 
 /* The sky's patches and the ground glow: a sensor's tallies by patch. */
 #define VR_SENSOR_PATCHES (VR_SKY_PATCHES + 1)
+/* A pixel's tallies by source (vr_accum_keep_patches): the sky's patches,
+ * the ground glow, then the sun (VR_PIXEL_SUN). */
+#define VR_PIXEL_SUN VR_SENSOR_PATCHES
+#define VR_PIXEL_SOURCES (VR_SENSOR_PATCHES + 1)
 
 typedef struct vr_accum {
   int width, height, spp;
@@ -33,8 +37,8 @@ typedef struct vr_accum {
    * (VR_FEAT_*), weighted by the samples' filter weights; NULL otherwise. */
   _Atomic uint64_t *feat;
   /* Image daylight coefficients (vr_accum_keep_patches): per pixel
-   * VR_SENSOR_PATCHES sums of the luminance (cd/m2) that came from each
-   * sky patch and from the ground glow; NULL otherwise. */
+   * VR_PIXEL_SOURCES sums of the luminance (cd/m2) that came from each sky
+   * patch, from the ground glow and from the sun; NULL otherwise. */
   _Atomic uint64_t *pixel_patches;
   size_t npoints;             /* sensor points */
   int groups;                 /* batches for the standard error */
@@ -80,11 +84,11 @@ void vr_atomic_add(_Atomic uint64_t *cell, double v);
 double *vr_accum_take_mean(_Atomic uint64_t **cells, size_t n, double by);
 double vr_atomic_get(_Atomic uint64_t *cell);
 /* Adds radiance samples (already divided by their wavelength pdf) of a pixel. */
-/* Keep the film's luminance by sky patch (pixel_patches). */
+/* Keep the film's luminance by source (pixel_patches). */
 vr_status vr_accum_keep_patches(vr_accum *a, vr_error *err);
 /* Adds a pixel's radiance samples (as vr_accum_pixel) to its tally for the
- * sky patch (or VR_SKY_GROUND_PATCH) they came from, as luminance; nothing
- * without pixel_patches. */
+ * source they came from (a sky patch, VR_SKY_GROUND_PATCH or VR_PIXEL_SUN),
+ * as luminance; nothing without pixel_patches. */
 void vr_accum_pixel_patch(vr_accum *a, uint32_t pixel, int patch, int nwl, const double *wl,
                           const double *L, double wl_weight);
 void vr_accum_pixel(vr_accum *a, uint32_t pixel, int nwl, const double *wl, const double *L,

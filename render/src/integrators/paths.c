@@ -66,12 +66,13 @@ void vr_path_deliver(vr_pass *c, const vr_payload *p, const double *v0) {
     vr_accum_pixel_half(c->acc, p->index, c->second_half, p->nwl, p->wl, v,
                         vr_wl_weight(c->rs, p->nwl));
     /* Image daylight coefficients: the sky's light by its patch, the
-     * ground glow's apart. */
+     * ground glow's and the sun's apart (an emitter's in none). */
     if (p->source == VR_SRC_SKY && p->patch != VR_NO_PATCH)
       vr_accum_pixel_patch(c->acc, p->index, p->patch, p->nwl, p->wl, v, vr_wl_weight(c->rs, p->nwl));
-    else if (p->source == VR_SRC_GROUND)
-      vr_accum_pixel_patch(c->acc, p->index, VR_SKY_GROUND_PATCH, p->nwl, p->wl, v,
-                           vr_wl_weight(c->rs, p->nwl));
+    else if (p->source == VR_SRC_GROUND || p->source == VR_SRC_SUN)
+      vr_accum_pixel_patch(c->acc, p->index,
+                           p->source == VR_SRC_SUN ? VR_PIXEL_SUN : VR_SKY_GROUND_PATCH, p->nwl,
+                           p->wl, v, vr_wl_weight(c->rs, p->nwl));
     break;
   case VR_TARGET_SENSOR: {
     uint32_t slot = c->sensor_slots ? p->sample % c->sensor_slots : p->sample;

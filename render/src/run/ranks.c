@@ -91,7 +91,7 @@ vr_status vr_ranks_sum_accum(vr_run *r, vr_accum *a, unsigned parts, vr_error *e
     if (!st) st = sum_cells(r, a->bins, px * a->nbins, err);
     if (!st && a->half_xyz) st = sum_cells(r, a->half_xyz, px * 3, err);
     if (!st && a->feat) st = sum_cells(r, a->feat, px * VR_FEATURES, err);
-    if (!st && a->pixel_patches) st = sum_cells(r, a->pixel_patches, px * VR_SENSOR_PATCHES, err);
+    if (!st && a->pixel_patches) st = sum_cells(r, a->pixel_patches, px * VR_PIXEL_SOURCES, err);
   }
   if (!st && (parts & RANKS_SENSORS)) {
     st = sum_cells(r, a->sensor_lx, a->npoints * (size_t)a->groups, err);
