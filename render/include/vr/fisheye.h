@@ -42,9 +42,9 @@ double vr_dgps_limit_lx(double dgps);
  *   and tau the angle from the vertical of the plane holding both (deg),
  *     ln P = (35.2 - 0.31889 tau - 1.22 e^(-2 tau / 9)) 1e-3 sigma
  *            + (21 + 0.26667 tau - 0.002963 tau^2) 1e-5 sigma^2;
- *   below it, Iwata's index P = 1 + f R, R = sqrt(tan^2 phi + tan^2 theta)
- *     (phi, theta the vertical and horizontal angles), f = 0.8 for
- *     R <= 0.6 and 1.2 beyond, R at most 3;
+ *   below it, Iwata & Osterhaus's index (CIE 2010) in Kikuchi's form, as
+ *     evalglare 3 takes it: beta = atan(tan sigma sqrt(1 + 0.3225 cos^2
+ *     tau)), ln P = 6.49e-3 beta + 21e-5 beta^2 (degrees);
  * P at most 16.  Directions behind the eye (d[2] <= 0) have P = 16. */
 double vr_guth_position_index(const double d[3]);
 

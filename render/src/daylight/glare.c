@@ -16,9 +16,14 @@ double vr_guth_position_index(const double d[3]) {
     P = exp((35.2 - 0.31889 * tau - 1.22 * exp(-2.0 * tau / 9.0)) * 1e-3 * sigma +
             (21.0 + 0.26667 * tau - 0.002963 * tau * tau) * 1e-5 * sigma * sigma);
   } else {
-    double R = sqrt(d[0] * d[0] + d[1] * d[1]) / d[2]; /* sqrt(tan^2 phi + tan^2 theta) */
-    double f = R > 0.6 ? 1.2 : 0.8;
-    P = 1.0 + f * fmin(R, 3.0);
+    /* Below the line of sight: Iwata & Osterhaus's index (CIE 2010) in
+     * Kikuchi's conversion to sigma and tau, as evalglare 3 (Radiance 6.1)
+     * takes it: beta = atan(tan(sigma) sqrt(1 + 0.3225 cos^2 tau)),
+     * ln P = 6.49e-3 beta + 21e-5 beta^2 (degrees); tau is measured from
+     * the vertical, so cos^2 tau is the same from below. */
+    double s2 = d[0] * d[0] + d[1] * d[1], cos2tau = s2 > 0 ? d[1] * d[1] / s2 : 1.0;
+    double beta = atan(sqrt(s2) / d[2] * sqrt(1.0 + 0.3225 * cos2tau)) * 180.0 / M_PI;
+    P = exp(6.49e-3 * beta + 21e-5 * beta * beta);
   }
   return fmin(P, 16.0);
 }
