@@ -117,6 +117,7 @@ vr_status render_outputs_check(const vr_scene *s, const char *prefix, const char
   if (s->sky.annual) {
     if (!(st = add(out, prefix, ".annual.csv", "-o", err)))
       st = add(out, prefix, ".annual-hourly.csv", "-o", err);
+    if (!st && s->annual.nviews) st = add(out, prefix, ".annual-glare.csv", "-o", err);
     if (!st) st = add(out, prefix, ".manifest.json", "-o", err);
   } else {
     /* In the order the film writes them. */

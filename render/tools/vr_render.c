@@ -99,8 +99,9 @@ static const char ABOUT[] =
     "A scene whose sky is a whole weather file (sky perez weather=FILE, no date) is an annual\n"
     "study instead: PREFIX.annual.csv (DA, UDI, direct-sun hours per point; with\n"
     "'annual en17037=yes' EN 17037's daylight hours and daylight factor) and\n"
-    "PREFIX.annual-hourly.csv (every occupied hour: 'annual hours=' or 'occupancy=FILE'), with\n"
-    "their manifest; sDA, ASE and the EN 17037 levels on stdout.\n"
+    "PREFIX.annual-hourly.csv (every occupied hour: 'annual hours=' or 'occupancy=FILE'),\n"
+    "with 'annual glare_views=' PREFIX.annual-glare.csv (each view's hours of DGP, contrast term\n"
+    "included), with their manifest; sDA, ASE and the EN 17037 levels on stdout.\n"
     "Under mpirun (mpirun -np N vr-render ...) the ranks share the sub-domains and pass rays\n"
     "to each other; rank 0 prints and writes the outputs.";
 

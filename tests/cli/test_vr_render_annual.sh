@@ -115,4 +115,8 @@ cp "$daysim" "$tmp/occ.annual.csv"
 year_scene "$tmp/occ.scn" "occupancy=$tmp/occ.annual.csv"
 refuse render-annual-occupancy-output "$bin" "$tmp/occ.scn" -o "$tmp/occ"
 check "the schedule is intact" cmp -s "$daysim" "$tmp/occ.annual.csv"
+cp "$daysim" "$tmp/og.annual-glare.csv"
+year_scene "$tmp/og.scn" "occupancy=$tmp/og.annual-glare.csv glare_views=eye"
+refuse render-annual-glare-output "$bin" "$tmp/og.scn" -o "$tmp/og"
+check "the schedule named like the views' table is intact" cmp -s "$daysim" "$tmp/og.annual-glare.csv"
 finish
