@@ -309,6 +309,36 @@ static void test_honeybee_glass(void **state) {
   unlink(p);
 }
 
+/* A dielectric's transmission is per unit of the file's length (Radiance's
+ * reference manual: "the transmission per unit length"): a file in
+ * centimetres read with units=cm has 0.99 per cm, 0.99^100 = 0.366032 per
+ * metre, and as metres 0.99 per metre. */
+static void test_dielectric_units(void **state) {
+  (void)state;
+  char p[64];
+  write_rad(p, "d.rad",
+            "void dielectric water\n0\n0\n5 0.99 0.99 0.99 1.33 0\n"
+            "water polygon w 0 0 12 0 0 0 100 0 0 100 100 0 0 100 0\n");
+  const char *units[2] = {"units=cm", ""};
+  const double want[2] = {0.366032341, 0.99};
+  for (int i = 0; i < 2; i++) {
+    char scene[200];
+    snprintf(scene, sizeof scene, "mesh %s %s\nsensor s point position=0.5,0.5,-1 normal=0,0,1\n", p,
+             units[i]);
+    vr_scene *s = parse_text(scene, "water.scn");
+    vr_error e = {0};
+    if (vr_scene_load_models(s, &e)) fail_msg("%s", e.message);
+    const vr_scene_material *sm = &s->materials[0];
+    assert_int_equal(sm->source, VR_MATSRC_GLASS);
+    vr_spectrum *sp = vr_scene_inline_spectrum(sm->transmission, &e);
+    assert_non_null(sp);
+    assert_float_equal(vr_spectrum_eval(sp, 550, VR_INTERP_LINEAR), want[i], 1e-9);
+    vr_spectrum_destroy(sp);
+    vr_scene_destroy(s);
+  }
+  unlink(p);
+}
+
 /* The integrating sphere and a distant source, rendered. */
 static void test_integrating_sphere(void **state) {
   (void)state;
@@ -445,6 +475,7 @@ int main(void) {
       cmocka_unit_test(test_sample_office_areas), cmocka_unit_test(test_sample_office_overlaps),
       cmocka_unit_test(test_overlap_cases),       cmocka_unit_test(test_seamed_wall),
       cmocka_unit_test(test_quadrics),            cmocka_unit_test(test_orientation_and_xform),
+      cmocka_unit_test(test_dielectric_units),
       cmocka_unit_test(test_honeybee_glass),      cmocka_unit_test(test_integrating_sphere),
       cmocka_unit_test(test_translucent),
       cmocka_unit_test(test_refusals),

@@ -20,7 +20,9 @@
  *                           per pass t at normal incidence (Radiance's
  *                           transmissivity), both faces' Fresnel series
  *   dielectric t.. n 0      refracting interface, n, the medium
- *                           transmitting t per metre (per scene unit)
+ *                           transmitting t per unit of the file's length
+ *                           (t^(1/u) per metre, a unit u metres by the
+ *                           mesh line's units= and scale=)
  *   light, glow R G B       black, emitting L = 179 (0.265 R + 0.670 G +
  *                           0.065 B) cd/m2 (Radiance's luminance of a
  *                           radiance in W/(sr m2)) from its front, the
@@ -204,10 +206,28 @@ vr_status vr_rad_scene_material(const vr_mesh_material *mm, const vr_scene_objec
     m->source = VR_MATSRC_GLASS;
     m->ior = a[3];
     m->pane = glass ? VR_PANE_THIN : VR_PANE_INTERFACES;
-    if ((st = table(mm, a, true, &m->transmission, err))) return st;
-    snprintf(note, cap, glass ? "%s %g %g %g, n %g: a thin pane (internal transmittance per pass)"
-                              : "%s %g %g %g, n %g: a refracting interface (transmission per metre)",
-             kind, a[0], a[1], a[2], a[3]);
+    /* A dielectric's transmission is per unit of the file's length; the
+     * mesh line's units= (and scale=) make a unit u metres, the cube root
+     * of its transform's volume scale: per metre it is t^(1/u). */
+    double t[3] = {a[0], a[1], a[2]}, u = 1;
+    if (!glass) {
+      const double(*x)[4] = ob->xform.m;
+      double det = x[0][0] * (x[1][1] * x[2][2] - x[1][2] * x[2][1]) -
+                   x[0][1] * (x[1][0] * x[2][2] - x[1][2] * x[2][0]) +
+                   x[0][2] * (x[1][0] * x[2][1] - x[1][1] * x[2][0]);
+      u = cbrt(fabs(det));
+      if (u > 0 && u != 1)
+        for (int k = 0; k < 3; k++) t[k] = pow(a[k], 1 / u);
+    }
+    if ((st = table(mm, t, true, &m->transmission, err))) return st;
+    if (glass)
+      snprintf(note, cap, "%s %g %g %g, n %g: a thin pane (internal transmittance per pass)", kind,
+               a[0], a[1], a[2], a[3]);
+    else
+      snprintf(note, cap,
+               "%s %g %g %g, n %g: a refracting interface, its medium transmitting %.6g %.6g %.6g "
+               "per metre (the file's unit %g m)",
+               kind, a[0], a[1], a[2], a[3], t[0], t[1], t[2], u);
     return VR_OK;
   }
   case VR_RAD_LIGHT:
