@@ -222,6 +222,30 @@ assert all(x > 0 for x in a) and all(abs(x - y) <= 1e-6 * x for x, y in zip(a, b
 PY
 check "photon-mapped sensors: the same readings" test $? -eq 0
 
+# An annual study with a glare view on two ranks: the image coefficients'
+# tallies by sky patch are summed over the ranks like the film, so every
+# hour's DGP is one process's.
+cat > "$tmp/year.scn" <<EOS
+material ground lambert reflectance=0.2
+rect center=0,0,0 normal=0,0,1 size=10,10 material=ground
+light sun spectrum=D65
+sky perez weather=$VR_SOURCE_DIR/tests/data/weather/chicago.wea
+sensor eye point position=0,0,1.2 normal=0,1,0
+annual hours=11,13 glare_views=eye glare_resolution=16
+render sensor_samples=64 spp=4
+EOS
+(cd "$tmp" && "$bin" year.scn -o year1 --threads 1 --quiet) > /dev/null 2>&1
+(cd "$tmp" && timeout 300 "${mpi[@]}" -np 2 "$bin" year.scn -o year2 --threads 1 --quiet) > /dev/null 2> "$tmp/year2.err"; rc=$?
+check "an annual study with a glare view on 2 ranks runs" test $rc -eq 0
+python3 - "$tmp" <<'PY'
+import csv, sys
+d = sys.argv[1]
+a = [float(r["dgp:eye"]) for r in csv.DictReader(open(d + "/year1.annual-hourly.csv"))]
+b = [float(r["dgp:eye"]) for r in csv.DictReader(open(d + "/year2.annual-hourly.csv"))]
+assert len(a) == len(b) == 730 and all(abs(x - y) <= 1.5e-4 for x, y in zip(a, b)), (len(a), len(b))  # printed to 4 places
+PY
+check "its hourly DGP is one process's" test $? -eq 0
+
 # Ranks given different scenes or options are refused, naming the rank.
 sed 's/reflectance=0.6/reflectance=0.5/' "$tmp/room.scn" > "$tmp/other.scn"
 (cd "$tmp" && timeout 120 "${mpi[@]}" -np 1 "$bin" room.scn --subdomains 8 -o mix : -np 1 "$bin" other.scn --subdomains 8 -o mix) > /dev/null 2> "$tmp/mix.err"; rc=$?
