@@ -86,7 +86,7 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
     r->film_bytes += (size_t)W * (size_t)H * (VR_FEATURES + (job.adaptive ? 0 : 3)) * sizeof(double);
   }
   if (!st && opt->pixel_patches) {
-    if (s->settings.integrator != VR_INT_PATH || job.adaptive || opt->denoise)
+    if (!ig->source_tallies || job.adaptive || opt->denoise)
       st = vr_error_set(err, VR_E_ARG,
                         "an image's sky-patch coefficients need the path integrator with a fixed "
                         "number of samples per pixel");

@@ -4,8 +4,19 @@
 #define VR_ANNUAL_TEST_UTIL_H
 
 #include "vr/annual.h"
+#include "vr/perez.h"
 #include "vr/sun.h"
 #include "vr/weather.h"
+
+/* The Perez (1990) sky of a record whose sun stands alt degrees high (no
+ * dew point: W = 2 cm, as gendaylit). */
+static inline vr_perez_sky record_perez(const vr_weather_record *rec, double alt) {
+  vr_perez_input in = {90 - alt, rec->direct_normal_w_m2, rec->diffuse_horizontal_w_m2, NAN,
+                       vr_weather_day_of_year(rec)};
+  vr_perez_sky m;
+  assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
+  return m;
+}
 
 /* Parses text (named as a scene of tests/data, so that its relative paths
  * resolve there; render_test_util.h's parse_text) and runs its annual

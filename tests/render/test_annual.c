@@ -107,10 +107,7 @@ static void unobstructed_point(void **state) {
     assert_int_equal(r->hourly_line[h], rec->line);
     double alt = altitude_of(w, rec), E = r->hourly_lx[h++];
     if (alt <= 0.5 || !(rec->diffuse_horizontal_w_m2 > 0)) continue;
-    vr_perez_input in = {90 - alt, rec->direct_normal_w_m2, rec->diffuse_horizontal_w_m2, NAN,
-                         vr_weather_day_of_year(rec)};
-    vr_perez_sky m;
-    assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
+    vr_perez_sky m = record_perez(rec, alt);
     double ref = m.diffuse_horizontal_lx + m.direct_normal_lx * sin(alt * DEG);
     glare_ref += 6.22e-5 * ref + 0.184 >= 0.35; /* DGPs, Wienold 2009 */
     double rel = fabs(E - ref) / ref;

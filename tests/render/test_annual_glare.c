@@ -88,10 +88,7 @@ static void sun_in_view(void **state) {
      * (the sun's patch is then seen unobstructed) and far from the edge of
      * the view. */
     if (alt < 3 || alt > 60 || fabs(az - 180) > 60 || !(rec->diffuse_horizontal_w_m2 > 0)) continue;
-    vr_perez_input in = {90 - alt, rec->direct_normal_w_m2, rec->diffuse_horizontal_w_m2, NAN,
-                         vr_weather_day_of_year(rec)};
-    vr_perez_sky m;
-    assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
+    vr_perez_sky m = record_perez(rec, alt);
     double En = m.direct_normal_lx, ev = r->hourly_lx[row * r->npoints];
     /* A sun bright enough that the sky's own sources are negligible beside
      * it (the sky's sum of L^2 w / P^2 is under 1e-4 of the disc's for

@@ -131,10 +131,7 @@ static void perez_of(const vr_weather *w, const vr_weather_record *rec, double *
   *diffuse = *direct = 0;
   double alt = altitude_of(w, rec);
   if (alt <= 0 || !(rec->diffuse_horizontal_w_m2 > 0)) return;
-  vr_perez_input in = {90 - alt, rec->direct_normal_w_m2, rec->diffuse_horizontal_w_m2, NAN,
-                       vr_weather_day_of_year(rec)};
-  vr_perez_sky m;
-  assert_int_equal(vr_perez_sky_from(&in, &m, NULL), VR_OK);
+  vr_perez_sky m = record_perez(rec, alt);
   *diffuse = m.diffuse_horizontal_lx;
   *direct = m.direct_normal_lx * sin(alt * DEG);
 }

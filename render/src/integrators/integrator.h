@@ -57,6 +57,10 @@ typedef struct vr_integrator_ops {
    * splatted onto other pixels, no estimate shared over iterations), so it
    * can sample adaptively (adaptive.c). */
   bool adaptive;
+  /* Its camera paths deliver each pixel's light with the source it came
+   * from (a sky patch, the ground glow, the sun), so the film can keep
+   * its tallies by source (vr_render_options.pixel_patches). */
+  bool source_tallies;
 } vr_integrator_ops;
 
 /* Integrator i (vr_scene_settings.integrator; the values of vr_integrator in

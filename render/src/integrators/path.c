@@ -12,4 +12,5 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
 }
 
 const vr_integrator_ops vr_integrator_path = {.name = "path", .what = "path tracing",
-                                              .render = render, .adaptive = true};
+                                              .render = render, .adaptive = true,
+                                              .source_tallies = true};
