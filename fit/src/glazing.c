@@ -4,6 +4,7 @@
 
 #include <complex.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -207,6 +208,40 @@ static double lerp_at(const double *x, const double *y, size_t n, double at) {
   return y[lo] + t * (y[hi] - y[lo]);
 }
 
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* The system's wavelengths: every pane's samples inside the range all the
+ * panes cover, sorted, without repeats (two samples closer than 1e-9 nm
+ * are one).  NULL with *n = 0 when the panes share no range. */
+static double *common_grid(vr_pane *const *panes, size_t count, size_t *n, vr_error *err) {
+  double lo = -INFINITY, hi = INFINITY;
+  size_t total = 0;
+  for (size_t j = 0; j < count; j++) {
+    lo = fmax(lo, panes[j]->nm[0]);
+    hi = fmin(hi, panes[j]->nm[panes[j]->n - 1]);
+    total += panes[j]->n;
+  }
+  *n = 0;
+  if (!(hi > lo)) return NULL;
+  double *g = malloc(total * sizeof *g);
+  if (!g) {
+    vr_error_set(err, VR_E_NOMEM, "out of memory");
+    return NULL;
+  }
+  for (size_t j = 0; j < count; j++)
+    for (size_t i = 0; i < panes[j]->n; i++)
+      if (panes[j]->nm[i] >= lo - 1e-9 && panes[j]->nm[i] <= hi + 1e-9) g[(*n)++] = panes[j]->nm[i];
+  qsort(g, *n, sizeof *g, cmp_double);
+  size_t m = 0;
+  for (size_t i = 0; i < *n; i++)
+    if (m == 0 || g[i] > g[m - 1] + 1e-9) g[m++] = g[i];
+  *n = m;
+  return g;
+}
+
 vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr_error *err) {
   *out = NULL;
   if (count == 0) return vr_error_set(err, VR_E_ARG, "no panes");
@@ -215,23 +250,32 @@ vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr
       return vr_error_set(err, VR_E_NOT_FOUND,
                           "pane %zu has no reflectance: panes combine through their "
                           "inter-reflections, which need Rf and Rb", j + 1);
+  size_t n = 0;
+  double *grid = common_grid(panes, count, &n, err);
+  if (!grid && n == 0 && err && err->status == VR_E_NOMEM) return VR_E_NOMEM;
+  if (n < 2) {
+    free(grid);
+    char spans[512];
+    size_t k = 0;
+    for (size_t j = 0; j < count && k < sizeof spans; j++)
+      k += (size_t)snprintf(spans + k, sizeof spans - k, "%spane %zu %g-%g nm", j ? ", " : "",
+                            j + 1, panes[j]->nm[0], panes[j]->nm[panes[j]->n - 1]);
+    return vr_error_set(err, VR_E_RANGE, "the panes share no wavelength range (%s)", spans);
+  }
+  vr_pane *s = pane_alloc(n, err);
+  if (!s) {
+    free(grid);
+    return VR_E_NOMEM;
+  }
+  memcpy(s->nm, grid, n * sizeof *s->nm);
+  free(grid);
   const vr_pane *first = panes[0];
-  for (size_t j = 1; j < count; j++) {
-    const vr_pane *q = panes[j];
-    if (q->nm[0] > first->nm[0] + 1e-9 || q->nm[q->n - 1] < first->nm[first->n - 1] - 1e-9)
-      return vr_error_set(err, VR_E_RANGE,
-                          "pane %zu spans %g-%g nm, pane 1 %g-%g nm: every pane must cover the "
-                          "first one's wavelengths", j + 1, q->nm[0], q->nm[q->n - 1], first->nm[0],
-                          first->nm[first->n - 1]);
-  }
-  vr_pane *s = pane_alloc(first->n, err);
-  if (!s) return VR_E_NOMEM;
-  memcpy(s->nm, first->nm, first->n * sizeof *s->nm);
-  for (int pol = 0; pol < 2; pol++) {
-    memcpy(s->T[pol], first->T[pol], first->n * sizeof(double));
-    memcpy(s->Rf[pol], first->Rf[pol], first->n * sizeof(double));
-    memcpy(s->Rb[pol], first->Rb[pol], first->n * sizeof(double));
-  }
+  for (int pol = 0; pol < 2; pol++)
+    for (size_t i = 0; i < n; i++) {
+      s->T[pol][i] = lerp_at(first->nm, first->T[pol], first->n, s->nm[i]);
+      s->Rf[pol][i] = lerp_at(first->nm, first->Rf[pol], first->n, s->nm[i]);
+      s->Rb[pol][i] = lerp_at(first->nm, first->Rb[pol], first->n, s->nm[i]);
+    }
   s->coated = first->coated;
   s->has_R = first->has_R;
   for (size_t j = 1; j < count; j++) {

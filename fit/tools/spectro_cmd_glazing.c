@@ -88,6 +88,15 @@ static void print_metrics(const vr_glazing_metrics *m, const vr_standard *std, d
     if (!m->has_R)
       printf(", \"note\": \"reflectance was not measured: the R figures and the reflected colour "
              "need R (null); the T figures stand\"");
+    /* The transmitted tristimulus values, the perfect transmitter's Y at
+     * 100, as the IGSDB lists them (tciex, tciey, tciez). */
+    printf(", \"T_XYZ\": ");
+    if (m->has_colour)
+      for (int j = 0; j < 3; j++) {
+        printf(j ? ", " : "[");
+        vr_json_number(stdout, 100 * m->T_xyz[j]);
+      }
+    printf(m->has_colour ? "]" : "null");
     for (int i = 0; i < 3; i++) {
       printf(", \"%s\": ", labs[i]);
       if (!m->has_colour || (i > 0 && !m->has_R)) {

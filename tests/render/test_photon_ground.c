@@ -76,61 +76,95 @@ static const char *const NAMES[NPOINTS] = {"floor W",      "floor E",      "ceil
                                            "ceiling 3,1",  "ceiling 1,3",  "ceiling 3,3",
                                            "work plane W", "work plane E"};
 
-/* Photon and path readings with ground=0 and ground=0.2, and the checks:
+/* Photon and path readings with ground=0 and ground=0.2 over K seeds,
+ * and the checks:
  *   - the maps serve the gathers (else paths would do the work and the
  *     test would read nothing of the maps);
- *   - every photon reading within 5 % of the path reading (issue 17's
- *     bound for photon sensors) or within 2.5 of their standard errors
- *     combined (the floor points, which see the sunlit patch at grazing
- *     angles, are the noisiest here: 5-9 % at 1024 paths);
- *   - the ground's gain, photon(0.2) - photon(0) against path(0.2) -
- *     path(0), summed over each group of points: within 8 % on the
- *     ceiling, 15 % on the work plane, 40 % on the floor (noisy, see
- *     above); and the gain is large for paths (the ceiling gains over a
- *     quarter, the others over 4 %).  With the ground glow's photons
- *     dropped (the issue's state), every gain check fails in both cases:
- *     the ceiling gained 16-17 % less than with paths, the work plane
- *     almost nothing (16 and -7 lx against 490 and 480), the floor 0-30 %
- *     of the paths' gain. */
+ *   - every point's photon reading against its path reading, and the
+ *     ground's gain, photon(0.2) - photon(0) against path(0.2) - path(0),
+ *     summed over each group of points (floor, ceiling, work plane); and
+ *     the gain is large for paths (the ceiling gains over a quarter, the
+ *     others over 4 %).
+ *
+ * The bounds.  A run's stderr_lx leaves out the noise of the photon maps,
+ * which every gather of the run shares, and the two renders of a gain
+ * share their seed, so neither a run's standard errors nor the
+ * independent sum of them describes a difference.  The seeds do: each of
+ * the K = 12 seeds gives one photon-minus-path difference D_k, and their
+ * mean is held to T = 7 of its standard error s_D / sqrt(K) (Student's t,
+ * 11 degrees of freedom: 2.3e-5 two-sided, 19 checks a case) plus
+ * B = 5 % of the path value.  B is issue 17's accuracy for photon
+ * sensors: the maps' density estimate is biased (it smooths the
+ * irradiance over each gather's disc, issue 33), and this test asks that
+ * the ground's light is in the maps, not that the maps are unbiased.
+ * With the ground glow's photons dropped (issue 18's state; checked
+ * by making vr_lights_ground_power return 0) the bounding-disc case fails
+ * all three gain checks: the floor gained 0.6 lx against the paths' 291,
+ * the work plane 2 lx against 497, the ceiling 2453 lx against 2946. */
+enum { K = 12 };
+static const double T = 7.0, B = 0.05;
+
+typedef struct diff_stats {
+  double d, dd, pa; /* sums over seeds: D_k, D_k^2, the path value */
+} diff_stats;
+
+static void add(diff_stats *s, double photon, double path) {
+  s->d += photon - path, s->dd += (photon - path) * (photon - path), s->pa += path;
+}
+
+/* 0 when the mean difference is within T standard errors plus B of the
+ * path value, else 1; prints the line. */
+static int check(const char *what, const diff_stats *s) {
+  double d = s->d / K, pa = s->pa / K, sd = sqrt(fmax(0, (s->dd - K * d * d) / (K - 1)));
+  double se = sd / sqrt((double)K), bound = T * se + B * fabs(pa);
+  print_message("  %-26s photon - path %+7.1f lx (path %7.1f; seeds' stderr %5.1f, bound %5.1f)%s\n",
+                what, d, pa, se, bound, fabs(d) > bound ? "  FAILS" : "");
+  return fabs(d) > bound;
+}
+
 static void compare(bool portal, const char *photon_opts, const char *path_opts) {
-  readings ph0 = render_room("0", portal, photon_opts), ph2 = render_room("0.2", portal, photon_opts);
-  readings pa0 = render_room("0", portal, path_opts), pa2 = render_room("0.2", portal, path_opts);
-  print_message("  %s: %.0f %% / %.0f %% of the gather vertices read the maps\n",
-                portal ? "window as a portal" : "no portal", 100 * ph0.share, 100 * ph2.share);
-  assert_true(ph0.share >= 0.85 && ph2.share >= 0.85);
-  int bad = 0;
-  double gain_ph[3] = {0}, gain_pa[3] = {0}, level_pa[3] = {0};
-  for (int i = 0; i < NPOINTS; i++) {
-    double d0 = (ph0.lx[i] - pa0.lx[i]) / pa0.lx[i], d2 = (ph2.lx[i] - pa2.lx[i]) / pa2.lx[i];
-    print_message("  %-12s ground 0: photon %7.1f +- %5.1f path %7.1f +- %5.1f (%+5.1f %%)   "
-                  "ground 0.2: photon %7.1f path %7.1f (%+5.1f %%)   gain photon %+6.1f path "
-                  "%+6.1f lx\n",
-                  NAMES[i], ph0.lx[i], ph0.se[i], pa0.lx[i], pa0.se[i], 100 * d0, ph2.lx[i],
-                  pa2.lx[i], 100 * d2, ph2.lx[i] - ph0.lx[i], pa2.lx[i] - pa0.lx[i]);
-    double s0 = 2.5 * hypot(ph0.se[i], pa0.se[i]), s2 = 2.5 * hypot(ph2.se[i], pa2.se[i]);
-    bad += fabs(d0) > 0.05 && fabs(ph0.lx[i] - pa0.lx[i]) > s0;
-    bad += fabs(d2) > 0.05 && fabs(ph2.lx[i] - pa2.lx[i]) > s2;
-    int g = i < 2 ? 0 : i < 6 ? 1 : 2; /* floor, ceiling, work plane */
-    gain_ph[g] += ph2.lx[i] - ph0.lx[i];
-    gain_pa[g] += pa2.lx[i] - pa0.lx[i];
-    level_pa[g] += pa0.lx[i];
+  diff_stats level[2][NPOINTS] = {{{0}}}, gain[3] = {{0}};
+  double gain_pa[3] = {0}, level_pa[3] = {0}, share = 1;
+  for (int k = 0; k < K; k++) {
+    char ph[512], pa[512];
+    snprintf(ph, sizeof ph, "%s seed=%d", photon_opts, k + 1);
+    snprintf(pa, sizeof pa, "%s seed=%d", path_opts, k + 1);
+    readings ph0 = render_room("0", portal, ph), ph2 = render_room("0.2", portal, ph);
+    readings pa0 = render_room("0", portal, pa), pa2 = render_room("0.2", portal, pa);
+    share = fmin(share, fmin(ph0.share, ph2.share));
+    double gp[3] = {0}, ga[3] = {0};
+    for (int i = 0; i < NPOINTS; i++) {
+      add(&level[0][i], ph0.lx[i], pa0.lx[i]);
+      add(&level[1][i], ph2.lx[i], pa2.lx[i]);
+      int g = i < 2 ? 0 : i < 6 ? 1 : 2; /* floor, ceiling, work plane */
+      gp[g] += ph2.lx[i] - ph0.lx[i];
+      ga[g] += pa2.lx[i] - pa0.lx[i];
+      level_pa[g] += pa0.lx[i] / K;
+    }
+    for (int g = 0; g < 3; g++) add(&gain[g], gp[g], ga[g]), gain_pa[g] += ga[g] / K;
   }
-  if (bad)
-    fail_msg("%d photon readings differ from the path estimator by more than 5 %% and more than "
-             "2.5 standard errors", bad);
+  print_message("  %s: at least %.0f %% of the gather vertices read the maps; %d seeds\n",
+                portal ? "window as a portal" : "no portal", 100 * share, K);
+  assert_true(share >= 0.85);
+  int bad = 0;
+  char what[64];
+  for (int i = 0; i < NPOINTS; i++)
+    for (int j = 0; j < 2; j++) {
+      snprintf(what, sizeof what, "%s, ground %s", NAMES[i], j ? "0.2" : "0");
+      bad += check(what, &level[j][i]);
+    }
   static const char *const GROUP[3] = {"shaded floor", "ceiling", "work plane"};
-  static const double TOL[3] = {0.40, 0.08, 0.15}, MIN_GAIN[3] = {0.04, 0.25, 0.04};
+  static const double MIN_GAIN[3] = {0.04, 0.25, 0.04};
   for (int g = 0; g < 3; g++) {
-    print_message("  %-12s the ground's gain: photon %+7.1f lx, path %+7.1f lx (%+5.1f %%)\n",
-                  GROUP[g], gain_ph[g], gain_pa[g], 100 * (gain_ph[g] / gain_pa[g] - 1));
+    snprintf(what, sizeof what, "%s, the ground's gain", GROUP[g]);
+    bad += check(what, &gain[g]);
     if (!(gain_pa[g] > MIN_GAIN[g] * level_pa[g]))
       fail_msg("%s: ground=0.2 adds only %.1f lx to the path readings' %.1f lx", GROUP[g],
                gain_pa[g], level_pa[g]);
-    if (!(fabs(gain_ph[g] - gain_pa[g]) <= TOL[g] * gain_pa[g]))
-      fail_msg("%s: ground=0.2 adds %.1f lx to the photon readings, %.1f lx to the path "
-               "readings (more than %.0f %% apart)", GROUP[g], gain_ph[g], gain_pa[g],
-               100 * TOL[g]);
   }
+  if (bad)
+    fail_msg("%d photon readings or gains differ from the path estimator's by more than %.0f "
+             "standard errors of %d seeds plus %.0f %%", bad, T, K, 100 * B);
 }
 
 /* The issue's case: photons from the scene's bounding disc. */

@@ -594,33 +594,55 @@ static void test_dispersive_furnace(void **state) {
  * 100 cd/m²) with the lossless dispersive sphere in view: by the same
  * argument the radiance is L_e / (1 - a) = 200 cd/m² everywhere, and what
  * the camera sees through the sphere is lit by caustic photons that crossed
- * it.  Caustic density estimates through a sphere are noisy: between seeds
- * the mean scatters by about +-5 % (5 seeds: 192.6 to 212.8 cd/m²), hence
- * 10 %. */
+ * it.  The irradiance on every wall is uniform, so a density estimate has
+ * no smoothing bias here and each seed's image mean is an unbiased estimate
+ * of 200.  A run does not report the variance of its photon estimate, so
+ * the bound comes from the seeds themselves: K = 20 seeds, their mean held
+ * to T = 5.5 of its standard error s / sqrt(K).  The ratio follows
+ * Student's t with 19 degrees of freedom, which exceeds 5.5 with
+ * probability 2.6e-5 (two-sided).  The same requires s / sqrt(K) under 1 %
+ * of 200, so a noisy run cannot pass. */
 static void test_dispersive_furnace_photons(void **state) {
   (void)state;
-  const char *scn =
-      "material wall lambert reflectance=0.5\n"
-      FURNACE_WALLS("wall")
-      "material glass db:sf11-lossless\n"
-      "sphere center=0,0,0 radius=0.5 material=glass\n"
-      "camera pinhole from=0,-0.95,0 to=0,0,0 fov=20 resolution=16x12\n"
-      "render integrator=photon spp=32 photons=50000 caustic_photons=50000 depth=64\n";
-  vr_render_result *r = render_text(scn);
-  assert_true(pass(r, "caustic photons")->ran);
-  double sum = 0;
-  int n = r->width * r->height;
-  for (int y = 0; y < r->height; y++)
-    for (int x = 0; x < r->width; x++) sum += Y(r, x, y);
-  double want = 100.0 / (1 - 0.5); /* L_e / (1 - a) */
-  print_message("    photon mapping through the sphere: mean Y %.3f cd/m2, expected %.1f "
-                "(%zu caustic photons)\n",
-                sum / n, want, r->photons_caustic);
-  if (fabs(sum / n - want) > 0.10 * want)
-    fail_msg("photon mapping through a lossless dispersive sphere: mean Y %.3f, the furnace "
-             "expects %.1f within 10 %%",
-             sum / n, want);
-  done(r);
+  enum { K = 20 };
+  const double T = 5.5, want = 100.0 / (1 - 0.5); /* L_e / (1 - a) */
+  double m[K], sum = 0, sq = 0;
+  size_t caustic = 0;
+  for (int k = 0; k < K; k++) {
+    char scn[1024];
+    snprintf(scn, sizeof scn,
+             "material wall lambert reflectance=0.5\n"
+             FURNACE_WALLS("wall")
+             "material glass db:sf11-lossless\n"
+             "sphere center=0,0,0 radius=0.5 material=glass\n"
+             "camera pinhole from=0,-0.95,0 to=0,0,0 fov=20 resolution=16x12\n"
+             "render integrator=photon spp=32 photons=50000 caustic_photons=50000 depth=64 "
+             "seed=%d\n",
+             k + 1);
+    vr_render_result *r = render_text(scn);
+    assert_true(pass(r, "caustic photons")->ran);
+    double s = 0;
+    int n = r->width * r->height;
+    for (int y = 0; y < r->height; y++)
+      for (int x = 0; x < r->width; x++) s += Y(r, x, y);
+    m[k] = s / n;
+    caustic += r->photons_caustic;
+    sum += m[k];
+    done(r);
+  }
+  double mean = sum / K;
+  for (int k = 0; k < K; k++) sq += (m[k] - mean) * (m[k] - mean);
+  double sd = sqrt(sq / (K - 1)), se = sd / sqrt((double)K);
+  print_message("    photon mapping through the sphere, %d seeds: mean Y %.3f cd/m2 (seed SD %.3f, "
+                "stderr %.3f), expected %.1f; %.1f standard errors (%zu caustic photons a run)\n",
+                K, mean, sd, se, want, (mean - want) / se, caustic / K);
+  if (se > 0.01 * want)
+    fail_msg("photon mapping through the sphere: standard error %.3f over 1 %% of %.1f", se,
+             want);
+  if (fabs(mean - want) > T * se)
+    fail_msg("photon mapping through a lossless dispersive sphere: mean Y %.3f over %d seeds, "
+             "the furnace expects %.1f within %.1f standard errors (%.3f)",
+             mean, K, want, T, T * se);
 }
 
 /* ------------------------------------------------------- many emitters */

@@ -87,8 +87,11 @@ vr_status vr_pane_from_curve(const vr_spectro_curve *c, double thickness_nm, dou
                              size_t *unsolved, vr_error *err);
 
 /* The system of panes[0] (outside) .. panes[count-1] (inside), each
- * resampled linearly onto the first pane's grid (where they all must be
- * defined: VR_E_RANGE otherwise, naming the pane).  Every pane needs its
+ * resampled linearly onto the union of their wavelengths inside the range
+ * they all cover (as Windows-CalcEngine combines layers measured on
+ * different grids; VR_E_RANGE, naming each pane's span, when they share
+ * none: a standard whose range the system does not cover is refused where
+ * it is applied).  Every pane needs its
  * reflectance when there are several (the inter-reflections): a
  * transmittance-only pane among them is VR_E_NOT_FOUND. */
 vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr_error *err);
