@@ -353,7 +353,7 @@ int vr_tt_to_klems(vr_tt_tree *const trees[VR_BSDF_SIDES], const vr_klems_basis 
                         [VR_BSDF_RF] = {BREFL, -1, 0},
                         [VR_BSDF_RB] = {FREFL, -1, 0}};
   grid g;
-  if (grid_make(&g, b, samples < 1 ? 1 : samples, 32)) {
+  if (grid_make(&g, b, samples < 1 ? 1 : samples, 16)) {
     grid_free(&g);
     return -1;
   }

@@ -58,7 +58,7 @@ double vr_tt_query(const vr_tt_tree *t, int side, const double in[3], const doub
  * a side without its tree stays untouched, except that a missing
  * transmission is the other transmission's tree read backwards (as
  * Radiance reads such a file).  samples: incident directions a patch,
- * each with a 32 x 32 grid of the exiting hemisphere.  -1: out of memory. */
+ * each with a 16 x 16 grid of the exiting hemisphere.  -1: out of memory. */
 int vr_tt_to_klems(vr_tt_tree *const trees[VR_BSDF_SIDES], const vr_klems_basis *b, int samples,
                    double *m[VR_BSDF_SIDES]);
 
