@@ -213,10 +213,12 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-/* The system's wavelengths: every pane's samples inside the range all the
- * panes cover, sorted, without repeats (two samples closer than 1e-9 nm
- * are one).  NULL with *n = 0 when the panes share no range. */
-static double *common_grid(vr_pane *const *panes, size_t count, size_t *n, vr_error *err) {
+/* The system's wavelengths (*grid, *n of them, freed by the caller): every
+ * pane's samples inside the range all the panes cover, sorted, without
+ * repeats (two samples closer than 1e-9 nm are one).  *grid NULL and *n 0
+ * when the panes share no range; VR_E_NOMEM only when out of memory. */
+static vr_status common_grid(vr_pane *const *panes, size_t count, double **grid, size_t *n,
+                             vr_error *err) {
   double lo = -INFINITY, hi = INFINITY;
   size_t total = 0;
   for (size_t j = 0; j < count; j++) {
@@ -224,22 +226,20 @@ static double *common_grid(vr_pane *const *panes, size_t count, size_t *n, vr_er
     hi = fmin(hi, panes[j]->nm[panes[j]->n - 1]);
     total += panes[j]->n;
   }
-  *n = 0;
-  if (!(hi > lo)) return NULL;
+  *grid = NULL, *n = 0;
+  if (!(hi > lo)) return VR_OK;
   double *g = malloc(total * sizeof *g);
-  if (!g) {
-    vr_error_set(err, VR_E_NOMEM, "out of memory");
-    return NULL;
-  }
+  if (!g) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  size_t k = 0;
   for (size_t j = 0; j < count; j++)
     for (size_t i = 0; i < panes[j]->n; i++)
-      if (panes[j]->nm[i] >= lo - 1e-9 && panes[j]->nm[i] <= hi + 1e-9) g[(*n)++] = panes[j]->nm[i];
-  qsort(g, *n, sizeof *g, cmp_double);
+      if (panes[j]->nm[i] >= lo - 1e-9 && panes[j]->nm[i] <= hi + 1e-9) g[k++] = panes[j]->nm[i];
+  qsort(g, k, sizeof *g, cmp_double);
   size_t m = 0;
-  for (size_t i = 0; i < *n; i++)
+  for (size_t i = 0; i < k; i++)
     if (m == 0 || g[i] > g[m - 1] + 1e-9) g[m++] = g[i];
-  *n = m;
-  return g;
+  *grid = g, *n = m;
+  return VR_OK;
 }
 
 vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr_error *err) {
@@ -251,8 +251,9 @@ vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr
                           "pane %zu has no reflectance: panes combine through their "
                           "inter-reflections, which need Rf and Rb", j + 1);
   size_t n = 0;
-  double *grid = common_grid(panes, count, &n, err);
-  if (!grid && n == 0 && err && err->status == VR_E_NOMEM) return VR_E_NOMEM;
+  double *grid = NULL;
+  vr_status st = common_grid(panes, count, &grid, &n, err);
+  if (st) return st;
   if (n < 2) {
     free(grid);
     char spans[512];
