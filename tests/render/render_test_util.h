@@ -1,6 +1,6 @@
-/* Shared by the render tests: a scene from text rendered in one call, and
- * the reading of CIE 171:2006 case 5.8 (the cube's indirect illuminance).
- * Include after cmocka.h. */
+/* Shared by the render tests: a scene from text rendered in one call, the
+ * reading of CIE 171:2006 case 5.8 (the cube's indirect illuminance), and
+ * the statistics of one figure over seeds.  Include after cmocka.h. */
 #ifndef VR_RENDER_TEST_UTIL_H
 #define VR_RENDER_TEST_UTIL_H
 
@@ -104,6 +104,23 @@ static inline double cie171_cube_indirect_of(const vr_render_result *r, size_t f
 static inline double cie171_cube_indirect(const vr_render_result *r, double phi_lm, double rho,
                                           double *expected) {
   return cie171_cube_indirect_of(r, 0, r->nreadings, phi_lm, rho, expected, NULL);
+}
+
+/* One figure over independent seeds, for the bounds a run cannot give
+ * (noise every pixel or reading of a run shares): the mean, and its
+ * standard error from the seeds' sample standard deviation. */
+typedef struct seed_stats {
+  int n;
+  double sum, sq;
+} seed_stats;
+
+static inline void seed_add(seed_stats *s, double v) { s->n++, s->sum += v, s->sq += v * v; }
+
+static inline double seed_mean(const seed_stats *s) { return s->sum / s->n; }
+
+static inline double seed_stderr(const seed_stats *s) {
+  double m = seed_mean(s);
+  return sqrt(fmax(0, (s->sq - s->n * m * m) / (s->n - 1)) / s->n);
 }
 
 #endif

@@ -105,25 +105,26 @@ enum { K = 12 };
 static const double T = 7.0, B = 0.05;
 
 typedef struct diff_stats {
-  double d, dd, pa; /* sums over seeds: D_k, D_k^2, the path value */
+  seed_stats d, pa; /* over seeds: D_k, and the path value */
 } diff_stats;
 
 static void add(diff_stats *s, double photon, double path) {
-  s->d += photon - path, s->dd += (photon - path) * (photon - path), s->pa += path;
+  seed_add(&s->d, photon - path), seed_add(&s->pa, path);
 }
 
 /* 0 when the mean difference is within T standard errors plus B of the
  * path value, else 1; prints the line. */
 static int check(const char *what, const diff_stats *s) {
-  double d = s->d / K, pa = s->pa / K, sd = sqrt(fmax(0, (s->dd - K * d * d) / (K - 1)));
-  double se = sd / sqrt((double)K), bound = T * se + B * fabs(pa);
+  double d = seed_mean(&s->d), pa = seed_mean(&s->pa), se = seed_stderr(&s->d);
+  double bound = T * se + B * fabs(pa);
   print_message("  %-26s photon - path %+7.1f lx (path %7.1f; seeds' stderr %5.1f, bound %5.1f)%s\n",
                 what, d, pa, se, bound, fabs(d) > bound ? "  FAILS" : "");
   return fabs(d) > bound;
 }
 
 static void compare(bool portal, const char *photon_opts, const char *path_opts) {
-  diff_stats level[2][NPOINTS] = {{{0}}}, gain[3] = {{0}};
+  diff_stats level[2][NPOINTS], gain[3];
+  memset(level, 0, sizeof level), memset(gain, 0, sizeof gain);
   double gain_pa[3] = {0}, level_pa[3] = {0}, share = 1;
   for (int k = 0; k < K; k++) {
     char ph[512], pa[512];

@@ -606,7 +606,7 @@ static void test_dispersive_furnace_photons(void **state) {
   (void)state;
   enum { K = 20 };
   const double T = 5.5, want = 100.0 / (1 - 0.5); /* L_e / (1 - a) */
-  double m[K], sum = 0, sq = 0;
+  seed_stats m = {0};
   size_t caustic = 0;
   for (int k = 0; k < K; k++) {
     char scn[1024];
@@ -625,14 +625,11 @@ static void test_dispersive_furnace_photons(void **state) {
     int n = r->width * r->height;
     for (int y = 0; y < r->height; y++)
       for (int x = 0; x < r->width; x++) s += Y(r, x, y);
-    m[k] = s / n;
+    seed_add(&m, s / n);
     caustic += r->photons_caustic;
-    sum += m[k];
     done(r);
   }
-  double mean = sum / K;
-  for (int k = 0; k < K; k++) sq += (m[k] - mean) * (m[k] - mean);
-  double sd = sqrt(sq / (K - 1)), se = sd / sqrt((double)K);
+  double mean = seed_mean(&m), se = seed_stderr(&m), sd = se * sqrt((double)K);
   print_message("    photon mapping through the sphere, %d seeds: mean Y %.3f cd/m2 (seed SD %.3f, "
                 "stderr %.3f), expected %.1f; %.1f standard errors (%zu caustic photons a run)\n",
                 K, mean, sd, se, want, (mean - want) / se, caustic / K);

@@ -300,7 +300,7 @@ static void test_seen_through_glass(void **state) {
       "rect center=0,0,1.5 normal=0,0,-1 size=1,1 material=em emission=1000cd/m2\n"
       "camera pinhole from=0,0.5,1.0 to=0,0,0 up=0,0,1 fov=40 resolution=16x16\n"
       "render range=400,700 depth=16 seed=%d %s\n";
-  double sp = 0, sd = 0, sdd = 0;
+  seed_stats path_st = {0}, diff = {0};
   for (int k = 0; k < K; k++) {
     double v[2];
     const char *render[2] = {"integrator=path spp=1024",
@@ -310,9 +310,10 @@ static void test_seen_through_glass(void **state) {
       snprintf(scn, sizeof scn, scn_fmt, k + 1, render[i]);
       v[i] = mean_y(scn);
     }
-    sp += v[0], sd += v[1] - v[0], sdd += (v[1] - v[0]) * (v[1] - v[0]);
+    seed_add(&path_st, v[0]);
+    seed_add(&diff, v[1] - v[0]);
   }
-  double path = sp / K, d = sd / K, se = sqrt(fmax(0, (sdd - K * d * d) / (K - 1)) / K);
+  double path = seed_mean(&path_st), d = seed_mean(&diff), se = seed_stderr(&diff);
   print_message("    floor seen through the slab it is lit through, %d seeds: path %.4f cd/m2, "
                 "SPPM - path %+.4f (%+.2f %%, stderr %.4f: %+.1f standard errors)\n",
                 K, path, d, 100 * d / path, se, d / se);

@@ -98,7 +98,7 @@ static void test_sppm_unbiased_early(void **state) {
   (void)state;
   enum { K = 20 };
   const double T = 5.5, Y = 100.0 / (1 - 0.5), want[3] = {0.95047 * Y, Y, 1.08883 * Y};
-  double sum[3] = {0}, sq[3] = {0};
+  seed_stats st[3] = {{0}};
   for (int k = 0; k < K; k++) {
     char scn[2048];
     snprintf(scn, sizeof scn,
@@ -112,12 +112,12 @@ static void test_sppm_unbiased_early(void **state) {
       double m = 0;
       for (int y = 0; y < r->height; y++)
         for (int x = 0; x < r->width; x++) m += chan(r, x, y, c) / n;
-      sum[c] += m, sq[c] += m * m;
+      seed_add(&st[c], m);
     }
     vr_render_result_destroy(r);
   }
   for (int c = 0; c < 3; c++) {
-    double m = sum[c] / K, sd = sqrt(fmax(0, (sq[c] - K * m * m) / (K - 1))), se = sd / sqrt(K);
+    double m = seed_mean(&st[c]), se = seed_stderr(&st[c]), sd = se * sqrt((double)K);
     print_message("    4 iterations, %d seeds: mean %c %.3f (seeds' SD %.3f, stderr %.3f), exact "
                   "%.3f: %+.1f standard errors\n",
                   K, "XYZ"[c], m, sd, se, want[c], (m - want[c]) / se);
