@@ -31,6 +31,7 @@ echo "== glazing: figures, n and k, pane tables and tint-state models (vr-spectr
 g=samples/glazing
 build/fit/vr-spectro metrics $g/clear_float/CLEAR_3.DAT | tee out/clear_float_nfrc.txt
 build/fit/vr-spectro metrics --panes $g/clear_float/CLEAR_3.DAT,$g/clear_float/CLEAR_3.DAT --json > out/double_clear_nfrc.json
+build/fit/vr-spectro thermal --panes $g/clear_float/CLEAR_3.DAT,$g/clear_float/CLEAR_3.DAT --gaps 12.7:air | tee out/double_clear_thermal.txt
 build/fit/vr-spectro metrics $g/lowe/lowe.csv --standard en410 | tee out/lowe_en410.txt
 build/fit/vr-spectro fit $g/clear_float/CLEAR_3.DAT --save clear-float-nk --table out/clear_float_nk.csv
 build/fit/vr-spectro btdf clear-float-nk --save clear-float-btdf --wavelengths 300:2500:10 --table out/clear_float_btdf.csv

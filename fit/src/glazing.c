@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "glazing_internal.h"
 #include "vr/colour.h"
 #include "vr/optics.h"
 #include "vr/slab_invert.h"
@@ -195,7 +196,7 @@ vr_status vr_pane_from_curve(const vr_spectro_curve *c, double thickness_nm, dou
   return VR_OK;
 }
 
-static double lerp_at(const double *x, const double *y, size_t n, double at) {
+double vr_glazing_lerp(const double *x, const double *y, size_t n, double at) {
   if (at <= x[0]) return y[0];
   if (at >= x[n - 1]) return y[n - 1];
   size_t lo = 0, hi = n - 1;
@@ -213,11 +214,7 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-/* The system's wavelengths (*grid, *n of them, freed by the caller): every
- * pane's samples inside the range all the panes cover, sorted, without
- * repeats (two samples closer than 1e-9 nm are one).  *grid NULL and *n 0
- * when the panes share no range; VR_E_NOMEM only when out of memory. */
-static vr_status common_grid(vr_pane *const *panes, size_t count, double **grid, size_t *n,
+vr_status vr_glazing_common_grid(vr_pane *const *panes, size_t count, double **grid, size_t *n,
                              vr_error *err) {
   double lo = -INFINITY, hi = INFINITY;
   size_t total = 0;
@@ -252,7 +249,7 @@ vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr
                           "inter-reflections, which need Rf and Rb", j + 1);
   size_t n = 0;
   double *grid = NULL;
-  vr_status st = common_grid(panes, count, &grid, &n, err);
+  vr_status st = vr_glazing_common_grid(panes, count, &grid, &n, err);
   if (st) return st;
   if (n < 2) {
     free(grid);
@@ -273,9 +270,9 @@ vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr
   const vr_pane *first = panes[0];
   for (int pol = 0; pol < 2; pol++)
     for (size_t i = 0; i < n; i++) {
-      s->T[pol][i] = lerp_at(first->nm, first->T[pol], first->n, s->nm[i]);
-      s->Rf[pol][i] = lerp_at(first->nm, first->Rf[pol], first->n, s->nm[i]);
-      s->Rb[pol][i] = lerp_at(first->nm, first->Rb[pol], first->n, s->nm[i]);
+      s->T[pol][i] = vr_glazing_lerp(first->nm, first->T[pol], first->n, s->nm[i]);
+      s->Rf[pol][i] = vr_glazing_lerp(first->nm, first->Rf[pol], first->n, s->nm[i]);
+      s->Rb[pol][i] = vr_glazing_lerp(first->nm, first->Rb[pol], first->n, s->nm[i]);
     }
   s->coated = first->coated;
   s->has_R = first->has_R;
@@ -284,9 +281,9 @@ vr_status vr_pane_combine(vr_pane *const *panes, size_t count, vr_pane **out, vr
     s->coated = s->coated || q->coated;
     for (int pol = 0; pol < 2; pol++)
       for (size_t i = 0; i < s->n; i++) {
-        double T2 = lerp_at(q->nm, q->T[pol], q->n, s->nm[i]);
-        double Rf2 = lerp_at(q->nm, q->Rf[pol], q->n, s->nm[i]);
-        double Rb2 = lerp_at(q->nm, q->Rb[pol], q->n, s->nm[i]);
+        double T2 = vr_glazing_lerp(q->nm, q->T[pol], q->n, s->nm[i]);
+        double Rf2 = vr_glazing_lerp(q->nm, q->Rf[pol], q->n, s->nm[i]);
+        double Rb2 = vr_glazing_lerp(q->nm, q->Rb[pol], q->n, s->nm[i]);
         double T1 = s->T[pol][i], Rf1 = s->Rf[pol][i], Rb1 = s->Rb[pol][i];
         double den = 1.0 - Rb1 * Rf2; /* > 0 unless both faces are perfect mirrors */
         if (!(den > 0)) den = 1e-300;

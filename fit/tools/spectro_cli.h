@@ -70,6 +70,7 @@ int spectro_cmd_metrics(vr_args *a);
 int spectro_cmd_btdf(vr_args *a);
 int spectro_cmd_chromogenic(vr_args *a);
 int spectro_cmd_state(vr_args *a);
+int spectro_cmd_thermal(vr_args *a);
 
 /* The state of a chromogenic material asked for by --state S, --charge Q
  * or --uv E [--temperature T]; 0 (bleached) when none is given. */

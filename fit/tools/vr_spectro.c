@@ -43,6 +43,9 @@ static const vr_option OPTIONS[] = {
     {"uv", 0, "W_M2", "metrics, state: photochromic steady state under this UV irradiance"},
     {"temperature", 0, "T", "with --uv: glass temperature, e.g. 25C or 298K (default 25C)"},
     {"extrapolate", 0, NULL, "with --uv: evaluate outside the UV and temperatures the model was fitted on"},
+    {"gaps", 0, "MM:GAS,...", "thermal: the gaps between panes, e.g. 12.7:air or 16:argon:0.9+air:0.1"},
+    {"height", 0, "M", "thermal: glazing height for natural convection (default 1 m, NFRC)"},
+    {"tilt", 0, "DEG", "thermal: tilt from horizontal (default 90: vertical)"},
     {"force", 0, NULL, "fit: accept (exit 0) and --save a fit that does not describe the data"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
@@ -54,6 +57,7 @@ static const char USAGE[] =
     "       vr-spectro bsdf-xml FILE|NAME|--panes A,B|--stack FILE.model --out F.xml [--standard S] [--state S]\n"
     "       vr-spectro btdf FILE|NAME|--stack FILE [--angles LIST] [--wavelengths A:B:S] [--scatter FILE] [--save NAME] [--json]\n"
     "       vr-spectro chromogenic FILES... --states LIST [--save NAME] [--json]\n"
+    "       vr-spectro thermal FILE|NAME|--panes A,B --gaps MM:GAS,... [--height M] [--tilt DEG] [--json]\n"
     "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T] [--extrapolate]] [--json]";
 static const char ABOUT[] =
     "Spectrophotometry of glass (T, Rf, Rb; CSV, Cary/Lambda CSV exports, LBNL Optics/IGDB\n"
@@ -77,6 +81,10 @@ static const char ABOUT[] =
     "chromogenic: state model of electrochromic (states: charge 12mC/cm2 or voltage -1V)\n"
     "  or photochromic glass (E=40 steady state, t=60:E=40 activation, fade=120:E=40;\n"
     "  add :T=25C for temperature) with 90% limits.\n"
+    "thermal: U-factor and SHGC (g-value) by ISO 15099 under NFRC 100/200, as WINDOW and\n"
+    "  Windows-CalcEngine: layer solar absorptances from the spectra, emissivities from\n"
+    "  thermal-infrared data (NFRC 301) or the file's header, gas gaps of air, argon,\n"
+    "  krypton, xenon or mixtures.\n"
     "state: a chromogenic material's spectrum at a state, a charge (within the range the\n"
     "  model was fitted on) or a UV irradiance.";
 
@@ -371,17 +379,20 @@ static bool foreign_option(const vr_args *a, const char *cmd) {
   static const struct {
     const char *opt, *cmds, *why;
   } TAKES[] = {
-      {"thickness", "fit metrics btdf chromogenic bsdf-xml", NULL},
+      {"thickness", "fit metrics btdf chromogenic bsdf-xml thermal", NULL},
       {"model", "fit", NULL},
       {"sigma", "fit chromogenic", NULL},
       {"save", "fit btdf chromogenic", NULL},
       {"table", "fit btdf", "only fit and btdf write a table"},
       {"force", "fit", "only fit accepts a flagged fit"},
-      {"standard", "metrics bsdf-xml", NULL},
+      {"standard", "metrics bsdf-xml thermal", NULL},
+      {"gaps", "thermal", NULL},
+      {"height", "thermal", NULL},
+      {"tilt", "thermal", NULL},
       {"angle", "metrics", NULL},
       {"phi", "metrics", NULL},
       {"out", "bsdf-xml", NULL},
-      {"panes", "metrics bsdf-xml", NULL},
+      {"panes", "metrics bsdf-xml thermal", NULL},
       {"route", "metrics btdf bsdf-xml", NULL},
       {"angles", "btdf", NULL},
       {"stack", "btdf bsdf-xml", NULL},
@@ -436,6 +447,7 @@ int main(int argc, char **argv) {
               {"btdf", 1, spectro_cmd_btdf},
               {"bsdf-xml", 1, spectro_cmd_bsdf_xml},
               {"chromogenic", 2, spectro_cmd_chromogenic},
+              {"thermal", 1, spectro_cmd_thermal},
               {"state", 2, spectro_cmd_state}};
   int rc = -1;
   for (size_t i = 0; i < sizeof CMDS / sizeof CMDS[0]; i++)
@@ -454,7 +466,7 @@ int main(int argc, char **argv) {
       }
     }
   if (rc < 0) {
-    fprintf(stderr, "vr-spectro: expected a command: fit, metrics, btdf, bsdf-xml, chromogenic or state\n"
+    fprintf(stderr, "vr-spectro: expected a command: fit, metrics, btdf, bsdf-xml, chromogenic, thermal or state\n"
                     "Try 'vr-spectro --help'.\n");
     rc = 2;
   }

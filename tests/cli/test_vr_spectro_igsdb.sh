@@ -18,16 +18,8 @@ clear3="$VR_SOURCE_DIR/samples/glazing/clear_float/CLEAR_3.DAT"
 source "$(dirname "$0")/harness.sh"
 
 # The IGSDB JSON's spectral rows as the CSV vr-spectro reads (wavelength in
-# micrometres, T, Rf, Rb).
-to_csv() {
-  python3 - "$1" > "$2" <<'PY'
-import json, sys
-d = json.load(open(sys.argv[1]))
-print('wavelength_um,T,Rf,Rb')
-for r in d['spectral_data']['spectral_data']:
-    print('%r,%r,%r,%r' % (r['wavelength'], r['T'], r['Rf'], r['Rb']))
-PY
-}
+# micrometres, T, Rf, Rb; its thickness as a comment).
+to_csv() { python3 "$(dirname "$0")/igsdb_csv.py" "$@"; }
 
 # 1. Every product against the IGSDB's summary.  The summary's figures are
 #    single-precision floats printed to 7 significant digits, so each is

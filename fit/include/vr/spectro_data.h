@@ -63,9 +63,31 @@ typedef struct vr_spectro_curve {
   vr_spectro_point *p;
 } vr_spectro_curve;
 
+/* Which faces carry a coating (the hemispherical-emissivity polynomial of
+ * NFRC 301 differs for coated faces; vr/glazing_layers.h). */
+typedef enum vr_coated_side {
+  VR_COATED_UNKNOWN = 0, VR_COATED_NEITHER, VR_COATED_FRONT, VR_COATED_BACK, VR_COATED_BOTH
+} vr_coated_side;
+
+/* Thermal data written beside the spectra, for the heat balance of a
+ * glazing (vr/glazing_thermal.h):
+ *   CSV comments   "# emissivity: 0.84 0.068" (front back; one value for
+ *                  both), "# conductivity: 1.0" (W/(m K)), "# coated side:
+ *                  back" (front, back, both, neither);
+ *   LBNL Optics    "{ Emissivity, front back } Emis= 0.84 0.84",
+ *                  "{ Conductivity } 1", "{ Coated Side: Back }".
+ * NAN / VR_COATED_UNKNOWN when not given. */
+typedef struct vr_spectro_thermal {
+  double emissivity[2];      /* hemispherical, front and back */
+  double conductivity;       /* W/(m K) */
+  vr_coated_side coated;
+  long line;                 /* of the emissivity, 0 if none */
+} vr_spectro_thermal;
+
 typedef struct vr_spectro_data {
   char *source;              /* path */
   double thickness_nm;       /* NAN when the file does not say */
+  vr_spectro_thermal thermal;
   bool has_Rf, has_Rb, has_state, has_angle;
   size_t ncurves;            /* in order of first appearance */
   vr_spectro_curve *curves;
@@ -84,6 +106,15 @@ vr_status vr_spectro_parse_optics(const char *text, size_t len, const char *name
 /* From a glazing material (roles T, Rf, Rb; property "thickness" in mm). */
 vr_status vr_spectro_from_material(const vr_material *m, vr_spectro_data **out, vr_error *err);
 void vr_spectro_destroy(vr_spectro_data *d);
+
+void vr_spectro_thermal_init(vr_spectro_thermal *t);
+/* One CSV comment line: an emissivity, conductivity or coated-side line
+ * fills t (others are ignored); a malformed value is VR_E_RANGE/VR_E_PARSE
+ * naming file, line and field. */
+vr_status vr_spectro_thermal_line(const char *comment, const char *file, long line,
+                                  vr_spectro_thermal *t, vr_error *err);
+/* "front", "back", "both", "neither"/"none" (case-insensitive). */
+vr_status vr_spectro_coated_parse(const char *s, vr_coated_side *out);
 
 /* The curve's column as a spectrum (which: 'T', 'f' front, 'b' back);
  * NULL with VR_E_NOT_FOUND when that column was not measured. */

@@ -1,0 +1,241 @@
+/* vr-spectro thermal: U-factor and SHGC of a glazing by ISO 15099 under the
+ * NFRC 100/200 environments (vr/glazing_thermal.h), from measured panes. */
+#include "spectro_cli.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vr/gas.h"
+#include "vr/glazing_layers.h"
+#include "vr/glazing_thermal.h"
+
+/* Normal emissivity below which an unlabelled face is taken as coated:
+ * uncoated soda-lime float glass has 0.89 (EN 12898 annex), so a face well
+ * under it carries a low-emissivity coating. */
+#define COATED_BELOW 0.84
+
+typedef struct pane_info {
+  const char *emis_from[2];
+  bool coated[2];
+  bool conductivity_assumed;
+} pane_info;
+
+/* "12.7:air,16:argon:0.9+air:0.1": one gap (thickness in mm, gas) between
+ * each pair of panes. */
+static vr_status parse_gaps(const char *s, vr_thermal_system *sys, size_t npanes, vr_error *err) {
+  size_t k = 0;
+  const char *p = s ? s : "";
+  while (*p) {
+    if (k + 1 >= npanes)
+      return vr_error_set(err, VR_E_ARG, "--gaps '%s': more gaps than the %zu pane(s) leave room "
+                                         "for (%zu)", s, npanes, npanes - 1);
+    char *end;
+    double mm = strtod(p, &end);
+    if (end == p || *end != ':' || !(mm > 0 && mm <= 200))
+      return vr_error_set(err, VR_E_ARG, "--gaps '%s': gap %zu: expected THICKNESS_MM:GAS with a "
+                                         "thickness in (0, 200] mm", s, k + 1);
+    const char *g = end + 1, *comma = strchr(g, ',');
+    size_t len = comma ? (size_t)(comma - g) : strlen(g);
+    char gas[128];
+    if (len >= sizeof gas) len = sizeof gas - 1;
+    memcpy(gas, g, len);
+    gas[len] = '\0';
+    vr_status st = vr_gas_parse(gas, &sys->gap[k].gas, err);
+    if (st) {
+      vr_error_prefix(err, "--gaps: gap %zu: ", k + 1);
+      return st;
+    }
+    sys->gap[k].thickness_m = mm * 1e-3;
+    sys->gap[k].pressure_pa = 101325;
+    k++;
+    p = comma ? comma + 1 : g + len;
+  }
+  if (k + 1 != npanes)
+    return vr_error_set(err, VR_E_ARG, "%zu panes need %zu gap(s) (--gaps MM:GAS,...); %zu given",
+                        npanes, npanes - 1, k);
+  return VR_OK;
+}
+
+/* A pane's thermal data: thickness, conductivity, hemispherical emissivity
+ * of each face (from its thermal-infrared data when they reach the
+ * standard's THERMAL IR range, else as its file states). */
+static vr_status pane_thermal(const vr_standard *std, const vr_spectro_data *d, const vr_pane *p,
+                              const char *item, vr_thermal_pane *tp, pane_info *info,
+                              vr_error *err) {
+  if (!isfinite(d->thickness_nm))
+    return vr_error_set(err, VR_E_NOT_FOUND, "%s: no thickness (a '# thickness: 3 mm' line, the "
+                                             "file's header or --thickness)", item);
+  tp->thickness_m = d->thickness_nm * 1e-9;
+  tp->conductivity = d->thermal.conductivity;
+  info->conductivity_assumed = !isfinite(tp->conductivity);
+  if (info->conductivity_assumed) tp->conductivity = 1.0; /* soda-lime glass, EN 572-1 */
+  tp->tir = 0.0;
+  double en[2];
+  vr_error e2 = {0};
+  if (!vr_pane_emissivity(std, p, en, &e2)) {
+    for (int f = 0; f < 2; f++) {
+      vr_coated_side cs = d->thermal.coated;
+      bool coated = cs == VR_COATED_BOTH || (f == 0 && cs == VR_COATED_FRONT) ||
+                    (f == 1 && cs == VR_COATED_BACK);
+      if (cs == VR_COATED_UNKNOWN) coated = en[f] < COATED_BELOW;
+      info->coated[f] = coated;
+      tp->emis[f] = vr_emissivity_hemispherical(en[f], coated);
+      info->emis_from[f] = cs == VR_COATED_UNKNOWN
+                               ? (coated ? "IR data, NFRC 301 coated (normal emissivity < 0.84)"
+                                         : "IR data, NFRC 301 uncoated")
+                               : (coated ? "IR data, NFRC 301 coated" : "IR data, NFRC 301 uncoated");
+    }
+    return VR_OK;
+  }
+  if (e2.status != VR_E_RANGE) {
+    *err = e2;
+    return e2.status;
+  }
+  if (!isfinite(d->thermal.emissivity[0]))
+    return vr_error_set(err, VR_E_NOT_FOUND,
+                        "%s: no emissivity: its data do not reach the thermal infrared (%s) and the "
+                        "file gives none (a '# emissivity: 0.84 0.84' line, front and back, or an "
+                        "Optics '{ Emissivity, front back }' header)", item, e2.message);
+  for (int f = 0; f < 2; f++) {
+    tp->emis[f] = d->thermal.emissivity[f];
+    info->emis_from[f] = "the file's header";
+  }
+  return VR_OK;
+}
+
+static void print_state(const char *name, const vr_thermal_state *s, size_t n, bool json) {
+  if (json) {
+    printf("\"%s\": {\"q_in\": %.10g, \"h_in\": %.10g, \"h_out\": %.10g, \"iterations\": %d, "
+           "\"T\": [", name, s->q_in, s->h_in, s->h_out, s->iterations);
+    for (size_t i = 0; i < 2 * n; i++) printf("%s%.10g", i ? ", " : "", s->T[i]);
+    printf("], \"gap_h\": [");
+    for (size_t i = 0; i + 1 < n; i++) printf("%s%.10g", i ? ", " : "", s->gap_h[i]);
+    printf("], \"gap_Ra\": [");
+    for (size_t i = 0; i + 1 < n; i++) printf("%s%.10g", i ? ", " : "", s->gap_Ra[i]);
+    printf("]}");
+    return;
+  }
+  printf("%-7s faces (C):", name);
+  for (size_t i = 0; i < 2 * n; i++) printf(" %.2f", s->T[i] - 273.15);
+  printf("   h_out %.2f  h_in %.2f W/(m2 K)", s->h_out, s->h_in);
+  for (size_t i = 0; i + 1 < n; i++) printf("  gap %zu h %.3f (Ra %.0f)", i + 1, s->gap_h[i], s->gap_Ra[i]);
+  printf("\n");
+}
+
+int spectro_cmd_thermal(vr_args *a) {
+  vr_error err = {0};
+  vr_matdb *db = NULL;
+  vr_standard *std = NULL;
+  char *list = NULL, *items[SPECTRO_MAX_PANES];
+  size_t n = 0;
+  vr_spectro_data *data[SPECTRO_MAX_PANES] = {0};
+  vr_pane *panes[SPECTRO_MAX_PANES] = {0}, *sys_optics = NULL;
+  pane_info info[SPECTRO_MAX_PANES] = {0};
+  vr_thermal_system sys = {0};
+  int rc = 1;
+  const char *stdname = vr_args_get(a, "standard");
+  bool json = vr_args_flag(a, "json");
+  if (vr_args_double(a, "height", 1.0, &sys.height_m, &err) ||
+      vr_args_double(a, "tilt", 90.0, &sys.tilt_deg, &err))
+    goto out;
+  if (!(sys.height_m > 0 && sys.height_m <= 100)) {
+    vr_error_set(&err, VR_E_RANGE, "--height %g: expected a glazing height in (0, 100] m",
+                 sys.height_m);
+    goto out;
+  }
+  if (!(sys.tilt_deg >= 0 && sys.tilt_deg <= 180)) {
+    vr_error_set(&err, VR_E_RANGE, "--tilt %g: expected 0 to 180 degrees (90: vertical)",
+                 sys.tilt_deg);
+    goto out;
+  }
+  if (vr_standard_open(stdname ? stdname : "nfrc", &std, &err)) goto out;
+  if (spectro_pane_items(a, &list, items, &n, &err)) goto out;
+  if (n > VR_THERMAL_MAX_PANES) {
+    vr_error_set(&err, VR_E_ARG, "%zu panes: the heat balance takes at most %d", n,
+                 VR_THERMAL_MAX_PANES);
+    goto out;
+  }
+  sys.n = n;
+  if (parse_gaps(vr_args_get(a, "gaps"), &sys, n, &err)) goto out;
+  for (size_t i = 0; i < n; i++) {
+    if (spectro_pane_source(a, items[i], &db, &data[i], &err)) goto out;
+    const vr_spectro_curve *c = NULL;
+    for (size_t k = 0; k < data[i]->ncurves && !c; k++)
+      if (data[i]->curves[k].angle_deg == 0) c = &data[i]->curves[k];
+    if (!c) {
+      vr_error_set(&err, VR_E_ARG, "%s has no normal-incidence spectrum (angle 0)", items[i]);
+      goto out;
+    }
+    if (vr_pane_from_curve(c, data[i]->thickness_nm, 0, VR_ROUTE_AUTO, NAN, &panes[i], NULL, &err)) {
+      vr_error_prefix(&err, "%s: ", items[i]);
+      goto out;
+    }
+    if (pane_thermal(std, data[i], panes[i], items[i], &sys.pane[i], &info[i], &err)) goto out;
+  }
+  double A[SPECTRO_MAX_PANES];
+  vr_glazing_metrics m;
+  if (vr_pane_combine(panes, n, &sys_optics, &err) ||
+      vr_glazing_metrics_compute(std, sys_optics, &m, &err) ||
+      vr_glazing_layer_absorptance(std, "SOLAR", panes, n, false, A, &err))
+    goto out;
+  for (size_t i = 0; i < n; i++) sys.pane[i].absorptance = A[i];
+  vr_thermal_figures f;
+  if (vr_thermal_nfrc(&sys, m.Tsol, &f, &err)) goto out;
+  if (json) {
+    printf("{\"method\": \"ISO 15099 centre of glass, NFRC 100/200\", \"standard\": \"%s\", "
+           "\"U\": %.12g, \"SHGC\": %.12g, \"Tsol\": %.12g, \"height_m\": %g, \"tilt_deg\": %g, "
+           "\"panes\": [", std->name, f.U, f.SHGC, m.Tsol, sys.height_m, sys.tilt_deg);
+    for (size_t i = 0; i < n; i++)
+      printf("%s{\"source\": \"%s\", \"thickness_mm\": %.10g, \"conductivity\": %.10g, "
+             "\"emissivity\": [%.12g, %.12g], \"coated\": [%s, %s], \"solar_absorptance\": %.12g}",
+             i ? ", " : "", items[i], sys.pane[i].thickness_m * 1e3, sys.pane[i].conductivity,
+             sys.pane[i].emis[0], sys.pane[i].emis[1], info[i].coated[0] ? "true" : "false",
+             info[i].coated[1] ? "true" : "false", A[i]);
+    printf("], \"gaps\": [");
+    for (size_t i = 0; i + 1 < n; i++) {
+      printf("%s{\"thickness_mm\": %.10g, \"gas\": \"", i ? ", " : "", sys.gap[i].thickness_m * 1e3);
+      for (size_t g = 0; g < sys.gap[i].gas.n; g++)
+        printf("%s%s:%g", g ? "+" : "", vr_gas_name(sys.gap[i].gas.id[g]), sys.gap[i].gas.frac[g]);
+      printf("\"}");
+    }
+    printf("], ");
+    print_state("winter", &f.winter, n, true);
+    printf(", ");
+    print_state("summer", &f.summer, n, true);
+    printf("}\n");
+  } else {
+    printf("ISO 15099 centre of glass, NFRC 100 (U) / 200 (SHGC); optics under %s; height %g m, "
+           "tilt %g deg\n", std->name, sys.height_m, sys.tilt_deg);
+    for (size_t i = 0; i < n; i++) {
+      printf("pane %zu  %s: %.3f mm, k %.3g W/(m K)%s, emissivity %.4f (%s) / %.4f (%s), solar "
+             "absorptance %.4f\n", i + 1, items[i], sys.pane[i].thickness_m * 1e3,
+             sys.pane[i].conductivity, info[i].conductivity_assumed ? " (assumed: glass)" : "",
+             sys.pane[i].emis[0], info[i].emis_from[0], sys.pane[i].emis[1], info[i].emis_from[1],
+             A[i]);
+      if (i + 1 < n) {
+        printf("gap  %zu  %.2f mm ", i + 1, sys.gap[i].thickness_m * 1e3);
+        for (size_t g = 0; g < sys.gap[i].gas.n; g++)
+          printf("%s%s %.0f%%", g ? " + " : "", vr_gas_name(sys.gap[i].gas.id[g]),
+                 100 * sys.gap[i].gas.frac[g]);
+        printf("\n");
+      }
+    }
+    printf("U-factor  %.4f W/(m2 K)\nSHGC      %.4f   (Tsol %.4f)\n", f.U, f.SHGC, m.Tsol);
+    print_state("winter", &f.winter, n, false);
+    print_state("summer", &f.summer, n, false);
+  }
+  rc = 0;
+out:
+  if (rc) rc = spectro_fail(&err);
+  for (size_t i = 0; i < n; i++) {
+    vr_spectro_destroy(data[i]);
+    vr_pane_destroy(panes[i]);
+  }
+  vr_pane_destroy(sys_optics);
+  vr_standard_destroy(std);
+  vr_matdb_close(db);
+  free(list);
+  return rc;
+}
