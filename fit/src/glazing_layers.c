@@ -111,7 +111,7 @@ double vr_emissivity_hemispherical(double normal, bool coated) {
 }
 
 vr_status vr_pane_emissivity(const vr_standard *std, const vr_pane *pane, double normal[2],
-                             vr_error *err) {
+                             double *tir, vr_error *err) {
   const vr_std_method *m = vr_standard_method(std, "THERMAL IR");
   if (!m)
     return vr_error_set(err, VR_E_NOT_FOUND, "standard %s has no THERMAL IR method", std->name);
@@ -127,6 +127,12 @@ vr_status vr_pane_emissivity(const vr_standard *std, const vr_pane *pane, double
       v[i] = 1.0 - 0.5 * (pane->T[0][i] + pane->T[1][i]) - 0.5 * (R[0][i] + R[1][i]);
     vr_spectrum *s = vr_spectrum_create(pane->n, pane->nm, v, err);
     st = s ? vr_std_average(m, s, &normal[side], err) : (err ? err->status : VR_E_NOMEM);
+    vr_spectrum_destroy(s);
+  }
+  if (!st && tir) {
+    for (size_t i = 0; i < pane->n; i++) v[i] = 0.5 * (pane->T[0][i] + pane->T[1][i]);
+    vr_spectrum *s = vr_spectrum_create(pane->n, pane->nm, v, err);
+    st = s ? vr_std_average(m, s, tir, err) : (err ? err->status : VR_E_NOMEM);
     vr_spectrum_destroy(s);
   }
   free(v);

@@ -259,9 +259,11 @@ vr_status vr_thermal_solve(const vr_thermal_system *s, const vr_thermal_env *e, 
   double Tsi = x[4 * (n - 1) + 3], Jsi = x[4 * (n - 1) + 2], Tso = x[0], Jso = x[1];
   hc_in = indoor_h(e, H, tilt, Tsi);
   out->q_in = (J_in - Jsi) + hc_in * (e->T_in - Tsi);
-  out->h_in = hc_in + (J_in - Jsi) / (e->T_in - Tsi);
+  /* Film coefficients, convective plus radiative (the radiative part is
+   * undefined when the face sits at the environment's temperature). */
   double Trad_out = pow(J_out / sg, 0.25);
-  out->h_out = hc_out + (Jso - J_out) / (Tso - Trad_out);
+  out->h_in = hc_in + (fabs(e->T_in - Tsi) > 1e-9 ? (J_in - Jsi) / (e->T_in - Tsi) : 0.0);
+  out->h_out = hc_out + (fabs(Tso - Trad_out) > 1e-9 ? (Jso - J_out) / (Tso - Trad_out) : 0.0);
   out->iterations = it;
   return VR_OK;
 }

@@ -590,15 +590,7 @@ vr_status vr_spectro_from_material(const vr_material *m, vr_spectro_data **out, 
   d->source = strdup(m->prov.source_path ? m->prov.source_path : m->name);
   const vr_property *th = vr_material_property(m, "thickness");
   d->thickness_nm = th && isfinite(th->value) ? th->value * 1e6 : NAN;
-  vr_spectro_thermal_init(&d->thermal);
-  const vr_property *ef = vr_material_property(m, "emissivity_front");
-  const vr_property *eb = vr_material_property(m, "emissivity_back");
-  const vr_property *kc = vr_material_property(m, "conductivity");
-  const vr_property *cs = vr_material_property(m, "coated_side");
-  if (ef && eb && isfinite(ef->value) && isfinite(eb->value))
-    d->thermal.emissivity[0] = ef->value, d->thermal.emissivity[1] = eb->value;
-  if (kc && isfinite(kc->value) && kc->value > 0) d->thermal.conductivity = kc->value;
-  if (cs && cs->text) vr_spectro_coated_parse(cs->text, &d->thermal.coated);
+  vr_spectro_thermal_from_material(m, &d->thermal);
   d->has_Rf = Rf != NULL;
   d->has_Rb = Rb != NULL;
   vr_status st = d->source ? VR_OK : vr_error_set(err, VR_E_NOMEM, "out of memory");

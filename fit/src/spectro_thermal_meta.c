@@ -7,11 +7,13 @@
 #include <string.h>
 #include <strings.h>
 
+#include "vr/material.h"
 #include "vr/spectro_data.h"
 
 void vr_spectro_thermal_init(vr_spectro_thermal *t) {
   t->emissivity[0] = t->emissivity[1] = NAN;
   t->conductivity = NAN;
+  t->tir = NAN;
   t->coated = VR_COATED_UNKNOWN;
   t->line = 0;
 }
@@ -79,10 +81,26 @@ vr_status vr_spectro_thermal_line(const char *c, const char *file, long line,
   } else if ((v = value_of(c, "conductivity"))) {
     /* W/(m K); glass about 1, polymers 0.1-0.3, metals far above. */
     if ((st = number(&v, file, line, "conductivity", 1e-3, 1e3, &t->conductivity, err))) return st;
+  } else if ((v = value_of(c, "ir transmittance"))) {
+    if ((st = number(&v, file, line, "ir transmittance", 0, 1, &t->tir, err))) return st;
   } else if ((v = value_of(c, "coated side")) || (v = value_of(c, "coated_side"))) {
     if (vr_spectro_coated_parse(v, &t->coated))
       return vr_error_at(err, VR_E_PARSE, file, line, 0,
                          "field 'coated side': expected front, back, both or neither");
   }
   return VR_OK;
+}
+
+void vr_spectro_thermal_from_material(const vr_material *m, vr_spectro_thermal *t) {
+  vr_spectro_thermal_init(t);
+  const vr_property *ef = vr_material_property(m, "emissivity_front");
+  const vr_property *eb = vr_material_property(m, "emissivity_back");
+  const vr_property *kc = vr_material_property(m, "conductivity");
+  const vr_property *cs = vr_material_property(m, "coated_side");
+  const vr_property *ti = vr_material_property(m, "ir_transmittance");
+  if (ti && ti->value >= 0 && ti->value <= 1) t->tir = ti->value;
+  if (ef && eb && isfinite(ef->value) && isfinite(eb->value))
+    t->emissivity[0] = ef->value, t->emissivity[1] = eb->value;
+  if (kc && isfinite(kc->value) && kc->value > 0) t->conductivity = kc->value;
+  if (cs && cs->text) vr_spectro_coated_parse(cs->text, &t->coated);
 }

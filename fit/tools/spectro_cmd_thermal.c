@@ -18,7 +18,6 @@
 
 typedef struct pane_info {
   const char *emis_from[2];
-  bool coated[2];
   bool conductivity_assumed;
 } pane_info;
 
@@ -58,12 +57,50 @@ static vr_status parse_gaps(const char *s, vr_thermal_system *sys, size_t npanes
   return VR_OK;
 }
 
+/* --emissivity "0.84,0.84:0.15,-": each pane's hemispherical emissivity,
+ * F (both faces) or F:B; "-" or an empty item keeps the pane's own.  NAN
+ * where none is given. */
+static vr_status parse_emissivity(const char *s, size_t npanes, double (*e)[2], vr_error *err) {
+  for (size_t i = 0; i < npanes; i++) e[i][0] = e[i][1] = NAN;
+  if (!s) return VR_OK;
+  const char *p = s;
+  for (size_t i = 0;; i++) {
+    if (i == npanes)
+      return vr_error_set(err, VR_E_RANGE, "--emissivity '%s': more items than the %zu pane(s)", s,
+                          npanes);
+    while (*p == ' ') p++;
+    if (*p == '-' && (p[1] == ',' || !p[1])) {
+      p++;
+    } else if (*p != ',' && *p) {
+      for (int f = 0; f < 2; f++) {
+        char *end;
+        double v = strtod(p, &end);
+        if (end == p || !(v >= 0 && v <= 1))
+          return vr_error_set(err, VR_E_RANGE, "--emissivity '%s': pane %zu: expected F or F:B, "
+                                               "each in [0, 1]", s, i + 1);
+        e[i][f] = v;
+        p = end;
+        if (f == 0 && *p != ':') {
+          e[i][1] = v;
+          break;
+        }
+        if (f == 0) p++;
+      }
+    }
+    if (!*p) return VR_OK;
+    if (*p != ',')
+      return vr_error_set(err, VR_E_RANGE, "--emissivity '%s': pane %zu: expected ',' after it", s,
+                          i + 1);
+    p++;
+  }
+}
+
 /* A pane's thermal data: thickness, conductivity, hemispherical emissivity
  * of each face (from its thermal-infrared data when they reach the
  * standard's THERMAL IR range, else as its file states). */
 static vr_status pane_thermal(const vr_standard *std, const vr_spectro_data *d, const vr_pane *p,
-                              const char *item, vr_thermal_pane *tp, pane_info *info,
-                              vr_error *err) {
+                              const char *item, const double given[2], vr_thermal_pane *tp,
+                              pane_info *info, vr_error *err) {
   if (!isfinite(d->thickness_nm))
     return vr_error_set(err, VR_E_NOT_FOUND, "%s: no thickness (a '# thickness: 3 mm' line, the "
                                              "file's header or --thickness)", item);
@@ -71,16 +108,22 @@ static vr_status pane_thermal(const vr_standard *std, const vr_spectro_data *d, 
   tp->conductivity = d->thermal.conductivity;
   info->conductivity_assumed = !isfinite(tp->conductivity);
   if (info->conductivity_assumed) tp->conductivity = 1.0; /* soda-lime glass, EN 572-1 */
-  tp->tir = 0.0;
+  tp->tir = isfinite(d->thermal.tir) ? d->thermal.tir : 0.0;
+  if (isfinite(given[0])) {
+    for (int f = 0; f < 2; f++) {
+      tp->emis[f] = given[f];
+      info->emis_from[f] = "--emissivity";
+    }
+    return VR_OK;
+  }
   double en[2];
   vr_error e2 = {0};
-  if (!vr_pane_emissivity(std, p, en, &e2)) {
+  if (!vr_pane_emissivity(std, p, en, &tp->tir, &e2)) {
     for (int f = 0; f < 2; f++) {
       vr_coated_side cs = d->thermal.coated;
       bool coated = cs == VR_COATED_BOTH || (f == 0 && cs == VR_COATED_FRONT) ||
                     (f == 1 && cs == VR_COATED_BACK);
       if (cs == VR_COATED_UNKNOWN) coated = en[f] < COATED_BELOW;
-      info->coated[f] = coated;
       tp->emis[f] = vr_emissivity_hemispherical(en[f], coated);
       info->emis_from[f] = cs == VR_COATED_UNKNOWN
                                ? (coated ? "IR data, NFRC 301 coated (normal emissivity < 0.84)"
@@ -96,8 +139,9 @@ static vr_status pane_thermal(const vr_standard *std, const vr_spectro_data *d, 
   if (!isfinite(d->thermal.emissivity[0]))
     return vr_error_set(err, VR_E_NOT_FOUND,
                         "%s: no emissivity: its data do not reach the thermal infrared (%s) and the "
-                        "file gives none (a '# emissivity: 0.84 0.84' line, front and back, or an "
-                        "Optics '{ Emissivity, front back }' header)", item, e2.message);
+                        "file gives none (a '# emissivity: 0.84 0.84' line, front and back, an "
+                        "Optics '{ Emissivity, front back }' header, or --emissivity)", item,
+                        e2.message);
   for (int f = 0; f < 2; f++) {
     tp->emis[f] = d->thermal.emissivity[f];
     info->emis_from[f] = "the file's header";
@@ -158,7 +202,10 @@ int spectro_cmd_thermal(vr_args *a) {
     goto out;
   }
   sys.n = n;
-  if (parse_gaps(vr_args_get(a, "gaps"), &sys, n, &err)) goto out;
+  double given[SPECTRO_MAX_PANES][2];
+  if (parse_gaps(vr_args_get(a, "gaps"), &sys, n, &err) ||
+      parse_emissivity(vr_args_get(a, "emissivity"), n, given, &err))
+    goto out;
   for (size_t i = 0; i < n; i++) {
     if (spectro_pane_source(a, items[i], &db, &data[i], &err)) goto out;
     const vr_spectro_curve *c = NULL;
@@ -172,7 +219,8 @@ int spectro_cmd_thermal(vr_args *a) {
       vr_error_prefix(&err, "%s: ", items[i]);
       goto out;
     }
-    if (pane_thermal(std, data[i], panes[i], items[i], &sys.pane[i], &info[i], &err)) goto out;
+    if (pane_thermal(std, data[i], panes[i], items[i], given[i], &sys.pane[i], &info[i], &err))
+      goto out;
   }
   double A[SPECTRO_MAX_PANES];
   vr_glazing_metrics m;
@@ -189,10 +237,11 @@ int spectro_cmd_thermal(vr_args *a) {
            "\"panes\": [", std->name, f.U, f.SHGC, m.Tsol, sys.height_m, sys.tilt_deg);
     for (size_t i = 0; i < n; i++)
       printf("%s{\"source\": \"%s\", \"thickness_mm\": %.10g, \"conductivity\": %.10g, "
-             "\"emissivity\": [%.12g, %.12g], \"coated\": [%s, %s], \"solar_absorptance\": %.12g}",
+             "\"emissivity\": [%.12g, %.12g], \"emissivity_from\": [\"%s\", \"%s\"], "
+             "\"ir_transmittance\": %.12g, \"solar_absorptance\": %.12g}",
              i ? ", " : "", items[i], sys.pane[i].thickness_m * 1e3, sys.pane[i].conductivity,
-             sys.pane[i].emis[0], sys.pane[i].emis[1], info[i].coated[0] ? "true" : "false",
-             info[i].coated[1] ? "true" : "false", A[i]);
+             sys.pane[i].emis[0], sys.pane[i].emis[1], info[i].emis_from[0], info[i].emis_from[1],
+             sys.pane[i].tir, A[i]);
     printf("], \"gaps\": [");
     for (size_t i = 0; i + 1 < n; i++) {
       printf("%s{\"thickness_mm\": %.10g, \"gas\": \"", i ? ", " : "", sys.gap[i].thickness_m * 1e3);
@@ -208,6 +257,10 @@ int spectro_cmd_thermal(vr_args *a) {
   } else {
     printf("ISO 15099 centre of glass, NFRC 100 (U) / 200 (SHGC); optics under %s; height %g m, "
            "tilt %g deg\n", std->name, sys.height_m, sys.tilt_deg);
+    static const char *const TINT[] = {"state", "charge", "uv"};
+    for (int t = 0; t < 3; t++)
+      if (vr_args_get(a, TINT[t]))
+        printf("chromogenic panes at --%s %s\n", TINT[t], vr_args_get(a, TINT[t]));
     for (size_t i = 0; i < n; i++) {
       printf("pane %zu  %s: %.3f mm, k %.3g W/(m K)%s, emissivity %.4f (%s) / %.4f (%s), solar "
              "absorptance %.4f\n", i + 1, items[i], sys.pane[i].thickness_m * 1e3,

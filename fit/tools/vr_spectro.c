@@ -46,6 +46,7 @@ static const vr_option OPTIONS[] = {
     {"gaps", 0, "MM:GAS,...", "thermal: the gaps between panes, e.g. 12.7:air or 16:argon:0.9+air:0.1"},
     {"height", 0, "M", "thermal: glazing height for natural convection (default 1 m, NFRC)"},
     {"tilt", 0, "DEG", "thermal: tilt from horizontal (default 90: vertical)"},
+    {"emissivity", 0, "LIST", "thermal: hemispherical emissivity per pane, F or F:B, comma-separated ('-': the pane's own)"},
     {"force", 0, NULL, "fit: accept (exit 0) and --save a fit that does not describe the data"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
@@ -57,7 +58,7 @@ static const char USAGE[] =
     "       vr-spectro bsdf-xml FILE|NAME|--panes A,B|--stack FILE.model --out F.xml [--standard S] [--state S]\n"
     "       vr-spectro btdf FILE|NAME|--stack FILE [--angles LIST] [--wavelengths A:B:S] [--scatter FILE] [--save NAME] [--json]\n"
     "       vr-spectro chromogenic FILES... --states LIST [--save NAME] [--json]\n"
-    "       vr-spectro thermal FILE|NAME|--panes A,B --gaps MM:GAS,... [--height M] [--tilt DEG] [--json]\n"
+    "       vr-spectro thermal FILE|NAME|--panes A,B --gaps MM:GAS,... [--emissivity LIST] [--state S] [--height M] [--tilt DEG] [--json]\n"
     "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T] [--extrapolate]] [--json]";
 static const char ABOUT[] =
     "Spectrophotometry of glass (T, Rf, Rb; CSV, Cary/Lambda CSV exports, LBNL Optics/IGDB\n"
@@ -84,7 +85,7 @@ static const char ABOUT[] =
     "thermal: U-factor and SHGC (g-value) by ISO 15099 under NFRC 100/200, as WINDOW and\n"
     "  Windows-CalcEngine: layer solar absorptances from the spectra, emissivities from\n"
     "  thermal-infrared data (NFRC 301) or the file's header, gas gaps of air, argon,\n"
-    "  krypton, xenon or mixtures.\n"
+    "  krypton, xenon or mixtures; chromogenic panes at --state/--charge/--uv.\n"
     "state: a chromogenic material's spectrum at a state, a charge (within the range the\n"
     "  model was fitted on) or a UV irradiance.";
 
@@ -350,6 +351,7 @@ vr_status spectro_pane_source(const vr_args *a, const char *item, vr_matdb **db,
     const vr_property *th = vr_material_property(m, "thickness");
     if (isnan(d_nm) && th && th->value > 0) d_nm = th->value * 1e6;
     st = curve_from_material(a, m, d_nm, out, err);
+    if (!st) vr_spectro_thermal_from_material(m, &(*out)->thermal);
   }
   vr_material_destroy(m);
   return st;
@@ -389,6 +391,7 @@ static bool foreign_option(const vr_args *a, const char *cmd) {
       {"gaps", "thermal", NULL},
       {"height", "thermal", NULL},
       {"tilt", "thermal", NULL},
+      {"emissivity", "thermal", NULL},
       {"angle", "metrics", NULL},
       {"phi", "metrics", NULL},
       {"out", "bsdf-xml", NULL},
@@ -400,11 +403,11 @@ static bool foreign_option(const vr_args *a, const char *cmd) {
       {"scatter", "btdf", NULL},
       {"index", "btdf", NULL},
       {"states", "chromogenic", NULL},
-      {"state", "metrics state bsdf-xml", NULL},
-      {"charge", "metrics state bsdf-xml", NULL},
-      {"uv", "metrics state bsdf-xml", NULL},
-      {"temperature", "metrics state bsdf-xml", NULL},
-      {"extrapolate", "metrics state bsdf-xml", NULL},
+      {"state", "metrics state bsdf-xml thermal", NULL},
+      {"charge", "metrics state bsdf-xml thermal", NULL},
+      {"uv", "metrics state bsdf-xml thermal", NULL},
+      {"temperature", "metrics state bsdf-xml thermal", NULL},
+      {"extrapolate", "metrics state bsdf-xml thermal", NULL},
   };
   for (size_t i = 0; i < sizeof TAKES / sizeof TAKES[0]; i++) {
     if (!vr_args_get(a, TAKES[i].opt)) continue;

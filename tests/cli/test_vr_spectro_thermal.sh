@@ -69,6 +69,7 @@ check "2191 | 102: pane 1 solar absorptance" near "['panes'][0]['solar_absorptan
 check "2191 | 102: pane 2 solar absorptance" near "['panes'][1]['solar_absorptance']" 0.05613042665402892
 check "2191: front emissivity (uncoated glass face)" near "['panes'][0]['emissivity'][0]" 0.8447920366878796
 check "2191: back emissivity (low-e coating)" near "['panes'][0]['emissivity'][1]" 0.06850712659610673
+check "2191: thermal-infrared transmittance (WinCalc 0)" near "['panes'][0]['ir_transmittance']" 0.0
 check "2191 | 102 winter: outer face temperature" near "['winter']['T'][0]" 257.4675911673269
 check "2191 | 102 winter: inner face temperature" near "['winter']['T'][3]" 284.7001966296851
 
@@ -91,6 +92,33 @@ run --panes "$clear3,$clear3" --gaps 12.7:argon:0.9+air:0.1; um=$(u_of)
 check "argon fill: U below air's by more than 0.1 ($ur < $ua)" python3 -c "assert $ur < $ua - 0.1"
 check "90 % argon: U between argon's and air's ($um)" python3 -c "assert $ur < $um < $ua"
 
+# A chromogenic pane from the database at a tint state (the sample
+# electrochromic glass of the main job's database: its data stop at 2.5 um,
+# so its emissivity is given) equals the same state's spectrum read as a
+# file (vr-spectro state, values to 6 decimals: within 1e-5); tinting
+# lowers the SHGC and leaves U alone (U does not depend on the sun).
+db="$tmp/ec.db"
+"$bin" chromogenic "$VR_SOURCE_DIR/samples/glazing/electrochromic/ec_states.csv" --save ec --db "$db" > /dev/null 2>&1
+check "electrochromic model saved" test -s "$db"
+"$bin" state ec --state 1 --db "$db" > "$tmp/ec1.csv"
+{ echo "# thickness: 6 mm"; cat "$tmp/ec1.csv"; } > "$tmp/ec1_t.csv"
+run --panes "ec,$clear3" --gaps 12.7:air --state 1 --emissivity 0.84,- --db "$db"; rc=$?
+check "electrochromic | NFRC 102 at state 1: thermal runs" test $rc -eq 0
+cp "$tmp/run.json" "$tmp/ec_db.json"
+run --panes "$tmp/ec1_t.csv,$clear3" --gaps 12.7:air --emissivity 0.84,-
+check "state 1 from the database equals its spectrum read as a file" python3 - "$tmp/ec_db.json" "$tmp/run.json" <<'PY'
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+assert abs(a['U'] - b['U']) < 1e-5 and abs(a['SHGC'] - b['SHGC']) < 1e-5, (a['U'], b['U'], a['SHGC'], b['SHGC'])
+PY
+run --panes "ec,$clear3" --gaps 12.7:air --state 0 --emissivity 0.84,- --db "$db"
+check "bleached (state 0) lets in more sun than tinted (state 1), same U" python3 - "$tmp/ec_db.json" "$tmp/run.json" <<'PY'
+import json, sys
+dark, clear = (json.load(open(f)) for f in sys.argv[1:3])
+assert clear['SHGC'] > dark['SHGC'] + 0.2, (clear['SHGC'], dark['SHGC'])
+assert abs(clear['U'] - dark['U']) < 1e-9, (clear['U'], dark['U'])
+PY
+
 # Bad input.
 printf 'wavelength_um,T,Rf,Rb\n0.3,0.5,0.1,0.1\n1.0,0.5,0.1,0.1\n2.5,0.5,0.1,0.1\n' > "$tmp/noemis.csv"
 { echo "# thickness: 4 mm"; cat "$tmp/noemis.csv"; } > "$tmp/noemis_t.csv"
@@ -101,5 +129,6 @@ refuse spectro-thermal-unknown-gas "$bin" thermal --panes "$clear3,$clear3" --ga
 refuse spectro-thermal-gas-fractions "$bin" thermal --panes "$clear3,$clear3" --gaps 12.7:argon:0.9+air:0.2
 { echo "# thickness: 3 mm"; echo "# emissivity: 1.3 0.84"; cat "$tmp/noemis.csv"; } > "$tmp/bademis.csv"
 refuse spectro-thermal-bad-emissivity "$bin" thermal "$tmp/bademis.csv"
+refuse spectro-thermal-emissivity-option "$bin" thermal --panes "$clear3,$clear3" --gaps 12.7:air --emissivity 0.84,1.5
 
 finish

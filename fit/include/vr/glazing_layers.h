@@ -42,10 +42,11 @@ vr_status vr_glazing_layer_absorptance(const vr_standard *std, const char *metho
                                        double *A, vr_error *err);
 
 /* normal[0] front, normal[1] back: normal emissivity of the pane's faces
- * under the THERMAL IR method; VR_E_RANGE when the data do not reach the
- * thermal infrared (the message says how much is uncovered). */
+ * under the THERMAL IR method, and *tir (may be NULL) its transmittance
+ * there; VR_E_RANGE when the data do not reach the thermal infrared (the
+ * message says how much is uncovered). */
 vr_status vr_pane_emissivity(const vr_standard *std, const vr_pane *pane, double normal[2],
-                             vr_error *err);
+                             double *tir, vr_error *err);
 
 /* Hemispherical emissivity from normal emissivity (NFRC 301). */
 double vr_emissivity_hemispherical(double normal, bool coated);

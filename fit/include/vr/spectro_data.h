@@ -73,13 +73,16 @@ typedef enum vr_coated_side {
  * glazing (vr/glazing_thermal.h):
  *   CSV comments   "# emissivity: 0.84 0.068" (front back; one value for
  *                  both), "# conductivity: 1.0" (W/(m K)), "# coated side:
- *                  back" (front, back, both, neither);
+ *                  back" (front, back, both, neither), "# ir transmittance:
+ *                  0" (of a film or plastic pane; glass: 0);
  *   LBNL Optics    "{ Emissivity, front back } Emis= 0.84 0.84",
- *                  "{ Conductivity } 1", "{ Coated Side: Back }".
+ *                  "{ Conductivity } 1", "{ IR Transmittance } TIR=0",
+ *                  "{ Coated Side: Back }".
  * NAN / VR_COATED_UNKNOWN when not given. */
 typedef struct vr_spectro_thermal {
   double emissivity[2];      /* hemispherical, front and back */
   double conductivity;       /* W/(m K) */
+  double tir;                /* thermal-infrared transmittance */
   vr_coated_side coated;
   long line;                 /* of the emissivity, 0 if none */
 } vr_spectro_thermal;
@@ -113,6 +116,9 @@ void vr_spectro_thermal_init(vr_spectro_thermal *t);
  * naming file, line and field. */
 vr_status vr_spectro_thermal_line(const char *comment, const char *file, long line,
                                   vr_spectro_thermal *t, vr_error *err);
+/* A material's thermal properties (emissivity_front/back, conductivity,
+ * coated_side, as the IGDB importer stores them). */
+void vr_spectro_thermal_from_material(const vr_material *m, vr_spectro_thermal *t);
 /* "front", "back", "both", "neither"/"none" (case-insensitive). */
 vr_status vr_spectro_coated_parse(const char *s, vr_coated_side *out);
 
