@@ -12,14 +12,14 @@ build=${1:-build}
 # MUTATIONS="3 5" runs only those (default: all).  Exit status: 0 when
 # every mutation run was caught, 1 when one was not (or did not build), 2
 # for a bad argument.
-only=" ${MUTATIONS:-1 2 3 4 5} "
+only=" ${MUTATIONS:-1 2 3 4 5 6} "
 for m in $only; do
-  case "$m" in [1-5]) ;; *) echo "mutation-check: MUTATIONS='${MUTATIONS:-}': $m is not a mutation (1 to 5, separated by spaces)" >&2; exit 2 ;; esac
+  case "$m" in [1-6]) ;; *) echo "mutation-check: MUTATIONS='${MUTATIONS:-}': $m is not a mutation (1 to 6, separated by spaces)" >&2; exit 2 ;; esac
 done
 want() { case "$only" in *" $1 "*) return 0 ;; esac; return 1; }
 missed=0
 files=(render/src/lights/spd.c core/src/fresnel.c render/src/film/accum.c core/src/cmf.c
-       render/src/ddm/flow.c)
+       render/src/ddm/flow.c fit/src/gas.c)
 if [ -n "$(git status --porcelain -- "${files[@]}")" ]; then
   echo "mutation-check: ${files[*]} have changes of their own; commit or stash them first" >&2
   exit 2
@@ -90,5 +90,12 @@ if want 5; then
   sed -i 's|^      w->st.crossings++;$|      w->st.crossings++;\n      if (w->st.crossings % 1000 == 0) { finish(w, 1); return; }|' render/src/ddm/flow.c
   applied 5 render/src/ddm/flow.c
   run "one in 1000 hand-overs between cells drops its ray (render/src/ddm/flow.c, trace)"
+fi
+# 6. A gas's conductivity 1 % high (every fill: the gaps' conduction and
+#    convection, the indoor film's natural convection).
+if want 6; then
+  sed -i 's|    lam\[i\] = GAS\[id\].lambda\[0\] + GAS\[id\].lambda\[1\] \* T;|    lam[i] = 1.01 * (GAS[id].lambda[0] + GAS[id].lambda[1] * T);|' fit/src/gas.c
+  applied 6 fit/src/gas.c
+  run "fill gases' conductivity 1 % high (fit/src/gas.c, vr_gas_properties)"
 fi
 exit $missed

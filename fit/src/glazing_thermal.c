@@ -8,6 +8,7 @@
 #define RELAX 0.65
 #define TOL 1e-8
 #define MAX_ITER 5000
+#define EMIS_FLOOR 1e-6
 
 const vr_thermal_env VR_ENV_NFRC_U = {"NFRC 100 winter", 294.15, 255.15, 255.15, 5.5, 0.0, 101325};
 const vr_thermal_env VR_ENV_NFRC_SHGC = {"NFRC 200 summer", 297.15, 305.15, 305.15, 2.75, 783.0,
@@ -190,7 +191,12 @@ vr_status vr_thermal_solve(const vr_thermal_system *s, const vr_thermal_env *e, 
       const vr_thermal_pane *p = &s->pane[i];
       double c = p->conductivity / p->thickness_m, tau = p->tir;
       double S = with_sun ? p->absorptance * e->solar_wm2 : 0.0;
-      double rf = fmax(0.0, 1.0 - p->emis[0] - tau), rb = fmax(0.0, 1.0 - p->emis[1] - tau);
+      /* Two facing faces that are perfect mirrors (emissivity 0, opaque)
+       * exchange nothing, but their radiosities are then undetermined (a
+       * singular system): emissivities below EMIS_FLOOR count as it,
+       * which adds under 1e-6 sigma T^4 (5e-4 W/m2) of exchange. */
+      double ef = fmax(p->emis[0], EMIS_FLOOR), eb = fmax(p->emis[1], EMIS_FLOOR);
+      double rf = fmax(0.0, 1.0 - ef - tau), rb = fmax(0.0, 1.0 - eb - tau);
       double Tf = x[4 * i], Tb = x[4 * i + 3];
       int r = 4 * i, iTf = r, iJf = r + 1, iJb = r + 2, iTb = r + 3;
       int iGf = i > 0 ? 4 * (i - 1) + 2 : -1, iGb = i + 1 < n ? 4 * (i + 1) + 1 : -1;
@@ -209,7 +215,7 @@ vr_status vr_thermal_solve(const vr_thermal_system *s, const vr_thermal_env *e, 
       xn[r] = bf + 0.5 * S;
       /* Front radiosity. */
       row = a + (size_t)(r + 1) * N;
-      row[iTf] += p->emis[0] * sg * Tf * Tf * Tf, row[iJf] -= 1.0;
+      row[iTf] += ef * sg * Tf * Tf * Tf, row[iJf] -= 1.0;
       if (iGf >= 0) row[iGf] += rf;
       else b1 -= rf * J_out;
       if (iGb >= 0) row[iGb] += tau;
@@ -217,7 +223,7 @@ vr_status vr_thermal_solve(const vr_thermal_system *s, const vr_thermal_env *e, 
       xn[r + 1] = b1;
       /* Back radiosity. */
       row = a + (size_t)(r + 2) * N;
-      row[iTb] += p->emis[1] * sg * Tb * Tb * Tb, row[iJb] -= 1.0;
+      row[iTb] += eb * sg * Tb * Tb * Tb, row[iJb] -= 1.0;
       if (iGf >= 0) row[iGf] += tau;
       else b2 -= tau * J_out;
       if (iGb >= 0) row[iGb] += rb;

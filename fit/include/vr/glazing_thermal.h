@@ -25,6 +25,11 @@
  * Outdoor radiation: sky and ground blended by the view factors of the tilt
  * (ISO 15099 8.3.1), both black at their temperatures.
  *
+ * Domain: panes 1 to 8, emissivities in [0, 1] (below 1e-6 taken as 1e-6:
+ * two facing perfect mirrors would leave their radiosities undetermined),
+ * gas gaps above 13.3 Pa, any tilt; the heat balance is refused, not
+ * guessed, when it does not converge.
+ *
  * U = q_in / (Tin - Tout) without sun (q_in: the heat leaving the room
  * through the inner face, convective plus radiative); SHGC = Tsol +
  * (q_in,sun - q_in,dark) / I under the SHGC environment. */
