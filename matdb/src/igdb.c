@@ -106,7 +106,11 @@ static vr_status header_line(vr_material *m, const char *file, long line, char *
     snprintf(buf, sizeof buf, "%s", eq ? eq + 1 : after);
     char *save = NULL, *a = strtok_r(buf, " \t", &save), *b = strtok_r(NULL, " \t", &save);
     double ef, eb;
-    if (!a || !b)
+    /* A blank line ("{ Emissivity, front back }" and nothing, as Optics
+     * writes for a coated pane measured into the infrared, e.g. IGDB NFRC
+     * 20748) gives none: the spectra give it. */
+    if (!a) return VR_OK;
+    if (!b)
       return vr_error_at(err, VR_E_PARSE, file, line, 0, "field 'Emissivity': expected front and back values");
     if ((st = number_field(file, line, "Emissivity front", a, &ef, err)) ||
         (st = number_field(file, line, "Emissivity back", b, &eb, err)))

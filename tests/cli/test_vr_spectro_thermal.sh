@@ -9,7 +9,10 @@
 # to 1e-8 K agree to about 1e-11.
 # The products are the IGSDB JSON files of tests/data/spectro/igsdb and
 # NFRC 102 as LBNL's IGDB exports it (samples/glazing/clear_float/CLEAR_3.DAT,
-# emissivity 0.84 in its header: its data stop at 2.5 um).
+# emissivity 0.84 in its header: its data stop at 2.5 um), and NFRC 20748 as
+# an Optics export (.oag) whose emissivity line is blank (its 0.29-25 um
+# data give it; the file was refused before for that line) and whose
+# header names its coated side.
 set -u
 bin="$VR_BIN/vr-spectro"
 d="$VR_SOURCE_DIR/tests/data/spectro/igsdb"
@@ -34,7 +37,7 @@ PY
 
 run() { "$bin" thermal "$@" --json > "$tmp/run.json" 2> "$tmp/run.err"; }
 
-for id in 6046 21467 6400 2191; do to_csv "$d/nfrc_$id.json" "$tmp/$id.csv"; done
+for id in 6046 21467 6400 2191 18100; do to_csv "$d/nfrc_$id.json" "$tmp/$id.csv"; done
 to_csv "$d/nfrc_2191.json" "$tmp/2191_flipped.csv" flip
 
 # name | panes | gaps | U | SHGC  (WinCalc's expected_results folder)
@@ -51,6 +54,8 @@ done <<CASES
 1_layer/coated_nfrc_6046|$tmp/6046.csv||3.2409930984363995|0.43464336333111486
 1_layer/coated_nfrc_21467|$tmp/21467.csv||5.93242846224096|0.8673626769120065
 1_layer/coated_nfrc_6400|$tmp/6400.csv||3.2325663373234694|0.33695129385521044
+1_layer/coated_nfrc_18100|$tmp/18100.csv||3.6254806589020436|0.7288634264717829
+1_layer/coated_nfrc_20748|$d/nfrc_20748.oag||5.610491853605495|0.281110415252291
 2_layers/nfrc_102_air_nfrc_102|$clear3,$clear3|12.7:air|2.729619384192485|0.7633049504435853
 2_layers/low_e_nfrc_2191_air_nfrc_102|$tmp/2191.csv,$clear3|12.7:air|1.736769339971244|0.6439151604209746
 2_layers/low_e_nfrc_2191_air_nfrc_102/flipped_low_e|$tmp/2191_flipped.csv,$clear3|12.7:air|2.706049323459113|0.6474536334746008
