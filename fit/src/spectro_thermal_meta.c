@@ -73,7 +73,8 @@ vr_status vr_spectro_thermal_line(const char *c, const char *file, long line,
     double e[2];
     if ((st = number(&v, file, line, "emissivity", 0, 1, &e[0], err))) return st;
     e[1] = e[0];
-    if (*v && *v != '\r' && *v != '\n' &&
+    /* A second number is the back's; words after one value are prose. */
+    if ((isdigit((unsigned char)*v) || *v == '.' || *v == '-' || *v == '+') &&
         (st = number(&v, file, line, "emissivity back", 0, 1, &e[1], err)))
       return st;
     t->emissivity[0] = e[0], t->emissivity[1] = e[1];

@@ -10,6 +10,7 @@
 #include "vr/gas.h"
 #include "vr/glazing_layers.h"
 #include "vr/glazing_thermal.h"
+#include "vr/json.h"
 
 /* Normal emissivity below which an unlabelled face is taken as coated:
  * uncoated soda-lime float glass has 0.89 (EN 12898 annex), so a face well
@@ -232,16 +233,19 @@ int spectro_cmd_thermal(vr_args *a) {
   vr_thermal_figures f;
   if (vr_thermal_nfrc(&sys, m.Tsol, &f, &err)) goto out;
   if (json) {
-    printf("{\"method\": \"ISO 15099 centre of glass, NFRC 100/200\", \"standard\": \"%s\", "
-           "\"U\": %.12g, \"SHGC\": %.12g, \"Tsol\": %.12g, \"height_m\": %g, \"tilt_deg\": %g, "
-           "\"panes\": [", std->name, f.U, f.SHGC, m.Tsol, sys.height_m, sys.tilt_deg);
-    for (size_t i = 0; i < n; i++)
-      printf("%s{\"source\": \"%s\", \"thickness_mm\": %.10g, \"conductivity\": %.10g, "
+    printf("{\"method\": \"ISO 15099 centre of glass, NFRC 100/200\", \"standard\": ");
+    vr_json_string(stdout, std->name);
+    printf(", \"U\": %.12g, \"SHGC\": %.12g, \"Tsol\": %.12g, \"height_m\": %g, \"tilt_deg\": %g, "
+           "\"panes\": [", f.U, f.SHGC, m.Tsol, sys.height_m, sys.tilt_deg);
+    for (size_t i = 0; i < n; i++) {
+      printf("%s{\"source\": ", i ? ", " : "");
+      vr_json_string(stdout, items[i]);
+      printf(", \"thickness_mm\": %.10g, \"conductivity\": %.10g, "
              "\"emissivity\": [%.12g, %.12g], \"emissivity_from\": [\"%s\", \"%s\"], "
              "\"ir_transmittance\": %.12g, \"solar_absorptance\": %.12g}",
-             i ? ", " : "", items[i], sys.pane[i].thickness_m * 1e3, sys.pane[i].conductivity,
-             sys.pane[i].emis[0], sys.pane[i].emis[1], info[i].emis_from[0], info[i].emis_from[1],
-             sys.pane[i].tir, A[i]);
+             sys.pane[i].thickness_m * 1e3, sys.pane[i].conductivity, sys.pane[i].emis[0],
+             sys.pane[i].emis[1], info[i].emis_from[0], info[i].emis_from[1], sys.pane[i].tir, A[i]);
+    }
     printf("], \"gaps\": [");
     for (size_t i = 0; i + 1 < n; i++) {
       printf("%s{\"thickness_mm\": %.10g, \"gas\": \"", i ? ", " : "", sys.gap[i].thickness_m * 1e3);
