@@ -55,6 +55,12 @@ vr_status spectro_panes_metrics(const vr_standard *std, vr_spectro_data *const *
                                 vr_glazing_metrics *m, const char **used_route, size_t *unsolved,
                                 vr_error *err);
 
+/* The normal-incidence curve of a source (item names it in messages);
+ * a file of several tint states is refused (use chromogenic, then the
+ * model at --state). */
+vr_status spectro_normal_curve(const vr_spectro_data *d, const char *item,
+                               const vr_spectro_curve **c, vr_error *err);
+
 /* --wavelengths FROM:TO:STEP (default 300:2500:10 nm) as a grid the caller
  * frees. */
 vr_status spectro_wavelengths(const vr_args *a, double **nm, size_t *n, vr_error *err);

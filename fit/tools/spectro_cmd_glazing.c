@@ -31,9 +31,8 @@ static const char *route_name(vr_angular_route r) {
                                   : "normal incidence (measured)";
 }
 
-/* The normal-incidence curve of a source, refusing several states. */
-static vr_status normal_curve(const vr_spectro_data *d, const char *item,
-                              const vr_spectro_curve **c, vr_error *err) {
+vr_status spectro_normal_curve(const vr_spectro_data *d, const char *item,
+                               const vr_spectro_curve **c, vr_error *err) {
   for (size_t i = 0; i < d->ncurves; i++)
     if (d->curves[i].angle_deg == 0) {
       if (d->has_state && d->ncurves > 1 && d->curves[i].state)
@@ -161,7 +160,7 @@ vr_status spectro_panes_metrics(const vr_standard *std, vr_spectro_data *const *
   *used_route = route_name(VR_ROUTE_AUTO);
   for (size_t i = 0; i < n && !st; i++) {
     const vr_spectro_curve *c;
-    if ((st = normal_curve(data[i], items[i], &c, err))) break;
+    if ((st = spectro_normal_curve(data[i], items[i], &c, err))) break;
     double sol = angle > 0 ? solar_T(std, c) : NAN;
     size_t u = 0;
     if ((st = vr_pane_from_curve(c, data[i]->thickness_nm, angle, route, sol, &panes[i], &u, err))) {
@@ -381,7 +380,7 @@ int spectro_cmd_btdf(vr_args *a) {
       fclose(f);
       const vr_spectro_curve *c;
       vr_standard *std = NULL;
-      if (spectro_pane_source(a, item, &db, &d, &err) || normal_curve(d, item, &c, &err) ||
+      if (spectro_pane_source(a, item, &db, &d, &err) || spectro_normal_curve(d, item, &c, &err) ||
           vr_standard_open("nfrc", &std, &err))
         goto out;
       double sol = solar_T(std, c);

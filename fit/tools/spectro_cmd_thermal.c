@@ -210,12 +210,7 @@ int spectro_cmd_thermal(vr_args *a) {
   for (size_t i = 0; i < n; i++) {
     if (spectro_pane_source(a, items[i], &db, &data[i], &err)) goto out;
     const vr_spectro_curve *c = NULL;
-    for (size_t k = 0; k < data[i]->ncurves && !c; k++)
-      if (data[i]->curves[k].angle_deg == 0) c = &data[i]->curves[k];
-    if (!c) {
-      vr_error_set(&err, VR_E_ARG, "%s has no normal-incidence spectrum (angle 0)", items[i]);
-      goto out;
-    }
+    if (spectro_normal_curve(data[i], items[i], &c, &err)) goto out;
     if (vr_pane_from_curve(c, data[i]->thickness_nm, 0, VR_ROUTE_AUTO, NAN, &panes[i], NULL, &err)) {
       vr_error_prefix(&err, "%s: ", items[i]);
       goto out;

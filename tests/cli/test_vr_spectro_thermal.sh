@@ -138,6 +138,7 @@ refuse spectro-thermal-unknown-gas "$bin" thermal --panes "$clear3,$clear3" --ga
 refuse spectro-thermal-gas-fractions "$bin" thermal --panes "$clear3,$clear3" --gaps 12.7:argon:0.9+air:0.2
 { echo "# thickness: 3 mm"; echo "# emissivity: 1.3 0.84"; cat "$tmp/noemis.csv"; } > "$tmp/bademis.csv"
 refuse spectro-thermal-bad-emissivity "$bin" thermal "$tmp/bademis.csv"
+refuse spectro-thermal-states-file "$bin" thermal "$VR_SOURCE_DIR/samples/glazing/electrochromic/ec_states.csv" --emissivity 0.84
 refuse spectro-thermal-emissivity-option "$bin" thermal --panes "$clear3,$clear3" --gaps 12.7:air --emissivity 0.84,1.5
 
 finish
