@@ -4,6 +4,9 @@
 #include <math.h>
 #include <string.h>
 
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+
 #define G_ACC 9.807          /* m/s2, as Windows-CalcEngine */
 #define RELAX 0.65
 #define TOL 1e-8
@@ -85,35 +88,18 @@ static double indoor_h(const vr_thermal_env *e, double H, double tilt, double Ts
   return Nu * p.lambda / H;
 }
 
-/* Gaussian elimination with partial pivoting on an n x n system (row-major
- * a, right side b -> solution in b); -1 when singular. */
+/* Solves the n x n system a x = b (row-major a, b replaced by x) by GSL's
+ * LU decomposition with partial pivoting; -1 when singular. */
 static int solve_linear(double *a, double *b, int n) {
-  for (int c = 0; c < n; c++) {
-    int piv = c;
-    for (int r = c + 1; r < n; r++)
-      if (fabs(a[r * n + c]) > fabs(a[piv * n + c])) piv = r;
-    if (!(fabs(a[piv * n + c]) > 1e-300)) return -1;
-    if (piv != c) {
-      for (int k = 0; k < n; k++) {
-        double t = a[c * n + k];
-        a[c * n + k] = a[piv * n + k], a[piv * n + k] = t;
-      }
-      double t = b[c];
-      b[c] = b[piv], b[piv] = t;
-    }
-    for (int r = c + 1; r < n; r++) {
-      double f = a[r * n + c] / a[c * n + c];
-      if (f == 0) continue;
-      for (int k = c; k < n; k++) a[r * n + k] -= f * a[c * n + k];
-      b[r] -= f * b[c];
-    }
-  }
-  for (int r = n - 1; r >= 0; r--) {
-    double s = b[r];
-    for (int k = r + 1; k < n; k++) s -= a[r * n + k] * b[k];
-    b[r] = s / a[r * n + r];
-  }
-  return 0;
+  gsl_matrix_view A = gsl_matrix_view_array(a, (size_t)n, (size_t)n);
+  gsl_vector_view B = gsl_vector_view_array(b, (size_t)n);
+  size_t pidx[4 * VR_THERMAL_MAX_PANES];
+  gsl_permutation P = {(size_t)n, pidx};
+  int sign;
+  if (gsl_linalg_LU_decomp(&A.matrix, &P, &sign)) return -1;
+  for (int k = 0; k < n; k++)
+    if (!(fabs(a[k * n + k]) > 1e-300)) return -1;
+  return gsl_linalg_LU_svx(&A.matrix, &P, &B.vector) ? -1 : 0;
 }
 
 static vr_status check_system(const vr_thermal_system *s, const vr_thermal_env *e, vr_error *err) {
