@@ -5,38 +5,8 @@
 #include <string.h>
 
 #include "integrators/photon_maps.h"
+#include "integrators/surface_disc.h"
 #include "vr/vec3.h"
-
-/* The share of a density estimate's disc (radius r about x, weighted by the
- * cone filter of constant kc, or uniformly for kc <= 0) that lies on the
- * rectangle of frame f (p = corner + u eu + v ev, u and v in [0, 1]).  A
- * disc reaching past the rectangle's edge holds that surface's photons
- * over only this share of its area, so the estimate, which divides by the
- * whole disc, reads low by this factor near walls' and floors' edges and
- * corners.  In polar coordinates about x: along each of 128 directions the
- * rectangle ends at distance t, and the filter's integral out to s =
- * min(t, r) is s^2/2 - s^3/(3 kc r) (s^2/2 for the box).  Returns 1 for a
- * parallelogram that is not a rectangle. */
-static double rect_disc_share(const double f[9], const double x[3], double r, double kc) {
-  double Lu = sqrt(vr_dot3(f + 3, f + 3)), Lv = sqrt(vr_dot3(f + 6, f + 6));
-  if (!(Lu > 0) || !(Lv > 0) || !(r > 0) || fabs(vr_dot3(f + 3, f + 6)) > 1e-9 * Lu * Lv) return 1.0;
-  double d[3] = {x[0] - f[0], x[1] - f[1], x[2] - f[2]};
-  double cx = vr_dot3(d, f + 3) / Lu, cy = vr_dot3(d, f + 6) / Lv;
-  cx = cx < 0 ? 0 : cx > Lu ? Lu : cx;
-  cy = cy < 0 ? 0 : cy > Lv ? Lv : cy;
-  enum { DIRS = 128 };
-  double full = kc > 0 ? r * r / 2 - r * r / (3 * kc) : r * r / 2, sum = 0;
-  for (int i = 0; i < DIRS; i++) {
-    double ph = (i + 0.5) * (2 * M_PI / DIRS), cu = cos(ph), sv = sin(ph), t = r;
-    if (cu > 0 && (Lu - cx) / cu < t) t = (Lu - cx) / cu;
-    if (cu < 0 && -cx / cu < t) t = -cx / cu;
-    if (sv > 0 && (Lv - cy) / sv < t) t = (Lv - cy) / sv;
-    if (sv < 0 && -cy / sv < t) t = -cy / sv;
-    sum += kc > 0 ? t * t / 2 - t * t * t / (3 * kc * r) : t * t / 2;
-  }
-  double share = sum / DIRS / full;
-  return share < 0.05 ? 0.05 : share > 1 ? 1 : share;
-}
 
 /* From the photons of object `surface` only: a floor's estimate never
  * takes the ground's photons from beyond the wall, which share its plane
@@ -62,7 +32,7 @@ int vr_photon_maps_irradiance(const vr_photon_maps *c, const vr_scene_tables *t,
   if (got <= 0) return 0;
   /* On a rect, the disc's part beyond its edges held none of its photons. */
   double share = edge_share && surface != VR_PHOTON_ANY_SURFACE && t->is_rect[surface]
-                     ? rect_disc_share(t->rect_frame[surface], x, r, 1.1)
+                     ? vr_rect_disc_share(t->rect_frame[surface], VR_EDGE_ALL, x, r, 1.1)
                      : 1.0;
   for (int j = 0; j < nwl; j++) {
     int b = vr_photon_map_bin(m, wl[j]);

@@ -1,6 +1,7 @@
 /* Stochastic progressive photon mapping: visible points, their hash grid,
  * photon deposits and the per-pixel radius statistics (sppm.h). */
 #include "integrators/sppm.h"
+#include "integrators/surface_disc.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -12,12 +13,15 @@
 /* A grid entry: a point's position (from the grid's corner, so float
  * keeps it to about 1e-7 of the grid's size), its radius squared (a little larger in
  * float, never smaller), the normal of the side it is seen from (zero for a
- * non-Lambertian point, whose BSDF decides) and its slot: what a photon's
- * search reads, one run of memory per hash slot. */
+ * non-Lambertian point, whose BSDF decides), its slot, its object and its
+ * geometric normal: what a photon's search reads, one run of memory per
+ * hash slot. */
 typedef struct vr_sppm_entry {
   float p[3], r2;
   float side[3];
   uint32_t slot;
+  uint32_t object;
+  float ng[3];
 } vr_sppm_entry;
 
 static size_t slot_of(const vr_sppm *s, uint32_t pixel) {
@@ -60,9 +64,11 @@ vr_status vr_sppm_create(vr_sppm *s, const vr_rscene *rs, int width, int height,
   s->vp = calloc(s->nslots * VP_DOUBLES, sizeof *s->vp);
   s->acc = calloc(s->nslots, sizeof *s->acc);
   s->radius = calloc(s->nslots, sizeof *s->radius);
+  s->share = calloc(s->nslots, sizeof *s->share);
+  s->ends = vr_rect_edges_ending(rs);
   s->n = calloc(s->nslots, sizeof *s->n);
   s->start = calloc(s->hsize + 1, sizeof *s->start);
-  if (!s->vp || !s->acc || !s->radius || !s->n || !s->start) {
+  if (!s->vp || !s->acc || !s->radius || !s->share || !s->ends || !s->n || !s->start) {
     vr_sppm_destroy(s);
     return vr_error_set(err, VR_E_NOMEM, "out of memory for the visible points of %d x %d pixels",
                         width, height);
@@ -78,6 +84,8 @@ void vr_sppm_destroy(vr_sppm *s) {
   free(s->vp);
   free(s->acc);
   free(s->radius);
+  free(s->share);
+  free(s->ends);
   free(s->n);
   free(s->start);
   free(s->idx);
@@ -95,8 +103,9 @@ void vr_sppm_begin(vr_sppm *s, const vr_rscene *rs, int iteration, int iteration
 }
 
 void vr_sppm_set_point(vr_sppm *s, const vr_rscene *rs, uint32_t pixel, const double p[3],
-                       const double ns[3], const double wo[3], int material, double state,
-                       const vr_bsdf_point *pt, int nwl, const double *beta, bool terminated) {
+                       const double ns[3], const double ng[3], int object, const double wo[3],
+                       int material, double state, const vr_bsdf_point *pt, int nwl,
+                       const double *beta, bool terminated) {
   if (pixel >= s->npx) return;
   double *v = s->vp + slot_of(s, pixel) * VP_DOUBLES;
   const vr_bsdf *b = rs->mat[material].bsdf;
@@ -125,6 +134,8 @@ void vr_sppm_set_point(vr_sppm *s, const vr_rscene *rs, uint32_t pixel, const do
   v[VP_TERM] = terminated;
   memcpy(v + VP_P, p, 3 * sizeof *p);
   memcpy(v + VP_N, ns, 3 * sizeof *ns);
+  memcpy(v + VP_NG, ng, 3 * sizeof *ng);
+  v[VP_OBJECT] = object + 1;
   memcpy(v + VP_WO, wo, 3 * sizeof *wo);
   v[VP_STATE] = state;
   v[VP_MATERIAL] = material;
@@ -149,9 +160,20 @@ static void fill_entry(const vr_sppm *s, size_t i, vr_sppm_entry *e) {
   double sg = v[VP_LAMBERT] > 0.5 ? (co < 0 ? -1.0 : 1.0) : 0.0;
   for (int a = 0; a < 3; a++) e->side[a] = (float)(sg * v[VP_N + a]);
   e->slot = (uint32_t)i;
+  e->object = (uint32_t)(v[VP_OBJECT] - 1);
+  for (int a = 0; a < 3; a++) e->ng[a] = (float)v[VP_NG + a];
 }
 
-vr_status vr_sppm_build(vr_sppm *s, vr_error *err) {
+/* Point i's share of its disc on its sheet: below 1 on a rect near an edge
+ * where the sheet ends (surface_disc.h). */
+static double disc_share(const vr_sppm *s, const vr_rscene *rs, size_t i) {
+  const double *v = s->vp + i * VP_DOUBLES;
+  size_t o = (size_t)(v[VP_OBJECT] - 1);
+  if (o >= rs->t->nobjects || !rs->t->is_rect[o] || !s->ends[o]) return 1.0;
+  return vr_rect_disc_share(rs->t->rect_frame[o], s->ends[o], v + VP_P, s->radius[i], 0);
+}
+
+vr_status vr_sppm_build(vr_sppm *s, const vr_rscene *rs, vr_error *err) {
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   double rmax = 0;
   size_t nvalid = 0;
@@ -166,6 +188,7 @@ vr_status vr_sppm_build(vr_sppm *s, vr_error *err) {
                          : s->radius0_px * s->footprint * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
       if (!(s->radius[i] > 0)) s->radius[i] = 1e-6;
     }
+    s->share[i] = disc_share(s, rs, i);
     for (int k = 0; k < VR_MAX_WL; k++) s->acc[i].w[k] = v[VP_BETA + k];
     s->acc[i].term = v[VP_TERM] > 0.5;
     for (int a = 0; a < 3; a++) {
@@ -223,8 +246,8 @@ vr_status vr_sppm_build(vr_sppm *s, vr_error *err) {
   return VR_OK;
 }
 
-void vr_sppm_deposit(vr_sppm *s, const vr_rscene *rs, const double x[3], const double wi[3],
-                     const double *beta, bool terminated) {
+void vr_sppm_deposit(vr_sppm *s, const vr_rscene *rs, const double x[3], const double ng[3],
+                     int object, const double wi[3], const double *beta, bool terminated) {
   if (!s->idx) return;
   int c[3];
   for (int a = 0; a < 3; a++) {
@@ -239,6 +262,19 @@ void vr_sppm_deposit(vr_sppm *s, const vr_rscene *rs, const double x[3], const d
     const vr_sppm_entry *e = &s->idx[j];
     float d[3] = {xf[0] - e->p[0], xf[1] - e->p[1], xf[2] - e->p[2]};
     if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > e->r2) continue;
+    /* Only the point's own sheet of surface (surface_disc.h): the
+     * point's own object's photons are taken (a rect's are on it); another
+     * object's must face the same way on the same plane, and at a rect's
+     * point lie inside the edges that end. */
+    if (e->object != (uint32_t)object) {
+      bool rect = e->object < rs->t->nobjects && rs->t->is_rect[e->object];
+      double pe[3] = {e->p[0], e->p[1], e->p[2]}, ne[3] = {e->ng[0], e->ng[1], e->ng[2]};
+      double xr[3] = {xf[0], xf[1], xf[2]};
+      if (!vr_same_sheet(pe, ne, xr, ng, sqrt((double)e->r2))) continue;
+      if (rect && s->ends[e->object] &&
+          !vr_rect_sheet_holds(rs->t->rect_frame[e->object], s->ends[e->object], x))
+        continue;
+    }
     vr_sppm_acc *q = &s->acc[e->slot];
     double add[VR_MAX_WL];
     if (e->side[0] != 0 || e->side[1] != 0 || e->side[2] != 0) {
@@ -278,12 +314,16 @@ void vr_sppm_update(vr_sppm *s, uint64_t photons) {
     long px = pixel_of(s, i);
     if (!M || px < 0) continue;
     double N = s->n[i], R = s->radius[i];
-    double Nn = N + s->gamma * (double)M;
-    double Rn = R * sqrt(Nn / (N + (double)M));
+    /* A disc partly off its sheet holds the sheet's photons over only
+     * share s of its area: its count and flux stand for M / s and Φ / s
+     * over the whole disc. */
+    double sh = s->share[i] > 0 ? s->share[i] : 1.0, Me = (double)M / sh;
+    double Nn = N + s->gamma * Me;
+    double Rn = R * sqrt(Nn / (N + Me));
     /* τ + β Φ: this iteration's radiance samples at its wavelengths, in
      * the film's units before the 1 / (photons π R^2). */
     double L[VR_MAX_WL];
-    for (int k = 0; k < s->nwl; k++) L[k] = s->acc[i].phi[k] / s->wl_weight;
+    for (int k = 0; k < s->nwl; k++) L[k] = s->acc[i].phi[k] / s->wl_weight / sh;
     vr_accum_pixel(&s->tau, (uint32_t)px, s->nwl, s->wl, L, s->wl_weight);
     double shrink = (Rn * Rn) / (R * R);
     size_t p = (size_t)px;

@@ -43,7 +43,9 @@ enum {
   VP_VALID = 0, VP_P = 1, VP_N = 4, VP_WO = 7, VP_STATE = 10, VP_MATERIAL = 11,
   VP_LAMBERT = 12, /* 1: a Lambertian surface, whose f is the same for every wi on wo's side */
   VP_TERM = 13,    /* 1: the camera path refracted dispersively (only the hero is left) */
-  VP_BETA = 14,    /* the camera path's throughput, or for a Lambertian one beta f */
+  VP_OBJECT = 14,  /* the object hit, plus one */
+  VP_NG = 15,      /* its geometric normal */
+  VP_BETA = 18,    /* the camera path's throughput, or for a Lambertian one beta f */
   VP_DOUBLES = VP_BETA + VR_MAX_WL
 };
 
@@ -72,6 +74,8 @@ typedef struct vr_sppm {
   double *vp;                /* nslots * VP_DOUBLES */
   vr_sppm_acc *acc;             /* nslots */
   double *radius;            /* per slot, m; 0 until its first visible point */
+  double *share;             /* per slot: this iteration's share of the disc on its sheet */
+  uint8_t *ends;             /* per object: a rect's edges where its sheet ends (surface_disc.h) */
   double *n;                 /* per slot: the photon count N of the statistics */
   vr_accum tau;                 /* τ as XYZ and film bins per pixel */
   double radius0;            /* the first radius: metres, or */
@@ -102,21 +106,25 @@ void vr_sppm_begin(vr_sppm *s, const vr_rscene *rs, int iteration, int iteration
  * terminated: the path refracted dispersively on the way, so beta holds
  * only the hero, times nwl (bsdf_dielectric.c). */
 void vr_sppm_set_point(vr_sppm *s, const vr_rscene *rs, uint32_t pixel, const double p[3],
-                       const double ns[3], const double wo[3], int material, double state,
-                       const vr_bsdf_point *pt, int nwl, const double *beta, bool terminated);
+                       const double ns[3], const double ng[3], int object, const double wo[3],
+                       int material, double state, const vr_bsdf_point *pt, int nwl,
+                       const double *beta, bool terminated);
 
-/* After the camera pass (and the ranks' sum of the points): the grid. */
-vr_status vr_sppm_build(vr_sppm *s, vr_error *err);
+/* After the camera pass (and the ranks' sum of the points): the grid, and
+ * each point's share of its disc on its sheet of surface. */
+vr_status vr_sppm_build(vr_sppm *s, const vr_rscene *rs, vr_error *err);
 
 /* A photon of power beta (at the iteration's wavelengths, before the 1/N of
- * the photon count) arriving at x from direction wi (towards where it
- * came from): adds f Φ to every visible point whose disc holds x.
+ * the photon count) arriving at x on object `object` (geometric normal ng)
+ * from direction wi (towards where it came from): adds f Φ to every
+ * visible point whose disc holds x on the point's own sheet of surface
+ * (surface_disc.h: not a wall's photons at a floor's point).
  * terminated: the photon refracted dispersively (its hero alone, times
  * nwl); where the point's camera path did too, the factor nwl counts
  * once, since both stand for the same dropped wavelengths (the iteration
  * shares one hero between them). */
-void vr_sppm_deposit(vr_sppm *s, const vr_rscene *rs, const double x[3], const double wi[3],
-                     const double *beta, bool terminated);
+void vr_sppm_deposit(vr_sppm *s, const vr_rscene *rs, const double x[3], const double ng[3],
+                     int object, const double wi[3], const double *beta, bool terminated);
 
 /* Several ranks: adds the visible points (after the camera pass) or this
  * iteration's photon sums (after the photon pass) over the ranks. */

@@ -1,0 +1,58 @@
+/* A density estimate's disc on the surface it estimates: which photons
+ * belong to that surface, and what share of the disc the surface covers.
+ *
+ * A disc of radius r about a point of a floor reaches past the floor's edge
+ * into the wall it meets.  Counting the wall's photons there adds the
+ * wall's light to the floor (bright lines along every junction where the
+ * wall is the brighter); dropping them without more leaves the floor's
+ * photons over only part of the disc (dark lines).  The estimate is right
+ * when it keeps the photons of the point's own sheet of surface and divides
+ * by the disc's area on that sheet:
+ *
+ *   - a photon belongs to the point's sheet when its surface faces the same
+ *     way (geometric normals within 25.8 degrees, |cos| >= 0.9) and lies
+ *     on the point's plane (within a quarter of the radius, or 1 cm);
+ *   - on a rect, the sheet's extent is known: the rect itself, continued
+ *     across an edge only where a coplanar rect that photons land on (a
+ *     diffuse material) carries on past it (a wall cut around a window, a
+ *     rug on a floor).  Photons of other objects beyond an edge that ends
+ *     are not the sheet's, and the estimate divides by the share of the
+ *     disc inside the edges that end;
+ *   - elsewhere (meshes, spheres) the sheet is taken to cover the disc: a
+ *     junction between two mesh faces reads low within r of it (by half at
+ *     the junction, a fifth on average over the strip), a bias that shrinks
+ *     with the radius as SPPM's does. */
+#ifndef VR_INTEGRATORS_SURFACE_DISC_H
+#define VR_INTEGRATORS_SURFACE_DISC_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "world/rscene.h"
+
+/* The edges of a rect (frame f: p = corner + u eu + v ev, u and v in
+ * [0, 1]) where its sheet ends. */
+enum { VR_EDGE_U0 = 1, VR_EDGE_U1 = 2, VR_EDGE_V0 = 4, VR_EDGE_V1 = 8, VR_EDGE_ALL = 15 };
+
+/* Per object: the VR_EDGE_* bits of a rect's edges where no coplanar rect
+ * of a diffuse material carries on (VR_EDGE_ALL for a lone rect, 0 for an
+ * object that is not a rect).  NULL when out of memory. */
+uint8_t *vr_rect_edges_ending(const vr_rscene *rs);
+
+/* The share of a disc (radius r about x, on the rect's plane, weighted by
+ * the cone filter of constant kc, or uniformly for kc <= 0) that lies
+ * inside the edges `ends` of the rect of frame f; in [0.05, 1].  Returns 1
+ * for a parallelogram that is not a rectangle. */
+double vr_rect_disc_share(const double f[9], unsigned ends, const double x[3], double r, double kc);
+
+/* Whether point x, projected on the rect's plane, lies on the rect or past
+ * only edges that do not end. */
+bool vr_rect_sheet_holds(const double f[9], unsigned ends, const double x[3]);
+
+/* Whether a photon at x on a surface of geometric normal n belongs to the
+ * sheet of the point at p with geometric normal np, for a disc of radius r
+ * (the normals need not be unit). */
+bool vr_same_sheet(const double p[3], const double np[3], const double x[3], const double n[3],
+                   double r);
+
+#endif

@@ -1,0 +1,154 @@
+/* A density estimate's disc on its sheet of surface
+ * (render/src/integrators/surface_disc.c) against plane geometry:
+ *
+ *   - the share of a disc of radius r inside a straight edge at distance d
+ *     from its centre is 1 - (acos(d/r) - (d/r) sqrt(1 - d^2/r^2)) / pi
+ *     (the circular segment's area over the disc's); 1/2 on the edge, 1/4
+ *     at a right-angled corner, for the box and for the cone filter alike
+ *     (both are radial);
+ *   - which edges of a rect end: a wall cut around a window carries on
+ *     across its seams with its coplanar pieces, not across the window (no
+ *     photon lands on glass) nor at the floor;
+ *   - which photons belong to a point's sheet. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "bsdf_test_util.h"
+#include "integrators/surface_disc.h"
+
+/* The unit square in the plane z = 0. */
+static const double SQUARE[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+
+static double segment_share(double d, double r) {
+  double q = d / r;
+  return 1 - (acos(q) - q * sqrt(1 - q * q)) / M_PI;
+}
+
+static void test_share_of_straight_edges(void **state) {
+  (void)state;
+  double mid[3] = {0.5, 0.5, 0}, edge[3] = {0, 0.5, 0}, corner[3] = {0, 0, 0};
+  for (int kind = 0; kind < 2; kind++) {
+    double kc = kind ? 1.1 : 0;
+    assert_float_equal(vr_rect_disc_share(SQUARE, VR_EDGE_ALL, mid, 0.4, kc), 1.0, 1e-12);
+    assert_float_equal(vr_rect_disc_share(SQUARE, VR_EDGE_ALL, edge, 0.2, kc), 0.5, 1e-12);
+    assert_float_equal(vr_rect_disc_share(SQUARE, VR_EDGE_ALL, corner, 0.2, kc), 0.25, 1e-12);
+    /* An edge that carries on cuts nothing off. */
+    assert_float_equal(vr_rect_disc_share(SQUARE, VR_EDGE_ALL & ~VR_EDGE_U0, edge, 0.2, kc), 1.0,
+                       1e-12);
+    assert_float_equal(vr_rect_disc_share(SQUARE, VR_EDGE_V0, corner, 0.2, kc), 0.5, 1e-12);
+  }
+  /* The box filter at d = r/4, r/2 and 3r/4 from the edge u = 0: the
+   * segment formula, to the 128 directions' quadrature (4e-4). */
+  for (int i = 1; i <= 3; i++) {
+    double r = 0.2, d = 0.25 * i * r, x[3] = {d, 0.5, 0};
+    assert_float_equal(vr_rect_disc_share(SQUARE, VR_EDGE_ALL, x, r, 0), segment_share(d, r), 4e-4);
+  }
+  /* A point outside its rect (a float's rounding) reads as on its edge,
+   * and a tiny sliver is held at 0.05, not divided by nearly zero. */
+  double out[3] = {-0.01, 0.5, 0};
+  assert_float_equal(vr_rect_disc_share(SQUARE, VR_EDGE_ALL, out, 0.2, 0), 0.5, 1e-12);
+  double sliver[9] = {0, 0, 0, 1e-4, 0, 0, 0, 1e-4, 0};
+  assert_float_equal(vr_rect_disc_share(sliver, VR_EDGE_ALL, (double[3]){0, 0, 0}, 1, 0), 0.05,
+                     1e-12);
+}
+
+static void test_sheet_holds(void **state) {
+  (void)state;
+  unsigned ends = VR_EDGE_U0 | VR_EDGE_V0 | VR_EDGE_V1; /* carries on past u = 1 */
+  assert_true(vr_rect_sheet_holds(SQUARE, ends, (double[3]){0.5, 0.5, 0.003}));
+  assert_true(vr_rect_sheet_holds(SQUARE, ends, (double[3]){1.1, 0.5, 0}));
+  assert_false(vr_rect_sheet_holds(SQUARE, ends, (double[3]){-0.1, 0.5, 0}));
+  assert_false(vr_rect_sheet_holds(SQUARE, ends, (double[3]){1.1, 1.1, 0}));
+  assert_false(vr_rect_sheet_holds(SQUARE, ends, (double[3]){0.5, -0.1, 0}));
+}
+
+static void test_same_sheet(void **state) {
+  (void)state;
+  double p[3] = {0, 0, 0}, up[3] = {0, 0, 1};
+  /* A wall's photon beside a floor's point. */
+  assert_false(vr_same_sheet(p, up, (double[3]){0.1, 0, 0.05}, (double[3]){-1, 0, 0}, 0.2));
+  /* The floor's other side (a thin slab's) faces the other way: the side
+   * test, not this one, tells them apart. */
+  assert_true(vr_same_sheet(p, up, (double[3]){0.1, 0, 0}, (double[3]){0, 0, -1}, 0.2));
+  /* Facets of a smooth mesh: 25 degrees apart are one sheet, 26 are not
+   * (|cos| >= 0.9: 25.84 degrees). */
+  double a25 = 25 * M_PI / 180, a26 = 26 * M_PI / 180;
+  assert_true(vr_same_sheet(p, up, (double[3]){0.1, 0, 0}, (double[3]){sin(a25), 0, cos(a25)}, 0.2));
+  assert_false(vr_same_sheet(p, up, (double[3]){0.1, 0, 0}, (double[3]){sin(a26), 0, cos(a26)}, 0.2));
+  /* A step: 2 cm above is off the plane for a disc of 4 cm (within 1 cm),
+   * on it for one of 20 cm (within 5 cm). */
+  assert_false(vr_same_sheet(p, up, (double[3]){0.01, 0, 0.02}, up, 0.04));
+  assert_true(vr_same_sheet(p, up, (double[3]){0.01, 0, 0.02}, up, 0.2));
+}
+
+/* A south wall (y = 0, 5 x 2.7 m) cut around a 1.4 m window into sill,
+ * lintel and piers, a glass pane in the hole, and the floor: the pieces
+ * carry on into each other; the window's edges and the floor's end. */
+static void test_edges_ending(void **state) {
+  (void)state;
+  enum { N = 6 };
+  /* corner, eu, ev of each rect. */
+  double frames[N][9] = {
+      {0, 0, 0, 5, 0, 0, 0, 0, 0.9},       /* sill: z 0-0.9 */
+      {0, 0, 2.3, 5, 0, 0, 0, 0, 0.4},     /* lintel: z 2.3-2.7 */
+      {0, 0, 0.9, 1.8, 0, 0, 0, 0, 1.4},   /* west pier: x 0-1.8 */
+      {3.2, 0, 0.9, 1.8, 0, 0, 0, 0, 1.4}, /* east pier: x 3.2-5 */
+      {1.8, 0, 0.9, 1.4, 0, 0, 0, 0, 1.4}, /* the pane */
+      {0, 0, 0, 5, 0, 0, 0, 4, 0},         /* the floor (y 0-4) */
+  };
+  uint8_t is_rect[N] = {1, 1, 1, 1, 1, 1};
+  vr_scene_tables t;
+  memset(&t, 0, sizeof t);
+  t.nobjects = N;
+  t.is_rect = is_rect;
+  t.rect_frame = frames;
+  vr_scene_material paint_sm = test_sm(NULL);
+  paint_sm.source = VR_MATSRC_LAMBERT_CONST;
+  paint_sm.reflectance = 0.6;
+  vr_scene_material glass_sm = test_sm("clear");
+  glass_sm.thickness_m = 0.004;
+  vr_material *glass = flat_nk("clear", VR_KIND_DIELECTRIC, 1.52, 0);
+  vr_rmaterial mats[2];
+  memset(mats, 0, sizeof mats);
+  mats[0].bsdf = make_bsdf(&paint_sm, NULL, NULL);
+  mats[1].bsdf = make_bsdf(&glass_sm, glass, NULL);
+  vr_robject objs[N];
+  memset(objs, 0, sizeof objs);
+  for (int o = 0; o < N; o++) objs[o].material = o == 4 ? 1 : 0;
+  vr_rscene rs;
+  memset(&rs, 0, sizeof rs);
+  rs.t = &t;
+  rs.obj = objs;
+  rs.mat = mats;
+  rs.nmat = 2;
+  uint8_t *ends = vr_rect_edges_ending(&rs);
+  assert_non_null(ends);
+  /* The sill: its top (v = 1) carries on into both piers over 3.6 of its
+   * 5 m (two of the three probes), its other edges end. */
+  assert_int_equal(ends[0], VR_EDGE_U0 | VR_EDGE_U1 | VR_EDGE_V0);
+  /* The lintel's bottom meets the piers at its quarter points only... */
+  assert_int_equal(ends[1], VR_EDGE_U0 | VR_EDGE_U1 | VR_EDGE_V1);
+  /* The west pier: sill below, lintel above, the glass to the east. */
+  assert_int_equal(ends[2], VR_EDGE_U0 | VR_EDGE_U1);
+  assert_int_equal(ends[3], VR_EDGE_U0 | VR_EDGE_U1);
+  /* The floor is perpendicular to the wall: all its edges end. */
+  assert_int_equal(ends[5], VR_EDGE_ALL);
+  free(ends);
+  vr_bsdf_destroy(mats[0].bsdf);
+  vr_bsdf_destroy(mats[1].bsdf);
+  vr_material_destroy(glass);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_share_of_straight_edges),
+      cmocka_unit_test(test_sheet_holds),
+      cmocka_unit_test(test_same_sheet),
+      cmocka_unit_test(test_edges_ending),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
