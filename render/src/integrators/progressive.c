@@ -53,7 +53,7 @@ static bool at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr_hi
   /* ... and a texture's factor: what the point reflects of the photons. */
   for (int k = 0; k < p->nwl; k++) bw[k] = p->beta[k] * p->weight * (se->tinted ? se->tint[k] : 1.0);
   double ns[3] = {se->ns.x, se->ns.y, se->ns.z}; /* a normal map's, if any */
-  vr_sppm_set_point(c->state, c->rs, p->index, hit->p, ns, hit->ng, hit->object, wo,
+  vr_sppm_set_point(c->state, c->rs, p->index, hit->p, ns, hit->ng, (int)hit->object, wo,
                     c->rs->obj[hit->object].material, se->state, &se->pt, p->nwl, bw,
                     (p->flags & VR_PF_TERMINATED) != 0);
   return true;
@@ -65,7 +65,8 @@ static bool at_diffuse(vr_pass *c, vr_flow_worker *w, vr_payload *p, const vr_hi
 static void land(vr_pass *c, const vr_payload *p, const vr_hit *hit, const double dir[3]) {
   if (!(p->flags & (VR_PF_HAS_DIFFUSE | VR_PF_HAS_SPECULAR))) return;
   double wi[3] = {-dir[0], -dir[1], -dir[2]};
-  vr_sppm_deposit(c->state, c->rs, hit->p, hit->ng, hit->object, wi, p->beta, (p->flags & VR_PF_TERMINATED) != 0);
+  vr_sppm_deposit(c->state, c->rs, hit->p, hit->ng, (int)hit->object, wi, p->beta,
+                  (p->flags & VR_PF_TERMINATED) != 0);
 }
 
 /* One iteration: the visible points, their grid, the photons, the update;

@@ -44,8 +44,8 @@ static bool photons_land_on(const vr_rscene *rs, size_t o) {
   return m >= 0 && (size_t)m < rs->nmat && (vr_bsdf_lobes(rs->mat[m].bsdf) & VR_LOBE_DIFFUSE);
 }
 
-/* Whether a point just past edge `e` of rect o lies on another coplanar
- * rect that photons land on. */
+/* Whether point x (just past an edge of rect o) lies on another rect,
+ * coplanar with o, that photons land on. */
 static bool covered(const vr_rscene *rs, size_t o, const double x[3]) {
   const vr_scene_tables *t = rs->t;
   double n[3];

@@ -18,10 +18,12 @@
  *     rug on a floor).  Photons of other objects beyond an edge that ends
  *     are not the sheet's, and the estimate divides by the share of the
  *     disc inside the edges that end;
- *   - elsewhere (meshes, spheres) the sheet is taken to cover the disc: a
- *     junction between two mesh faces reads low within r of it (by half at
- *     the junction, a fifth on average over the strip), a bias that shrinks
- *     with the radius as SPPM's does. */
+ *   - elsewhere (meshes, spheres) the sheet is taken to cover the disc,
+ *     and all of the point's own object's photons count (its faces are not
+ *     told apart): a junction between two objects that are not rects reads
+ *     low within r of it (by half at the junction, a fifth on average over
+ *     the strip), one inside a mesh keeps the other face's photons; both
+ *     biases shrink with the radius as SPPM's does. */
 #ifndef VR_INTEGRATORS_SURFACE_DISC_H
 #define VR_INTEGRATORS_SURFACE_DISC_H
 
