@@ -131,6 +131,9 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
   ps.maps.knn = set->knn;
   ps.maps.fixed_radius = !isnan(set->radius_m);
   ps.maps.radius = isnan(set->radius_m) ? 0.1 * job->rs->scene_radius : set->radius_m;
+  /* An estimate on a rect reads its sheet (surface_disc.h): the share of
+   * its disc there divides it (docs/vr-render.md, "Photon sensors"). */
+  ps.maps.edge_share = true;
   vr_pass c = vr_integrator_pass(job);
   c.at_diffuse = at_diffuse;
   c.state = &ps;
