@@ -10,7 +10,9 @@
  * unit square, read with the box filter by fixed radius r in the middle,
  * has expected irradiance (photons in the disc) / (pi r^2); the count in
  * the disc is checked against brute force, so the set must return exactly
- * that count and that sum. */
+ * that count and that sum.  The same brute force checks an estimate that
+ * takes another surface's photons where its callback says so (a rect's
+ * sheet, integrators/surface_disc.h). */
 #include "vr_test.h"
 #include "vr/photon_map.h"
 #include "vr/photon_set.h"
@@ -219,6 +221,52 @@ static void surfaces_do_not_mix(void **state) {
   vr_photon_set_destroy(floor_only);
 }
 
+/* A sheet that takes another surface's photons where it says so: the
+ * floor (surface 1) and, past x = 0.5, the ground (surface 2), as a rect
+ * takes a coplanar rect's photons past an edge that carries on.  Within a
+ * fixed radius of 0.1 m about (0.5, 0.02) with the box filter, the estimate
+ * must be the sum of those photons' power over pi r^2, counted here
+ * photon by photon from their positions; the callback sees each photon
+ * where it was stored (the set keeps positions about its centre). */
+static bool east_ground(const void *ctx, uint32_t surface, const double p[3]) {
+  (void)ctx;
+  return surface == 2 && p[0] > 0.5;
+}
+
+static void a_sheet_takes_what_it_says(void **state) {
+  (void)state;
+  vr_error err = {0};
+  vr_photon_set *s = vr_photon_set_create(4, NB, 400, 700, 1, CENTRE, &err);
+  assert_non_null(s);
+  int n = 100;
+  double x[3] = {0.5, 0.02, 0}, r = 0.1, want = 0;
+  for (int j = -n; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      double pos[3] = {(i + 0.5) / n, (j + 0.5) / n, 0};
+      uint32_t surface = j >= 0 ? 1u : 2u;
+      float pw[NB] = {0};
+      pw[0] = surface == 1 ? 1.0f : 100.0f;
+      assert_int_equal(vr_photon_set_store_on(s, cell_of(pos, 4), (uint64_t)((j + n) * n + i), pos,
+                                              DOWN, UP, surface, pw, &err),
+                       VR_OK);
+      double dx = pos[0] - x[0], dy = pos[1] - x[1];
+      if (dx * dx + dy * dy <= r * r && (surface == 1 || pos[0] > 0.5)) want += pw[0];
+    }
+  assert_int_equal(vr_photon_set_build(s, &err), VR_OK);
+  vr_photon_surfaces which = {1, east_ground, NULL};
+  double out[NB], own[NB];
+  assert_true(vr_photon_set_irradiance_among(s, x, UP, &which, 0, r, 0.0, out, NULL) > 0);
+  assert_rel(out[0], want / (M_PI * r * r), 1e-12);
+  /* Without the callback it is surface 1's alone, less than the sheet's. */
+  vr_photon_surfaces alone = {1, NULL, NULL};
+  vr_photon_set_irradiance_among(s, x, UP, &alone, 0, r, 0.0, own, NULL);
+  double on1[NB];
+  vr_photon_set_irradiance_on(s, x, UP, 1, 0, r, 0.0, on1, NULL);
+  same_bits(own, on1, NB, "no callback against surface 1 alone", 0);
+  assert_true(out[0] > 10.0 * own[0]);
+  vr_photon_set_destroy(s);
+}
+
 static void bad_arguments(void **state) {
   (void)state;
   vr_error err = {0};
@@ -246,6 +294,7 @@ int main(void) {
       cmocka_unit_test(uniform_grid_fixed_radius),
       cmocka_unit_test(bad_arguments),
       cmocka_unit_test(surfaces_do_not_mix),
+      cmocka_unit_test(a_sheet_takes_what_it_says),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
