@@ -100,13 +100,25 @@ double vr_rect_disc_share(const double f[9], unsigned ends, const double x[3], d
   double cx = vr_dot3(d, f + 3) / Lu, cy = vr_dot3(d, f + 6) / Lv;
   cx = cx < 0 ? 0 : cx > Lu ? Lu : cx;
   cy = cy < 0 ? 0 : cy > Lv ? Lv : cy;
+  /* Most discs reach no edge that ends. */
+  if (!(ends & VR_EDGE_U0 && cx < r) && !(ends & VR_EDGE_U1 && Lu - cx < r) &&
+      !(ends & VR_EDGE_V0 && cy < r) && !(ends & VR_EDGE_V1 && Lv - cy < r))
+    return 1.0;
   /* In polar coordinates about x: along each of 128 directions the sheet
    * ends at distance t (an edge that ends, or r), and the filter's integral
-   * out to t is t^2/2 - t^3/(3 kc r) (t^2/2 for the box). */
+   * out to t is t^2/2 - t^3/(3 kc r) (t^2/2 for the box).  The directions
+   * turn by a rotation, not a cosine and sine each. */
   enum { DIRS = 128 };
   double full = kc > 0 ? r * r / 2 - r * r / (3 * kc) : r * r / 2, sum = 0;
+  const double step = 2 * M_PI / DIRS, cs = cos(step), sn = sin(step);
+  double cu = cos(0.5 * step), sv = sin(0.5 * step);
   for (int i = 0; i < DIRS; i++) {
-    double ph = (i + 0.5) * (2 * M_PI / DIRS), cu = cos(ph), sv = sin(ph), t = r;
+    if (i) {
+      double c2 = cu * cs - sv * sn;
+      sv = sv * cs + cu * sn;
+      cu = c2;
+    }
+    double t = r;
     if (ends & VR_EDGE_U1 && cu > 0 && (Lu - cx) / cu < t) t = (Lu - cx) / cu;
     if (ends & VR_EDGE_U0 && cu < 0 && -cx / cu < t) t = -cx / cu;
     if (ends & VR_EDGE_V1 && sv > 0 && (Lv - cy) / sv < t) t = (Lv - cy) / sv;
