@@ -28,11 +28,9 @@ int vr_photon_maps_irradiance(const vr_photon_maps *c, const vr_scene_tables *t,
                               const vr_photon_set *ps, const double x[3], const double n[3],
                               uint32_t surface, int k, double radius, int nwl, const double *wl,
                               double *E) {
-  /* Edge shares only for photon sensors' gathers: there they remove a 2 %
-   * low bias (tests/render/test_photon_sensors.c), but in the camera
-   * pass's direct reading of the maps they made the walls by the sample
-   * room's east window read far brighter than the path tracer shows, for a
-   * reason not yet found (see docs/vr-render.md, "Photon sensors"). */
+  /* Edge shares: in photon sensors' gathers they remove a 2 % low bias
+   * (tests/render/test_photon_sensors.c); in the camera pass 7 % at the
+   * furnace's junctions (tests/render/test_junctions.c). */
   const bool edge_share = c->edge_share;
   for (int j = 0; j < nwl; j++) E[j] = 0;
   if (!ps || !vr_photon_set_count(ps)) return 0;

@@ -23,10 +23,9 @@ typedef struct vr_photon_maps {
   int knn;           /* photons per estimate */
   double radius;     /* the largest (k nearest) or the fixed radius, m */
   bool fixed_radius;
-  /* Photon sensors: an estimate on a rect is divided by the share of its
-   * disc that lies on the rect's sheet (edges and corners read low
-   * otherwise), and takes the photons of coplanar rects its sheet carries
-   * on into (surface_disc.h). */
+  /* An estimate on a rect is divided by the share of its disc that lies on
+   * the rect's sheet (edges and corners read low otherwise), and takes the
+   * photons of coplanar rects its sheet carries on into (surface_disc.h). */
   bool edge_share;
   uint8_t *ends;     /* per object: a rect's edges where its sheet ends */
 } vr_photon_maps;
