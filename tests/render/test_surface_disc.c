@@ -7,8 +7,9 @@
  *     at a right-angled corner, for the box and for the cone filter alike
  *     (both are radial);
  *   - which edges of a rect end: a wall cut around a window carries on
- *     across its seams with its coplanar pieces, not across the window (no
- *     photon lands on glass) nor at the floor;
+ *     across its seams with its coplanar pieces of the same material, not
+ *     across the window (no photon lands on glass) nor at the floor, and a
+ *     floor does not carry on into the coplanar ground under its wall;
  *   - which photons belong to a point's sheet. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -86,60 +87,75 @@ static void test_same_sheet(void **state) {
 }
 
 /* A south wall (y = 0, 5 x 2.7 m) cut around a 1.4 m window into sill,
- * lintel and piers, a glass pane in the hole, and the floor: the pieces
- * carry on into each other; the window's edges and the floor's end. */
+ * lintel and piers (the east pier of brick, the rest paint), a glass pane
+ * in the hole, the floor (y 0-4) and, coplanar with the floor and of its
+ * material, the ground outside (y -3-0): the paint pieces carry on into
+ * each other, not into the brick, the glass (no photon lands on it) or
+ * the floor; the floor does not carry on into the ground, since the wall
+ * stands on that edge. */
 static void test_edges_ending(void **state) {
   (void)state;
-  enum { N = 6 };
+  enum { N = 7 };
   /* corner, eu, ev of each rect. */
   double frames[N][9] = {
       {0, 0, 0, 5, 0, 0, 0, 0, 0.9},       /* sill: z 0-0.9 */
       {0, 0, 2.3, 5, 0, 0, 0, 0, 0.4},     /* lintel: z 2.3-2.7 */
       {0, 0, 0.9, 1.8, 0, 0, 0, 0, 1.4},   /* west pier: x 0-1.8 */
-      {3.2, 0, 0.9, 1.8, 0, 0, 0, 0, 1.4}, /* east pier: x 3.2-5 */
+      {3.2, 0, 0.9, 1.8, 0, 0, 0, 0, 1.4}, /* east pier: x 3.2-5, brick */
       {1.8, 0, 0.9, 1.4, 0, 0, 0, 0, 1.4}, /* the pane */
       {0, 0, 0, 5, 0, 0, 0, 4, 0},         /* the floor (y 0-4) */
+      {-2, -3, 0, 9, 0, 0, 0, 3, 0},       /* the ground outside (y -3-0) */
   };
-  uint8_t is_rect[N] = {1, 1, 1, 1, 1, 1};
+  uint8_t is_rect[N] = {1, 1, 1, 1, 1, 1, 1};
   vr_scene_tables t;
   memset(&t, 0, sizeof t);
   t.nobjects = N;
   t.is_rect = is_rect;
   t.rect_frame = frames;
-  vr_scene_material paint_sm = test_sm(NULL);
-  paint_sm.source = VR_MATSRC_LAMBERT_CONST;
+  vr_scene_material paint_sm = test_sm(NULL), brick_sm = test_sm(NULL);
+  paint_sm.source = brick_sm.source = VR_MATSRC_LAMBERT_CONST;
   paint_sm.reflectance = 0.6;
+  brick_sm.reflectance = 0.3;
   vr_scene_material glass_sm = test_sm("clear");
   glass_sm.thickness_m = 0.004;
   vr_material *glass = flat_nk("clear", VR_KIND_DIELECTRIC, 1.52, 0);
-  vr_rmaterial mats[2];
+  vr_rmaterial mats[3];
   memset(mats, 0, sizeof mats);
   mats[0].bsdf = make_bsdf(&paint_sm, NULL, NULL);
   mats[1].bsdf = make_bsdf(&glass_sm, glass, NULL);
+  mats[2].bsdf = make_bsdf(&brick_sm, NULL, NULL);
   vr_robject objs[N];
   memset(objs, 0, sizeof objs);
-  for (int o = 0; o < N; o++) objs[o].material = o == 4 ? 1 : 0;
+  objs[3].material = 2;
+  objs[4].material = 1;
   vr_rscene rs;
   memset(&rs, 0, sizeof rs);
   rs.t = &t;
   rs.obj = objs;
   rs.mat = mats;
-  rs.nmat = 2;
+  rs.nmat = 3;
   uint8_t *ends = vr_rect_edges_ending(&rs);
   assert_non_null(ends);
-  /* The sill: its top (v = 1) carries on into both piers over 3.6 of its
-   * 5 m (two of the three probes), its other edges end. */
-  assert_int_equal(ends[0], VR_EDGE_U0 | VR_EDGE_U1 | VR_EDGE_V0);
-  /* The lintel's bottom meets the piers at its quarter points only... */
-  assert_int_equal(ends[1], VR_EDGE_U0 | VR_EDGE_U1 | VR_EDGE_V1);
-  /* The west pier: sill below, lintel above, the glass to the east. */
+  /* The sill's top (v = 1) meets the west pier, the glass and the brick
+   * pier at its probes: one of three is its sheet, so it ends; so do its
+   * sides and its foot, where the floor stands. */
+  assert_int_equal(ends[0], VR_EDGE_ALL);
+  /* The west pier: paint sill below and lintel above carry it on; the
+   * glass to the east and nothing to the west do not. */
   assert_int_equal(ends[2], VR_EDGE_U0 | VR_EDGE_U1);
-  assert_int_equal(ends[3], VR_EDGE_U0 | VR_EDGE_U1);
-  /* The floor is perpendicular to the wall: all its edges end. */
+  /* The brick pier carries on into nothing. */
+  assert_int_equal(ends[3], VR_EDGE_ALL);
+  /* The floor: the ground is coplanar and of its paint past its south
+   * edge (v = 0), but the wall stands there. */
   assert_int_equal(ends[5], VR_EDGE_ALL);
+  /* Without the wall's pieces, the floor would carry on into the ground
+   * there (and nowhere else). */
+  for (int o = 0; o < 5; o++) is_rect[o] = 0;
   free(ends);
-  vr_bsdf_destroy(mats[0].bsdf);
-  vr_bsdf_destroy(mats[1].bsdf);
+  ends = vr_rect_edges_ending(&rs);
+  assert_int_equal(ends[5], VR_EDGE_ALL & ~VR_EDGE_V0);
+  free(ends);
+  for (int m = 0; m < 3; m++) vr_bsdf_destroy(mats[m].bsdf);
   vr_material_destroy(glass);
 }
 

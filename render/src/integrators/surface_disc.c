@@ -44,14 +44,36 @@ static bool photons_land_on(const vr_rscene *rs, size_t o) {
   return m >= 0 && (size_t)m < rs->nmat && (vr_bsdf_lobes(rs->mat[m].bsdf) & VR_LOBE_DIFFUSE);
 }
 
+/* Each rect's bounds, 1 cm larger: the cheap test before the plane's. */
+typedef struct rect_box {
+  double lo[3], hi[3];
+} rect_box;
+
+static rect_box box_of(const double f[9]) {
+  rect_box b;
+  for (int a = 0; a < 3; a++) {
+    double c[4] = {f[a], f[a] + f[3 + a], f[a] + f[6 + a], f[a] + f[3 + a] + f[6 + a]};
+    b.lo[a] = fmin(fmin(c[0], c[1]), fmin(c[2], c[3])) - COPLANAR_DIST;
+    b.hi[a] = fmax(fmax(c[0], c[1]), fmax(c[2], c[3])) + COPLANAR_DIST;
+  }
+  return b;
+}
+
+static bool in_box(const rect_box *b, const double x[3]) {
+  return x[0] >= b->lo[0] && x[0] <= b->hi[0] && x[1] >= b->lo[1] && x[1] <= b->hi[1] &&
+         x[2] >= b->lo[2] && x[2] <= b->hi[2];
+}
+
 /* Whether point x (just past an edge of rect o) lies on another rect,
- * coplanar with o, that photons land on. */
-static bool covered(const vr_rscene *rs, size_t o, const double x[3]) {
+ * coplanar with o, of o's material, that photons land on.  A floor and
+ * the ground outside share a plane; they are not one sheet. */
+static bool covered(const vr_rscene *rs, const rect_box *boxes, size_t o, const double x[3]) {
   const vr_scene_tables *t = rs->t;
   double n[3];
   unit_normal(t->rect_frame[o], n);
   for (size_t j = 0; j < t->nobjects; j++) {
-    if (j == o || !t->is_rect[j] || !photons_land_on(rs, j)) continue;
+    if (j == o || !t->is_rect[j] || !in_box(&boxes[j], x) || !photons_land_on(rs, j)) continue;
+    if (rs->obj[j].material != rs->obj[o].material) continue;
     double m[3], u, v, dist;
     unit_normal(t->rect_frame[j], m);
     if (fabs(vr_dot3(n, m)) < COPLANAR_COS) continue;
@@ -61,10 +83,38 @@ static bool covered(const vr_rscene *rs, size_t o, const double x[3]) {
   return false;
 }
 
+/* Whether point x (on an edge of rect o) lies on a rect that is not
+ * coplanar with o, within 1 cm: a wall standing on a floor's edge, which
+ * the floor's sheet does not cross whatever lies in its plane beyond. */
+static bool met(const vr_rscene *rs, const rect_box *boxes, size_t o, const double x[3]) {
+  const vr_scene_tables *t = rs->t;
+  double n[3];
+  unit_normal(t->rect_frame[o], n);
+  for (size_t j = 0; j < t->nobjects; j++) {
+    if (j == o || !t->is_rect[j] || !in_box(&boxes[j], x)) continue;
+    const double *f = t->rect_frame[j];
+    double m[3], u, v, dist;
+    unit_normal(f, m);
+    if (fabs(vr_dot3(n, m)) >= COPLANAR_COS) continue;
+    if (!frame_coords(f, x, &u, &v, &dist) || dist > COPLANAR_DIST) continue;
+    double tu = COPLANAR_DIST / sqrt(vr_dot3(f + 3, f + 3));
+    double tv = COPLANAR_DIST / sqrt(vr_dot3(f + 6, f + 6));
+    if (u >= -tu && u <= 1 + tu && v >= -tv && v <= 1 + tv) return true;
+  }
+  return false;
+}
+
 uint8_t *vr_rect_edges_ending(const vr_rscene *rs) {
   const vr_scene_tables *t = rs->t;
   uint8_t *ends = calloc(t->nobjects ? t->nobjects : 1, 1);
-  if (!ends) return NULL;
+  rect_box *boxes = malloc((t->nobjects ? t->nobjects : 1) * sizeof *boxes);
+  if (!ends || !boxes) {
+    free(ends);
+    free(boxes);
+    return NULL;
+  }
+  for (size_t o = 0; o < t->nobjects; o++)
+    if (t->is_rect[o]) boxes[o] = box_of(t->rect_frame[o]);
   for (size_t o = 0; o < t->nobjects; o++) {
     if (!t->is_rect[o]) continue;
     const double *f = t->rect_frame[o];
@@ -80,16 +130,23 @@ uint8_t *vr_rect_edges_ending(const vr_rscene *rs) {
         out[a] = sg * across[a] / La;
       }
       /* A millimetre past the edge at a quarter, half and three quarters
-       * of its length: it carries on where two of three are covered. */
+       * of its length: it carries on where two of three are covered and no
+       * other surface stands on the edge there. */
       int hits = 0;
+      bool walled = false;
       for (int k = 1; k <= 3; k++) {
-        double x[3];
-        for (int a = 0; a < 3; a++) x[a] = start[a] + 0.25 * k * along[a] + 1e-3 * out[a];
-        hits += covered(rs, o, x);
+        double x[3], on[3];
+        for (int a = 0; a < 3; a++) {
+          on[a] = start[a] + 0.25 * k * along[a];
+          x[a] = on[a] + 1e-3 * out[a];
+        }
+        hits += covered(rs, boxes, o, x);
+        walled |= met(rs, boxes, o, on);
       }
-      if (hits < 2) ends[o] |= (uint8_t)(1u << e);
+      if (hits < 2 || walled) ends[o] |= (uint8_t)(1u << e);
     }
   }
+  free(boxes);
   return ends;
 }
 

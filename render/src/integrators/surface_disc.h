@@ -13,8 +13,11 @@
  *     way (geometric normals within 25.8 degrees, |cos| >= 0.9) and lies
  *     on the point's plane (within a quarter of the radius, or 1 cm);
  *   - on a rect, the sheet's extent is known: the rect itself, continued
- *     across an edge only where a coplanar rect that photons land on (a
- *     diffuse material) carries on past it (a wall cut around a window, a
+ *     across an edge only where a coplanar rect of the same material that
+ *     photons land on (a diffuse one) carries on past it and no other
+ *     surface stands on the edge (a wall cut around a window carries on
+ *     across its seams; a floor does not carry on into the ground outside,
+ *     under its wall).  Another object's photon inside the rect counts (a
  *     rug on a floor).  Photons of other objects beyond an edge that ends
  *     are not the sheet's, and the estimate divides by the share of the
  *     disc inside the edges that end;
