@@ -76,26 +76,26 @@ static void furnace_bands(const char *render, int K, double T, double mid, doubl
 }
 
 /* SPPM, radius 0.5 m, 4 iterations; bands 0.05-0.2 m, 0.2-0.5 m and
- * farther.  K = 40 seeds, T = 4.5 (Student's t with 39 degrees of freedom:
- * about 6e-5 two-sided).  Measured: -0.01 %, +0.10 %, -0.08 %.  Before the
- * sheets (photons of every surface in the disc) the band 0.05-0.2 m read
- * -2.30 % at 7.3 standard errors and 0.2-0.5 m +0.8 % (2026-12-01). */
+ * farther.  K = 24 seeds, T = 4.5 (Student's t with 23 degrees of freedom:
+ * about 1.6e-4 two-sided).  Measured: +0.29 %, +0.16 %, +0.19 %.  Before
+ * the sheets (photons of every surface in the disc) the band 0.05-0.2 m
+ * read -2.30 % (7.3 standard errors of 40 seeds; about 5.6 of 24). */
 static void test_sppm_junctions(void **state) {
   (void)state;
-  furnace_bands("render integrator=progressive spp=4 photons=20000 depth=64 radius=0.5", 40, 4.5,
+  furnace_bands("render integrator=progressive spp=4 photons=20000 depth=64 radius=0.5", 24, 4.5,
                 0.2, 0.5);
 }
 
 /* Photon maps read at the visible point, every photon within a fixed
- * radius of 0.4 m; bands 0.05-0.2 m, 0.2-0.4 m and farther.  K = 20 seeds,
- * T = 5.5 (t with 19 degrees of freedom: 2.6e-5 two-sided).  Measured with
- * the rects' disc shares: -0.13 %, +0.33 %, +0.06 % (0.3, 1.5, 0.3
- * standard errors); without them (the camera pass before 2026-12-01) the
- * band 0.05-0.2 m read -6.96 %, 16.7 standard errors: the disc's part past
- * the edge holds none of the wall's photons. */
+ * radius of 0.4 m; bands 0.05-0.2 m, 0.2-0.4 m and farther.  K = 12 seeds,
+ * T = 5.5 (t with 11 degrees of freedom: about 1.9e-4 two-sided).
+ * Measured with the rects' disc shares: -0.27 %, +0.50 %, +0.16 %;
+ * without them (the camera pass before 2026-12-01) the band 0.05-0.2 m
+ * read -6.96 %, 16.7 standard errors of 20 seeds: the disc's part past the
+ * edge holds none of the wall's photons. */
 static void test_photon_junctions(void **state) {
   (void)state;
-  furnace_bands("render integrator=photon spp=4 photons=100000 radius=0.4 depth=64", 20, 5.5, 0.2, 0.4);
+  furnace_bands("render integrator=photon spp=4 photons=100000 radius=0.4 depth=64", 12, 5.5, 0.2, 0.4);
 }
 
 int main(void) {

@@ -8,22 +8,14 @@
 #include "integrators/surface_disc.h"
 #include "vr/vec3.h"
 
-/* A rect's sheet: the photons of coplanar rects past its edges that carry
- * on (surface_disc.h). */
-typedef struct sheet_ctx {
-  const vr_scene_tables *t;
-  uint32_t own;
-  unsigned ends;
-} sheet_ctx;
-
-static bool sheet_also(const void *ctx, uint32_t surface, const double p[3]) {
-  const sheet_ctx *c = ctx;
-  return vr_rect_sheet_takes(c->t, c->own, c->ends, surface, p);
-}
-
-/* From the photons of object `surface` only (with edge shares, of its
- * rect's sheet): a floor's estimate never takes the ground's photons from
- * beyond the wall, which share its plane and side (vr_photon_map_store_on). */
+/* From the photons of object `surface` only: a floor's estimate never
+ * takes the ground's photons from beyond the wall, which share its plane
+ * and side (vr_photon_map_store_on).  A rect's estimate divides by its
+ * disc's share on the rect.  (Taking a coplanar rect's photons past an
+ * edge that carries on, as SPPM does, costs a callback for every other
+ * surface's candidate photon in the k-d tree's query; the maps keep every
+ * edge of a rect as one that ends, which is as unbiased and a little
+ * noisier.) */
 int vr_photon_maps_irradiance(const vr_photon_maps *c, const vr_scene_tables *t,
                               const vr_photon_set *ps, const double x[3], const double n[3],
                               uint32_t surface, int k, double radius, int nwl, const double *wl,
@@ -39,15 +31,13 @@ int vr_photon_maps_irradiance(const vr_photon_maps *c, const vr_scene_tables *t,
   double bins[512], r;
   if (nb > 512) return 0;
   bool rect = edge_share && surface != VR_PHOTON_ANY_SURFACE && surface < t->nobjects &&
-              t->is_rect[surface] && c->ends;
-  sheet_ctx sc = {t, surface, rect ? c->ends[surface] : 0};
-  vr_photon_surfaces which = {surface, rect ? sheet_also : NULL, &sc};
+              t->is_rect[surface];
+  vr_photon_surfaces which = {surface, NULL, NULL};
   int got = vr_photon_set_irradiance_among(ps, x, n, &which, c->fixed_radius ? 0 : k, radius, 1.1,
                                            bins, &r);
   if (got <= 0) return 0;
-  /* On a rect, the disc's part beyond the edges where its sheet ends held
-   * none of its photons. */
-  double share = rect ? vr_rect_disc_share(t->rect_frame[surface], sc.ends, x, r, 1.1) : 1.0;
+  /* On a rect, the disc's part beyond its edges held none of its photons. */
+  double share = rect ? vr_rect_disc_share(t->rect_frame[surface], VR_EDGE_ALL, x, r, 1.1) : 1.0;
   for (int j = 0; j < nwl; j++) {
     int b = vr_photon_map_bin(m, wl[j]);
     double lo, hi;

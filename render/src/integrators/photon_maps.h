@@ -24,10 +24,8 @@ typedef struct vr_photon_maps {
   double radius;     /* the largest (k nearest) or the fixed radius, m */
   bool fixed_radius;
   /* An estimate on a rect is divided by the share of its disc that lies on
-   * the rect's sheet (edges and corners read low otherwise), and takes the
-   * photons of coplanar rects its sheet carries on into (surface_disc.h). */
+   * the rect (edges and corners read low otherwise; surface_disc.h). */
   bool edge_share;
-  uint8_t *ends;     /* per object: a rect's edges where its sheet ends */
 } vr_photon_maps;
 
 enum { VR_MAP_DIRECT = 1, VR_MAP_CAUSTIC = 2, VR_MAP_GLOBAL = 4 };
@@ -42,8 +40,7 @@ void vr_photon_maps_free(vr_run *r, vr_photon_maps *m);
 
 /* Irradiance at x (normal n) on object `surface` from set ps: k nearest
  * photons within radius (or all within it when the radius is fixed), per
- * wavelength, of that object (with edge_share, of its rect's sheet);
- * returns the photons used. */
+ * wavelength, of that object; returns the photons used. */
 int vr_photon_maps_irradiance(const vr_photon_maps *m, const vr_scene_tables *t,
                               const vr_photon_set *ps, const double x[3], const double n[3],
                               uint32_t surface, int k, double radius, int nwl, const double *wl,

@@ -12,7 +12,6 @@
 #include <string.h>
 
 #include "integrators/photon_maps.h"
-#include "integrators/surface_disc.h"
 #include "vr/vec3.h"
 
 static void photon_generate(void *ctx, vr_flow_worker *w, long unit) {
@@ -214,8 +213,6 @@ vr_status vr_photon_maps_trace(vr_run *r, const vr_pass *base, vr_photon_maps *m
     *sets[i] = vr_photon_set_create(S, nb, rs->lmin, rs->lmax, rs->nwl, rs->scene_centre, err);
     if (!*sets[i]) return err ? err->status : VR_E_NOMEM;
   }
-  if (!(m->ends = vr_rect_edges_ending(rs)))
-    return vr_error_set(err, VR_E_NOMEM, "out of memory for the rects' edges");
   vr_pass c = *base;
   c.land = store;
   c.state = m;
@@ -244,7 +241,5 @@ void vr_photon_maps_free(vr_run *r, vr_photon_maps *m) {
   vr_photon_set_destroy(m->direct);
   vr_photon_set_destroy(m->caustic);
   m->global = m->direct = m->caustic = NULL;
-  free(m->ends);
-  m->ends = NULL;
   if (r && r->held_ctx == m) r->held = NULL, r->held_ctx = NULL;
 }

@@ -193,18 +193,6 @@ bool vr_rect_sheet_holds(const double f[9], unsigned ends, const double x[3]) {
            (v < 0 && ends & VR_EDGE_V0) || (v > 1 && ends & VR_EDGE_V1));
 }
 
-bool vr_rect_sheet_takes(const vr_scene_tables *t, uint32_t own, unsigned ends, uint32_t other,
-                         const double x[3]) {
-  if (own >= t->nobjects || other >= t->nobjects || !t->is_rect[own] || !t->is_rect[other])
-    return false;
-  double n[3], m[3], u, v, dist;
-  unit_normal(t->rect_frame[own], n);
-  unit_normal(t->rect_frame[other], m);
-  if (fabs(vr_dot3(n, m)) < COPLANAR_COS) return false;
-  if (!frame_coords(t->rect_frame[own], x, &u, &v, &dist) || dist > COPLANAR_DIST) return false;
-  return vr_rect_sheet_holds(t->rect_frame[own], ends, x);
-}
-
 bool vr_same_sheet(const double p[3], const double np[3], const double x[3], const double n[3],
                    double r) {
   double ll = vr_dot3(np, np) * vr_dot3(n, n), c = vr_dot3(np, n);

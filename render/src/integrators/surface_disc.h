@@ -54,12 +54,6 @@ double vr_rect_disc_share(const double f[9], unsigned ends, const double x[3], d
  * only edges that do not end. */
 bool vr_rect_sheet_holds(const double f[9], unsigned ends, const double x[3]);
 
-/* Whether a photon at x on object `other` belongs to the sheet of rect
- * `own` whose edges `ends` end: `other` is a rect coplanar with it and x
- * lies on it or past only edges that do not end. */
-bool vr_rect_sheet_takes(const vr_scene_tables *t, uint32_t own, unsigned ends, uint32_t other,
-                         const double x[3]);
-
 /* Whether a photon at x on a surface of geometric normal n belongs to the
  * sheet of the point at p with geometric normal np, for a disc of radius r
  * (the normals need not be unit). */
