@@ -104,7 +104,7 @@ int main(int argc, char **argv) {
          threads);
   for (int i = 0; i < NPATCH; i++) printf("  %-12s %9.3f lx\n", patches[i], ref[i]);
   printf("\n| estimator | seconds | worst patch | rms |\n|---|---:|---:|---:|\n");
-  char what[64];
+  char what[96];
   for (int paths = 256; paths <= 4096; paths *= 4) {
     double t = run(db, threads, VR_SENSORS_PATH, 0, 1, paths, m);
     snprintf(what, sizeof what, "path, %d paths/point", paths);

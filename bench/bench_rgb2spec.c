@@ -171,7 +171,7 @@ static void end_to_end(void) {
       for (int threads = 2; threads >= 1; threads--) {
         if (threads == 1 && strcmp(comp[k], "zips")) continue;
         if (!half && strcmp(comp[k], "none") && strcmp(comp[k], "zips")) continue;
-        char th[8];
+        char th[16];
         snprintf(th, sizeof th, "%d", threads);
         char *argv[16] = {tool, "--manifest", manifest, "--per-pixel", exr, "--exr-compression",
                           (char *)comp[k], "--threads", th, NULL};

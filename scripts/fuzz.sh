@@ -5,7 +5,13 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 secs=${1:-30}
-CC=clang CXX=clang++ scripts/build.sh build-fuzz -DVR_FUZZ=ON -DVR_SANITIZE=ON -DVR_WERROR=ON -DCMAKE_BUILD_TYPE=Debug
+if [ ! -f build-fuzz/CMakeCache.txt ]; then
+  CC=clang CXX=clang++ cmake -S . -B build-fuzz -DVR_FUZZ=ON -DVR_SANITIZE=ON -DVR_WERROR=ON \
+    -DCMAKE_BUILD_TYPE=Debug > /dev/null
+fi
+# Only the fuzzers and the libraries they link: the tests are built and run
+# by scripts/test.sh's other two builds.
+cmake --build build-fuzz -j "$(nproc)" --target vr_fuzzers
 for t in build-fuzz/tests/fuzz_*; do
   name=$(basename "$t")
   corpus=tests/fuzz/corpus/${name#fuzz_}

@@ -142,7 +142,7 @@ static void test_round_trip(void **state) {
   region reg[30] = {{"brick", 440, 30, 80, 60},    {"pine", 540, 30, 80, 60},
                     {"cotton", 440, 120, 80, 60},  {"carpet", 540, 120, 80, 60},
                     {"concrete", 440, 210, 80, 60}, {"paint", 540, 210, 80, 60}};
-  char names[24][16];
+  char names[24][24];
   for (int k = 0; k < 24; k++) {
     double pw = (410.0 - 20) / 6, ph = (278.0 - 20) / 4;
     snprintf(names[k], sizeof names[k], "patch-%02d", k + 1);
