@@ -219,19 +219,6 @@ long vr_photon_map_gather(const vr_photon_map *m, uint32_t label, const double x
 long vr_photon_map_gather_on(const vr_photon_map *m, uint32_t label, const double x[3],
                              const double n[3], uint32_t surface, int k, double bound2,
                              vr_photon_list *out);
-
-/* Which photons an estimate takes: those of `surface` (VR_PHOTON_ANY_SURFACE:
- * all), and a photon of another surface when `also` is set and says yes
- * for that surface at the photon's position (in the scene's coordinates):
- * a floor's rug, a wall's coplanar pieces. */
-typedef struct vr_photon_surfaces {
-  uint32_t surface;
-  bool (*also)(const void *ctx, uint32_t surface, const double p[3]);
-  const void *ctx;
-} vr_photon_surfaces;
-long vr_photon_map_gather_among(const vr_photon_map *m, uint32_t label, const double x[3],
-                                const double n[3], const vr_photon_surfaces *which, int k,
-                                double bound2, vr_photon_list *out);
 /* Squared distance from x to the bounding box of m's photons, INFINITY
  * for an empty or unbuilt map.  It is never above the d2 that a gather at
  * x computes for any photon of m, so a map whose box_d2 exceeds a bound

@@ -74,10 +74,6 @@ int vr_photon_set_irradiance(const vr_photon_set *s, const double x[3], const do
 int vr_photon_set_irradiance_on(const vr_photon_set *s, const double x[3], const double n[3],
                                 uint32_t surface, int k, double radius_max, double kc,
                                 double *out, double *r_used);
-/* The same among the photons `which` takes (vr/photon_map.h). */
-int vr_photon_set_irradiance_among(const vr_photon_set *s, const double x[3], const double n[3],
-                                   const vr_photon_surfaces *which, int k, double radius_max,
-                                   double kc, double *out, double *r_used);
 
 #ifdef __cplusplus
 }

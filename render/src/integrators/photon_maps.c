@@ -11,11 +11,10 @@
 /* From the photons of object `surface` only: a floor's estimate never
  * takes the ground's photons from beyond the wall, which share its plane
  * and side (vr_photon_map_store_on).  A rect's estimate divides by its
- * disc's share on the rect.  (Taking a coplanar rect's photons past an
- * edge that carries on, as SPPM does, costs a callback for every other
- * surface's candidate photon in the k-d tree's query; the maps keep every
- * edge of a rect as one that ends, which is as unbiased and a little
- * noisier.) */
+ * disc's share on the rect, every edge of it taken as one that ends.
+ * SPPM also takes a coplanar rect's photons past an edge that carries on
+ * (surface_disc.h); the maps do not, which is as unbiased and a little
+ * noisier at a wall's seams. */
 int vr_photon_maps_irradiance(const vr_photon_maps *c, const vr_scene_tables *t,
                               const vr_photon_set *ps, const double x[3], const double n[3],
                               uint32_t surface, int k, double radius, int nwl, const double *wl,
@@ -32,9 +31,8 @@ int vr_photon_maps_irradiance(const vr_photon_maps *c, const vr_scene_tables *t,
   if (nb > 512) return 0;
   bool rect = edge_share && surface != VR_PHOTON_ANY_SURFACE && surface < t->nobjects &&
               t->is_rect[surface];
-  vr_photon_surfaces which = {surface, NULL, NULL};
-  int got = vr_photon_set_irradiance_among(ps, x, n, &which, c->fixed_radius ? 0 : k, radius, 1.1,
-                                           bins, &r);
+  int got = vr_photon_set_irradiance_on(ps, x, n, surface, c->fixed_radius ? 0 : k, radius, 1.1,
+                                        bins, &r);
   if (got <= 0) return 0;
   /* On a rect, the disc's part beyond its edges held none of its photons. */
   double share = rect ? vr_rect_disc_share(t->rect_frame[surface], VR_EDGE_ALL, x, r, 1.1) : 1.0;

@@ -56,7 +56,6 @@ typedef struct vr_pm_query {
   vr_photon_list *list;
   uint32_t label;
   uint32_t surface; /* VR_PHOTON_ANY_SURFACE: every photon */
-  const vr_photon_surfaces *which; /* another surface's photon: its say, or NULL */
   bool nomem;
 } vr_pm_query;
 
@@ -88,12 +87,7 @@ static void consider(vr_pm_query *q, uint32_t i) {
   double dir[3];
   pm_oct_decode_raw(q->m->dir[i], dir);
   if (!(dir[0] * q->n[0] + dir[1] * q->n[1] + dir[2] * q->n[2] < 0.0)) return;
-  if (q->surface != VR_PHOTON_ANY_SURFACE && q->m->surf[i] != q->surface) {
-    if (!q->which || !q->which->also) return;
-    double w[3];
-    for (int a = 0; a < 3; a++) w[a] = (double)p->p[a] + q->m->centre[a];
-    if (!q->which->also(q->which->ctx, q->m->surf[i], w)) return;
-  }
+  if (q->surface != VR_PHOTON_ANY_SURFACE && q->m->surf[i] != q->surface) return;
 
   if (!q->heap && q->list) { /* gathering every photon in the disc */
     vr_photon_list *l = q->list;
@@ -265,20 +259,12 @@ long vr_photon_map_gather(const vr_photon_map *m, uint32_t label, const double x
 long vr_photon_map_gather_on(const vr_photon_map *m, uint32_t label, const double x[3],
                              const double n[3], uint32_t surface, int k, double bound2,
                              vr_photon_list *out) {
-  vr_photon_surfaces which = {surface, NULL, NULL};
-  return vr_photon_map_gather_among(m, label, x, n, &which, k, bound2, out);
-}
-
-long vr_photon_map_gather_among(const vr_photon_map *m, uint32_t label, const double x[3],
-                                const double n[3], const vr_photon_surfaces *which, int k,
-                                double bound2, vr_photon_list *out) {
   vr_pm_query q;
-  if (!out || !which || k < 0 || !(bound2 > 0.0) || !isfinite(bound2) ||
+  if (!out || k < 0 || !(bound2 > 0.0) || !isfinite(bound2) ||
       !query_init(&q, m, x, n, 1.0))
     return -1;
   q.rmax2 = bound2;
-  q.surface = which->surface;
-  q.which = which;
+  q.surface = surface;
   q.label = label;
   if (k == 0) {
     q.list = out;

@@ -171,14 +171,7 @@ int vr_photon_set_irradiance(const vr_photon_set *s, const double x[3], const do
 int vr_photon_set_irradiance_on(const vr_photon_set *s, const double x[3], const double n[3],
                                 uint32_t surface, int k, double radius_max, double kc,
                                 double *out, double *r_used) {
-  vr_photon_surfaces which = {surface, NULL, NULL};
-  return vr_photon_set_irradiance_among(s, x, n, &which, k, radius_max, kc, out, r_used);
-}
-
-int vr_photon_set_irradiance_among(const vr_photon_set *s, const double x[3], const double n[3],
-                                   const vr_photon_surfaces *which, int k, double radius_max,
-                                   double kc, double *out, double *r_used) {
-  if (!out || !which) return -1;
+  if (!out) return -1;
   if (r_used) *r_used = 0.0;
   if (!s) return -1;
   int nbins = vr_photon_map_nbins(s->maps[0]);
@@ -209,8 +202,8 @@ int vr_photon_set_irradiance_among(const vr_photon_set *s, const double x[3], co
   int rc = -1;
   for (int j = 0; j < nm; j++) {
     if (order[j].d2 > bound2) break; /* sorted: the rest are farther still */
-    long got = vr_photon_map_gather_among(s->maps[order[j].map], (uint32_t)order[j].map, x, n,
-                                          which, k, bound2, &L);
+    long got = vr_photon_map_gather_on(s->maps[order[j].map], (uint32_t)order[j].map, x, n,
+                                       surface, k, bound2, &L);
     if (got < 0) goto done;
     if (k > 0 && got > 0 && L.n >= (size_t)k) {
       if (L.n > (size_t)k) {
