@@ -5,12 +5,15 @@
  *
  *   build/bench/bench_denoise SCENE.scn DB [--spp N] [--ref-spp M]
  *       [--resolution WxH] [--threads P] [--ref-cache FILE] [--seed S]
+ *       [--ref-scene REF.scn]
  *
  * Renders, at the scene's integrator and settings:
  *   - the reference: M samples a pixel of another seed (read from
  *     --ref-cache when it holds this scene's reference, else written
  *     there), rendered with --denoise for its features (its raw film is
- *     the reference);
+ *     the reference), by REF.scn's integrator and settings when given (the
+ *     same view path traced, for an integrator with a bias of its own such
+ *     as SPPM, whose spp are iterations);
  *   - N samples with --denoise: its raw film (the EXR) and its denoised
  *     image (the PNG's, before tone mapping);
  *   - raw renders of 2N, 4N, 8N and 16N samples.
@@ -81,9 +84,28 @@ static run render(const vr_scene *s, vr_matdb *db, int spp, bool denoise, int th
   return out;
 }
 
-/* The relative RMSE over all pixels and over the edge pixels. */
+/* The relative RMSE over all pixels and over the edge pixels; and over
+ * 10 x 10 blocks of pixels (each block's luminance sum against the
+ * reference's): a reference with fireflies of its own (a path-traced
+ * room) puts its noise into every per-pixel figure, far less into the
+ * blocks', which show what an integrator's bias does. */
+static int g_W, g_H;
 static void errors(const double *Y, const double *ref, const unsigned char *edge, size_t px,
-                   double *all, double *edges) {
+                   double *all, double *edges, double *blocks) {
+  const int B = 10;
+  double sb = 0;
+  int nb = 0;
+  for (int by = 0; by + B <= g_H; by += B)
+    for (int bx = 0; bx + B <= g_W; bx += B) {
+      double a = 0, r = 0;
+      for (int y = by; y < by + B; y++)
+        for (int x = bx; x < bx + B; x++) {
+          size_t p = (size_t)y * (size_t)g_W + (size_t)x;
+          a += Y[p], r += ref[p];
+        }
+      if (r > 0) sb += (a / r - 1) * (a / r - 1), nb++;
+    }
+  *blocks = nb ? sqrt(sb / nb) : NAN;
   double mr = 0, s = 0, se = 0;
   size_t ne = 0;
   for (size_t p = 0; p < px; p++) mr += ref[p] / (double)px;
@@ -99,10 +121,10 @@ static void errors(const double *Y, const double *ref, const unsigned char *edge
 int main(int argc, char **argv) {
   if (argc < 3) {
     fprintf(stderr, "usage: bench_denoise SCENE.scn DB [--spp N] [--ref-spp M] [--resolution WxH] "
-                    "[--threads P] [--ref-cache FILE] [--seed S]\n");
+                    "[--threads P] [--ref-cache FILE] [--seed S] [--ref-scene REF.scn]\n");
     return 2;
   }
-  const char *scene_path = argv[1], *db_path = argv[2], *cache = NULL;
+  const char *scene_path = argv[1], *db_path = argv[2], *cache = NULL, *ref_path = NULL;
   int spp = 16, ref_spp = 1024, threads = 2, W = 0, H = 0;
   long seed = -1;
   for (int i = 3; i + 1 < argc; i += 2) {
@@ -111,6 +133,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--threads")) threads = atoi(argv[i + 1]);
     else if (!strcmp(argv[i], "--ref-cache")) cache = argv[i + 1];
     else if (!strcmp(argv[i], "--seed")) seed = atol(argv[i + 1]);
+    else if (!strcmp(argv[i], "--ref-scene")) ref_path = argv[i + 1];
     else if (!strcmp(argv[i], "--resolution")) {
       if (sscanf(argv[i + 1], "%dx%d", &W, &H) != 2) die(argv[i + 1], NULL);
     } else {
@@ -127,6 +150,7 @@ int main(int argc, char **argv) {
   W = s->camera.width;
   H = s->camera.height;
   size_t px = (size_t)W * (size_t)H;
+  g_W = W, g_H = H;
   printf("scene %s, %d x %d, integrator and settings of its render line, %d threads\n",
          scene_path, W, H, threads);
 
@@ -137,7 +161,8 @@ int main(int argc, char **argv) {
   if (!ref || !edge || !feat) die("memory", NULL);
   bool have = false;
   char key[512];
-  snprintf(key, sizeof key, "%s %dx%d %d", scene_path, W, H, ref_spp);
+  if (!ref_path) ref_path = scene_path;
+  snprintf(key, sizeof key, "%s %dx%d %d", ref_path, W, H, ref_spp);
   FILE *f = cache ? fopen(cache, "rb") : NULL;
   if (f) {
     char k[512] = {0};
@@ -148,16 +173,23 @@ int main(int argc, char **argv) {
   }
   if (!have) {
     /* The reference takes another seed than the runs measured. */
-    unsigned long long keep = s->settings.seed;
-    s->settings.seed = keep + 1000003u;
-    run r = render(s, db, ref_spp, true, threads);
-    s->settings.seed = keep;
+    vr_scene *rsc = s;
+    if (ref_path != scene_path) {
+      if (vr_scene_read(ref_path, &rsc, &err) || vr_scene_load_models(rsc, &err))
+        die(ref_path, &err);
+      rsc->camera.width = W, rsc->camera.height = H;
+    }
+    unsigned long long keep = rsc->settings.seed;
+    rsc->settings.seed = keep + 1000003u;
+    run r = render(rsc, db, ref_spp, true, threads);
+    rsc->settings.seed = keep;
+    if (rsc != s) vr_scene_destroy(rsc);
     memcpy(ref, r.Y, px * sizeof *ref);
     memcpy(feat, r.feat, px * VR_RESULT_FEATURES * sizeof *feat);
     free(r.Y);
     free(r.Yd);
     free(r.feat);
-    printf("reference: %d spp in %.1f s\n", ref_spp, r.seconds);
+    printf("reference: %s, %d spp in %.1f s\n", ref_path, ref_spp, r.seconds);
     if (cache && (f = fopen(cache, "wb"))) {
       char k[512] = {0};
       snprintf(k, sizeof k, "%s", key);
@@ -187,28 +219,29 @@ int main(int argc, char **argv) {
       nedge += edge[p];
     }
   printf("edge pixels: %zu of %zu\n\n", nedge, px);
-  printf("%-26s %9s %12s %12s\n", "image", "seconds", "rel. RMSE", "at edges");
+  printf("%-26s %9s %12s %12s %12s\n", "image", "seconds", "rel. RMSE", "at edges", "10x10 blocks");
   run d = render(s, db, spp, true, threads);
-  double all, at;
-  errors(d.Y, ref, edge, px, &all, &at);
-  printf("raw, %4d spp (halves)     %9.1f %12.4f %12.4f\n", spp, d.seconds - d.denoise_seconds,
-         all, at);
-  errors(d.Yd, ref, edge, px, &all, &at);
-  printf("denoised, %4d spp         %9.1f %12.4f %12.4f   (denoising %.2f s)\n", spp, d.seconds,
-         all, at, d.denoise_seconds);
+  double all, at, blk;
+  errors(d.Y, ref, edge, px, &all, &at, &blk);
+  printf("raw, %4d spp (halves)     %9.1f %12.4f %12.4f %12.4f\n", spp,
+         d.seconds - d.denoise_seconds, all, at, blk);
+  errors(d.Yd, ref, edge, px, &all, &at, &blk);
+  printf("denoised, %4d spp         %9.1f %12.4f %12.4f %12.4f   (denoising %.2f s)\n", spp,
+         d.seconds, all, at, blk, d.denoise_seconds);
   free(d.Y);
   free(d.Yd);
   free(d.feat);
   /* At 8N samples the filter has little noise to remove: where it blurs,
    * its edge error would exceed the raw film's. */
   d = render(s, db, 8 * spp, true, threads);
-  errors(d.Yd, ref, edge, px, &all, &at);
-  printf("denoised, %4d spp         %9.1f %12.4f %12.4f   (denoising %.2f s)\n", 8 * spp, d.seconds,
-         all, at, d.denoise_seconds);
+  errors(d.Yd, ref, edge, px, &all, &at, &blk);
+  printf("denoised, %4d spp         %9.1f %12.4f %12.4f %12.4f   (denoising %.2f s)\n", 8 * spp,
+         d.seconds, all, at, blk, d.denoise_seconds);
   for (int m = 2; m <= 16; m *= 2) {
     run r = render(s, db, m * spp, false, threads);
-    errors(r.Y, ref, edge, px, &all, &at);
-    printf("raw, %4d spp              %9.1f %12.4f %12.4f\n", m * spp, r.seconds, all, at);
+    errors(r.Y, ref, edge, px, &all, &at, &blk);
+    printf("raw, %4d spp              %9.1f %12.4f %12.4f %12.4f\n", m * spp, r.seconds, all, at,
+           blk);
     free(r.Y);
   }
   free(d.Y);

@@ -125,11 +125,14 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
   if (acc.pixel_patches)
     res->pixel_patch_Y = vr_accum_take_mean(&acc.pixel_patches, px * VR_PIXEL_SOURCES, job.passes);
   if (job.adaptive && (st = adaptive_film(res, &acc, &job, fb, err))) goto done;
+  /* What the integrator kept apart, before the denoiser reads the image. */
+  if (job.add_film) job.add_film(job.state, res->xyz, res->spectral);
   if (opt->denoise) {
     /* The features on every rank; the denoised image where the files are
      * written. */
     double t0 = vr_run_now();
-    st = vr_film_features(res, &acc, job.spp, r->rank == 0, opt->threads, err);
+    st = vr_film_features(res, &acc, job.spp, job.passes, r->rank == 0, job.add_half_film,
+                          job.state, opt->threads, err);
     if (st) goto done;
     res->denoise_seconds = vr_run_now() - t0;
     vr_pass_record *pd = r->rank == 0
@@ -138,7 +141,6 @@ static vr_status camera_image(vr_run *r, const vr_integrator_ops *ig, const vr_s
         : vr_run_record(r, "denoise", false, "done by rank 0, which writes the files");
     if (pd) pd->seconds = res->denoise_seconds;
   }
-  if (job.add_film) job.add_film(job.state, res->xyz, res->spectral);
   if (s->camera.model == VR_CAM_FISHEYE) {
     /* The vertical illuminance at the lens and the glare probability from
      * the image's luminance. */
@@ -373,8 +375,8 @@ static vr_status check_adaptive(const vr_scene *s, const vr_render_options *opt,
 }
 
 /* What the denoiser needs: a camera pass by an integrator whose pixels are
- * their own samples' means (as adaptive sampling), and two equal halves of
- * samples. */
+ * their own samples' means (as adaptive sampling), or one that renders two
+ * independent chains (SPPM), and two equal halves of samples. */
 static vr_status check_denoise(const vr_scene *s, const vr_render_options *opt,
                                const vr_integrator_ops *ig, vr_error *err) {
   if (!opt->denoise) return VR_OK;
@@ -382,11 +384,11 @@ static vr_status check_denoise(const vr_scene *s, const vr_render_options *opt,
   if (opt->no_camera || !s->camera.given)
     return vr_error_set(err, VR_E_ARG, "%s: denoising filters the camera image, and this render "
                         "has no camera pass", path);
-  if (!ig->adaptive)
+  if (!ig->adaptive && !ig->chains)
     return vr_error_set(err, VR_E_ARG,
                         "%s: integrator=%s cannot be denoised (its pixels are not their own "
                         "samples' means, so two halves of them are not independent estimates); "
-                        "use path, photon or whitted", path, ig->name);
+                        "use path, photon, progressive or whitted", path, ig->name);
   if (opt->flow_profile)
     return vr_error_set(err, VR_E_ARG,
                         "%s: a flow profile records each pass of the ray flow, and a denoised "

@@ -81,6 +81,29 @@ check "adaptive and denoised: exits 0" test $? -eq 0
 check "adaptive and denoised: samples.N and albedo.R" \
   sh -c "grep -q '^samples.N uint\$' '$tmp/dch.txt' && grep -q '^albedo.R float\$' '$tmp/dch.txt'"
 
+# SPPM denoised: two chains of spp/2 iterations; the variance layer too,
+# and the same film for any sub-domains (as every integrator's).
+cat > "$tmp/furnace.scn" <<'EOF'
+material wall lambert reflectance=0.5
+rect center=0,0,-1 normal=0,0,1 size=2,2 material=wall emission=100cd/m2
+rect center=0,0,1 normal=0,0,-1 size=2,2 material=wall emission=100cd/m2
+rect center=-1,0,0 normal=1,0,0 size=2,2 material=wall emission=100cd/m2
+rect center=1,0,0 normal=-1,0,0 size=2,2 material=wall emission=100cd/m2
+rect center=0,-1,0 normal=0,1,0 size=2,2 material=wall emission=100cd/m2
+rect center=0,1,0 normal=0,-1,0 size=2,2 material=wall emission=100cd/m2
+camera pinhole from=0,0,0 to=0,1,0 fov=60 resolution=16x12 filter=box
+render integrator=progressive spp=4 photons=5000 depth=16 seed=3
+EOF
+"$bin" "$tmp/furnace.scn" -o "$tmp/p" --outputs exr,png --denoise --threads 2 > "$tmp/p.out" 2>&1
+check "progressive, denoised: exits 0" test $? -eq 0
+check "progressive, denoised: two chains said" grep -q '2 independent chains (the denoiser.s halves) of 2 iterations' "$tmp/p.out"
+"$attrs" --channels "$tmp/p.exr" > "$tmp/pch.txt" 2>&1
+check "progressive, denoised: variance.Y and albedo.R, no samples.N" \
+  sh -c "grep -q '^variance.Y float\$' '$tmp/pch.txt' && grep -q '^albedo.R float\$' '$tmp/pch.txt' && ! grep -q '^samples.N' '$tmp/pch.txt'"
+"$bin" "$tmp/furnace.scn" -o "$tmp/q" --outputs exr --denoise --threads 1 --subdomains 4 > /dev/null 2>&1
+"$cmp" "$tmp/p.exr" "$tmp/q.exr" > /dev/null
+check "progressive, denoised, 4 sub-domains: the same film" test $? -eq 0
+
 sed 's/integrator=path/integrator=bdpt/' "$tmp/floor.scn" > "$tmp/box.scn"
 refuse render-denoise-integrator "$bin" "$tmp/box.scn" -o "$tmp/x" --denoise
 refuse render-denoise-odd-spp "$bin" "$tmp/floor.scn" -o "$tmp/x" --denoise --spp 5

@@ -181,7 +181,9 @@ typedef struct vr_render_result {
   /* Adaptive sampling (target_error or time_limit_s): each pixel's samples
    * and the variance of its mean luminance ((cd/m²)², from the means of
    * its two halves of samples: (m_a - m_b)² / 4, unbiased with one degree
-   * of freedom); NULL otherwise. */
+   * of freedom); NULL otherwise.  A denoised render of fixed spp has the
+   * variance alone (from its halves, or SPPM's two chains), where its
+   * files are written. */
   uint32_t *pixel_samples;
   double *pixel_variance;
   struct vr_adaptive_summary {

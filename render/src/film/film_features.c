@@ -9,7 +9,9 @@
 #include "vr/colour.h"
 #include "vr/denoise.h"
 
-vr_status vr_film_features(vr_render_result *res, const vr_accum *acc, int spp, bool display,
+vr_status vr_film_features(vr_render_result *res, const vr_accum *acc, int spp, int passes,
+                           bool display,
+                           void (*half_extra)(const void *ctx, double *xyz), const void *ctx,
                            int threads, vr_error *err) {
   size_t px = (size_t)res->width * (size_t)res->height;
   res->features = malloc((px ? px : 1) * VR_RESULT_FEATURES * sizeof *res->features);
@@ -59,8 +61,23 @@ vr_status vr_film_features(vr_render_result *res, const vr_accum *acc, int spp, 
     }
     res->features[p * VR_RESULT_FEATURES + 6] = (float)f[6];
     if (display) {
-      double scale = res->pixel_samples ? (n > 0 ? 2.0 / n : 0.0) : 2.0;
+      double scale = res->pixel_samples ? (n > 0 ? 2.0 / n : 0.0) : 2.0 / (passes > 0 ? passes : 1);
       for (int k = 0; k < 3; k++) b[3 * p + (size_t)k] = scale * vr_atomic_get(&acc->half_xyz[3 * p + (size_t)k]);
+    }
+  }
+  if (display && half_extra) half_extra(ctx, b);
+  if (display && !res->pixel_variance) {
+    /* The halves' means a and b, the image's u = (a + b) / 2: the variance
+     * of u, (a - b)^2 / 4 = (u - b)^2, unbiased with one degree of
+     * freedom (adaptive sampling's is the same, render.c). */
+    res->pixel_variance = malloc((px ? px : 1) * sizeof *res->pixel_variance);
+    if (!res->pixel_variance) {
+      st = vr_error_set(err, VR_E_NOMEM, "pixel variances: out of memory");
+      goto out;
+    }
+    for (size_t p = 0; p < px; p++) {
+      double d = res->xyz[3 * p + 1] - b[3 * p + 1];
+      res->pixel_variance[p] = d * d;
     }
   }
   if (display) {

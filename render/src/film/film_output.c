@@ -195,24 +195,25 @@ static void rename_in_message(vr_error *err, const vr_film_staged *g) {
 
 /* The RGB EXR; after adaptive sampling with two more layers: each pixel's
  * samples (samples.N, uint) and the variance of its mean luminance
- * (variance.Y, (cd/m2)^2, float); with the denoiser's features, the layers
- * albedo (R, G, B), normal (X, Y, Z) and nearness (V). */
+ * (variance.Y, (cd/m2)^2, float), a denoised render of fixed spp with the
+ * variance alone; with the denoiser's features, the layers albedo (R, G,
+ * B), normal (X, Y, Z) and nearness (V). */
 static const char *const FEATURE_CHANNELS[VR_RESULT_FEATURES] = {
     "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "nearness.V"};
 
 static vr_status write_exr(const vr_render_result *r, const char *path, const vr_image *rgb,
                            const vr_exr_colour *colour, vr_error *err) {
-  bool adaptive = r->pixel_samples && r->pixel_variance;
-  if (!adaptive && !r->features) return vr_image_write_exr_with(path, rgb, colour, err);
+  bool variance = r->pixel_variance != NULL;
+  if (!variance && !r->features) return vr_image_write_exr_with(path, rgb, colour, err);
   size_t px = (size_t)r->width * (size_t)r->height, n = 0;
-  size_t planes = (adaptive ? 1 : 0) + (r->features ? VR_RESULT_FEATURES : 0);
+  size_t planes = (variance ? 1 : 0) + (r->features ? VR_RESULT_FEATURES : 0);
   float *buf = malloc((px ? px : 1) * planes * sizeof *buf);
   if (!buf) return vr_error_set(err, VR_E_NOMEM, "out of memory");
   vr_exr_channel extra[2 + VR_RESULT_FEATURES];
   float *plane = buf;
-  if (adaptive) {
+  if (r->pixel_samples) extra[n++] = (vr_exr_channel){"samples.N", 1, r->pixel_samples};
+  if (variance) {
     for (size_t p = 0; p < px; p++) plane[p] = (float)r->pixel_variance[p];
-    extra[n++] = (vr_exr_channel){"samples.N", 1, r->pixel_samples};
     extra[n++] = (vr_exr_channel){"variance.Y", 0, plane};
     plane += px;
   }

@@ -40,6 +40,9 @@ typedef struct vr_camera_job {
   double seconds;             /* the camera passes' time */
   void *state;                /* what add_film() and free_state() work on */
   void (*add_film)(const void *state, double *xyz, double *spectral);
+  /* With halves: adds what the integrator kept apart of the second half
+   * alone to that half's mean XYZ (NULL: nothing is kept apart). */
+  void (*add_half_film)(const void *state, double *xyz);
   void (*free_state)(void *state);
 } vr_camera_job;
 
@@ -57,6 +60,10 @@ typedef struct vr_integrator_ops {
    * splatted onto other pixels, no estimate shared over iterations), so it
    * can sample adaptively (adaptive.c). */
   bool adaptive;
+  /* Its pixels' estimates are not their samples' means, but it renders the
+   * denoiser's two halves as two independent estimates of the whole image
+   * (SPPM: two chains of spp / 2 iterations each), so it can be denoised. */
+  bool chains;
   /* Its camera paths deliver each pixel's light with the source it came
    * from (a sky patch, the ground glow, the sun), so the film can keep
    * its tallies by source (vr_render_options.pixel_patches). */

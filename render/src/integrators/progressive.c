@@ -2,7 +2,15 @@
  * alias sppm; sppm.h): spp iterations, each of one camera path a pixel to
  * its visible point (paths.c, with this integrator's say at the first
  * diffuse vertex) and `photons` photons landing on the visible points
- * (photon_trace.c); each step's sums are added over the ranks. */
+ * (photon_trace.c); each step's sums are added over the ranks.
+ *
+ * Denoised (--denoise), it runs two independent chains of spp / 2
+ * iterations, each from the first radius with its own block of the
+ * sampler's samples and photons: the image is their mean, and the second
+ * chain's estimate is the denoiser's second half (film_features.c), as a
+ * path tracer's second half of samples.  Each chain's radius shrinks over
+ * spp / 2 iterations only, so the mean keeps the bias of spp / 2
+ * iterations while its variance is that of spp. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -69,14 +77,17 @@ static void land(vr_pass *c, const vr_payload *p, const vr_hit *hit, const doubl
                   (p->flags & VR_PF_TERMINATED) != 0);
 }
 
-/* One iteration: the visible points, their grid, the photons, the update;
- * each step's sums added over the ranks. */
-static vr_status iteration(vr_camera_job *job, vr_pass *c, int it, int iterations,
+/* One iteration of a chain of `iterations`: the visible points, their
+ * grid, the photons, the update; each step's sums added over the ranks.
+ * `sample` is the camera paths' and photons' sample index (the chain's
+ * first plus the iteration), whose remainder by `iterations` strata the
+ * hero wavelength. */
+static vr_status iteration(vr_camera_job *job, vr_pass *c, int sample, int iterations,
                            bool trace_photons, double *t_photons, vr_error *err) {
   vr_run *r = job->run;
   vr_sppm *s = c->state;
-  vr_sppm_begin(s, job->rs, it, iterations);
-  c->sample_offset = it;
+  vr_sppm_begin(s, job->rs, sample, iterations);
+  c->sample_offset = sample;
   vr_status st = vr_integrator_camera(job, c, &vr_camera_path_ops, err);
   double t0 = vr_run_now();
   if (!st && r->nranks > 1) st = vr_sppm_sum_points(s, r->comm, err);
@@ -96,13 +107,27 @@ static vr_status iteration(vr_camera_job *job, vr_pass *c, int it, int iteration
   return st;
 }
 
+/* One chain, or two (denoising); the image is their mean. */
+typedef struct chains {
+  int n;
+  vr_sppm s[2];
+} chains;
+
 static void add_film(const void *state, double *xyz, double *spectral) {
-  vr_sppm_film(state, xyz, spectral);
+  const chains *ch = state;
+  for (int i = 0; i < ch->n; i++) vr_sppm_film(&ch->s[i], 1.0 / ch->n, xyz, spectral);
+}
+
+/* The second chain's photon radiance, to the second half's mean. */
+static void add_half_film(const void *state, double *xyz) {
+  const chains *ch = state;
+  vr_sppm_film(&ch->s[1], 1.0, xyz, NULL);
 }
 
 static void free_state(void *state) {
-  vr_sppm_destroy(state);
-  free(state);
+  chains *ch = state;
+  for (int i = 0; i < ch->n; i++) vr_sppm_destroy(&ch->s[i]);
+  free(ch);
 }
 
 static vr_status render(vr_camera_job *job, vr_error *err) {
@@ -119,34 +144,48 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
                     : !nd->diffuse ? "no diffuse surface for photons to reach"
                     : !job->lights_exist ? "no light with power"
                                          : "depth 1: no indirect light asked for");
-  vr_sppm *s = calloc(1, sizeof *s);
-  if (!s) return vr_error_set(err, VR_E_NOMEM, "out of memory");
-  vr_status st = vr_sppm_create(s, job->rs, job->W, job->H, job->acc->nbins,
-                                isnan(set->radius_m) ? 0 : set->radius_m, SPPM_RADIUS_PX,
-                                set->alpha, err);
-  if (st) {
-    free(s);
-    return st;
+  chains *ch = calloc(1, sizeof *ch);
+  if (!ch) return vr_error_set(err, VR_E_NOMEM, "out of memory");
+  /* The denoiser's halves are the chains: the camera passes are not split
+   * (vr_integrator_camera), each is one sample a pixel of its chain. */
+  ch->n = job->halves ? 2 : 1;
+  job->halves = false;
+  vr_status st = VR_OK;
+  for (int i = 0; i < ch->n && !st; i++) {
+    st = vr_sppm_create(&ch->s[i], job->rs, job->W, job->H, job->acc->nbins,
+                        isnan(set->radius_m) ? 0 : set->radius_m, SPPM_RADIUS_PX, set->alpha, err);
+    if (st) ch->n = i;
   }
-  job->state = s, job->add_film = add_film, job->free_state = free_state;
+  job->state = ch, job->add_film = add_film, job->free_state = free_state;
+  if (ch->n == 2) job->add_half_film = add_half_film;
+  if (st) return st;
   vr_pass c = vr_integrator_pass(job);
   c.spp = 1;
   c.at_diffuse = at_diffuse;
-  c.fixed_wl = s->wl;
-  c.state = s;
   job->passes = job->spp;
   double t_photons = 0;
-  for (int it = 0; !st && it < job->spp; it++)
-    st = iteration(job, &c, it, job->spp, any, &t_photons, err);
+  int per = job->spp / ch->n; /* check_denoise: spp is even when denoised */
+  for (int i = 0; i < ch->n && !st; i++) {
+    c.state = &ch->s[i];
+    c.fixed_wl = ch->s[i].wl;
+    c.second_half = i == 1;
+    for (int it = 0; !st && it < per; it++)
+      st = iteration(job, &c, i * per + it, per, any, &t_photons, err);
+  }
   if (st) return st;
   double rlo, rmed, rhi;
-  vr_sppm_radii(s, &rlo, &rmed, &rhi);
-  vr_run_say(r, "progressive: %d iterations of %ld photons; pixel radii now %.3g to %.3g mm "
-                "(median %.3g mm)", job->spp, job->photons, 1e3 * rlo, 1e3 * rhi, 1e3 * rmed);
+  vr_sppm_radii(&ch->s[0], &rlo, &rmed, &rhi);
+  if (ch->n == 2)
+    vr_run_say(r, "progressive: 2 independent chains (the denoiser's halves) of %d iterations of "
+                  "%ld photons; the first's pixel radii now %.3g to %.3g mm (median %.3g mm)",
+               per, job->photons, 1e3 * rlo, 1e3 * rhi, 1e3 * rmed);
+  else
+    vr_run_say(r, "progressive: %d iterations of %ld photons; pixel radii now %.3g to %.3g mm "
+                  "(median %.3g mm)", job->spp, job->photons, 1e3 * rlo, 1e3 * rhi, 1e3 * rmed);
   if (rp && any) rp->seconds = t_photons;
   return VR_OK;
 }
 
 const vr_integrator_ops vr_integrator_progressive = {
     .name = "progressive", .what = "progressive photon mapping", .settings = settings,
-    .render = render};
+    .render = render, .chains = true};

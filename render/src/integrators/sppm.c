@@ -336,15 +336,15 @@ void vr_sppm_update(vr_sppm *s, uint64_t photons) {
   }
 }
 
-void vr_sppm_film(const vr_sppm *s, double *xyz, double *bins) {
-  size_t nb = s->tau.nbins;
+void vr_sppm_film(const vr_sppm *s, double w, double *xyz, double *bins) {
+  size_t nb = bins ? s->tau.nbins : 0;
   if (!s->photons_total) return;
   for (size_t i = 0; i < s->nslots; i++) {
     double R = s->radius[i];
     long px = pixel_of(s, i);
     if (!(R > 0) || px < 0) continue;
     size_t p = (size_t)px;
-    double k = 1.0 / ((double)s->photons_total * M_PI * R * R);
+    double k = w / ((double)s->photons_total * M_PI * R * R);
     for (int a = 0; a < 3; a++) xyz[p * 3 + (size_t)a] += vr_atomic_get(&s->tau.xyz[p * 3 + (size_t)a]) * k;
     for (size_t b = 0; b < nb; b++) bins[p * nb + b] += vr_atomic_get(&s->tau.bins[p * nb + b]) * k;
   }

@@ -139,8 +139,8 @@ void vr_sppm_update(vr_sppm *s, uint64_t photons);
  * greatest (0 when none has). */
 void vr_sppm_radii(const vr_sppm *s, double *lo, double *median, double *hi);
 
-/* Adds the photon radiance τ / (I Np π R^2) of every pixel to xyz
- * (npx * 3) and bins (npx * nbins). */
-void vr_sppm_film(const vr_sppm *s, double *xyz, double *bins);
+/* Adds w times the photon radiance τ / (I Np π R^2) of every pixel to xyz
+ * (npx * 3) and, unless NULL, bins (npx * nbins). */
+void vr_sppm_film(const vr_sppm *s, double w, double *xyz, double *bins);
 
 #endif
