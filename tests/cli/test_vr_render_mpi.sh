@@ -151,6 +151,19 @@ for layer in albedo.R normal.X nearness.V; do
   check "denoise: $layer the same on 2 ranks ($a)" test -n "$a" -a "$a" = "$b"
 done
 check "denoise: rank 0 writes the PNG" test -s "$tmp/dn2.png"
+# SPPM denoised (two chains, each iteration's sums added over the ranks):
+# the film and the variance layer of one process on 2 ranks.
+sed 's/^render .*/render integrator=progressive spp=4 photons=20000 seed=5/' "$tmp/room.scn" > "$tmp/dp.scn"
+(cd "$tmp" && "$bin" dp.scn --threads 1 --denoise --resolution 40x30 --outputs exr -o dp1 --quiet)
+check "SPPM denoised: one process renders" test $? -eq 0
+(cd "$tmp" && timeout 300 "${mpi[@]}" -np 2 "$bin" dp.scn --subdomains 8 --threads 1 --denoise \
+   --resolution 40x30 --outputs exr -o dp2 --quiet)
+check "SPPM denoised: 2 ranks render" test $? -eq 0
+"$cmp" "$tmp/dp1.exr" "$tmp/dp2.exr" > /dev/null
+check "SPPM denoised: 2 ranks give the film of one process" test $? -eq 0
+a=$("$(dirname "$cmp")/vr-test-exr-attrs" --channels "$tmp/dp1.exr" --values variance.Y | grep "^variance.Y [-0-9]")
+b=$("$(dirname "$cmp")/vr-test-exr-attrs" --channels "$tmp/dp2.exr" --values variance.Y | grep "^variance.Y [-0-9]")
+check "SPPM denoised: variance.Y the same on 2 ranks ($a)" test -n "$a" -a "$a" = "$b"
 # The ranks must agree on keeping the bins (their sums are collective):
 # different --outputs are refused like different options.
 (cd "$tmp" && timeout 120 "${mpi[@]}" -np 2 sh -c 'if [ "$OMPI_COMM_WORLD_RANK" = 0 ]; then exec "$0" "$@" --outputs exr; else exec "$0" "$@"; fi' \
