@@ -46,13 +46,14 @@ typedef struct render_overrides {
   bool exposure_given;  /* --exposure EV */
   bool exposure_auto;   /* --exposure auto */
   double exposure_ev;
+  const char *render;   /* --render OPTIONS: the render line instead of the file's, or NULL */
   bool seed_given;      /* --seed N, instead of the render line's seed= */
   unsigned long long seed;
   int nsets;            /* --set NAME.state=S, repeated */
   render_set sets[RENDER_MAX_SETS];
 } render_overrides;
 
-/* Reads --resolution, --exposure, --seed and every --set from the command line
+/* Reads --render, --resolution, --exposure, --seed and every --set from the command line
  * (vr_args keeps one value per option, so --set, which may repeat, is read
  * from argv), and refuses any other option given twice.  0, or 2 after a
  * usage error was printed. */

@@ -92,6 +92,7 @@ int render_overrides_parse(const vr_args *a, int argc, char **argv, const vr_opt
                      set->material, o->sets[j].text);
     o->nsets++;
   }
+  o->render = vr_args_get(a, "render");
   const char *res = vr_args_get(a, "resolution");
   if (res) {
     long w = 0, h = 0;

@@ -44,6 +44,7 @@ static const vr_option OPTIONS[] = {
     {"send-credit", 0, "N", "under mpirun: rays a rank may send another before that rank credits them back as they leave its memory (default 4096; refused when running alone)"},
     {"image-space", 0, NULL, "image-space mode for comparison: threads trace whole 16x16 tiles over the whole scene, no ray queues (--subdomains ignored)"},
     {"resolution", 0, "WxH", "image size in pixels, overriding the camera line's resolution="},
+    {"render", 0, "OPTIONS", "a render line's options replacing the scene's render line, e.g. \"integrator=progressive photons=200000 spp=16\" (those left out take their defaults, not the file's; the file's line is still checked); --spp, --photons and --seed apply over it"},
     {"spp", 0, "N", "samples per pixel, overriding the scene's render line"},
     {"target-error", 0, "E", "adaptive sampling (integrators path, photon, whitted; and path sensors, by point): rounds that double a pixel's samples until its estimated relative standard error (from two independent halves of its samples, over its 3x3 neighbourhood) is at most E, e.g. 0.02 or 2%; the first round is two halves of the smallest multiple of spp that is at least 4; the EXR gains layers samples.N and variance.Y"},
     {"time-limit", 0, "SECONDS", "adaptive sampling: start no round that would end past SECONDS from the start of the render (predicted from the last round); alone, every pixel takes samples until then"},
@@ -67,7 +68,7 @@ static const vr_option OPTIONS[] = {
 static const char USAGE[] =
     "SCENE.scn [-o PREFIX] [--outputs LIST] [--db FILE] [--subdomains S] [--memory-budget SIZE]\n"
     "                 [--cache DIR] [--threads P] [--image-space] [--send-batch N] [--send-credit N]\n"
-    "                 [--resolution WxH] [--spp N] [--seed N] [--photons N] [--exposure EV|auto]\n"
+    "                 [--render OPTIONS] [--resolution WxH] [--spp N] [--seed N] [--photons N] [--exposure EV|auto]\n"
     "                 [--target-error E] [--time-limit SECONDS] [--max-spp N] [--denoise]\n"
     "                 [--set NAME.state=S]... [--stats FILE.json [--flow-profile]] [--tonemap filmic|clip|reinhard]\n"
     "                 [--falsecolour LO,HI] [--sensors-only] [--json] [--quiet]\n"
@@ -426,6 +427,7 @@ static void digest_of(const char *path, const vr_render_options *o, const render
   vr_sha256_update(&c, opts, strlen(opts));
   render_overrides_text(ov, more, sizeof more);
   vr_sha256_update(&c, more, strlen(more));
+  if (ov->render) vr_sha256_update(&c, ov->render, strlen(ov->render) + 1);
   char hex[65];
   vr_sha256_final(&c, hex);
   for (int i = 0; i < 32; i++) {
@@ -542,7 +544,8 @@ static int run_tool(const vr_args *a, int argc, char **argv, vr_comm *comm) {
     vr_error_set(&err, VR_E_NOMEM, "out of memory");
     goto ready;
   }
-  if (vr_scene_read(path, &scene, &err) || vr_scene_load_models(scene, &err)) goto ready;
+  if (vr_scene_read_with(path, ov.render, &scene, &err) || vr_scene_load_models(scene, &err))
+    goto ready;
   if (render_overrides_apply(&ov, scene, &err) || render_options_check(a, scene, &err)) goto ready;
   /* No camera line: the scene exists for its sensors. */
   opt.no_camera = vr_args_flag(a, "sensors-only") || !scene->camera.given;

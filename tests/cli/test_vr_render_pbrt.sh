@@ -26,7 +26,7 @@ render integrator=path depth=2 spp=64 seed=1
 EOF
 sed 's/seed=1/seed=5/' "$tmp/plane.scn" > "$tmp/plane5.scn"
 cd "$tmp"
-"$bin" plane.scn -o s5a --seed 5 --threads 1 -q; rc1=$?
+"$bin" plane.scn -o s5a --seed 5 --threads 1 --stats s5a.json -q; rc1=$?
 "$bin" plane.scn -o s5b --seed 5 --threads 1 -q; rc2=$?
 "$bin" plane.scn -o s6 --seed 6 --threads 1 -q; rc3=$?
 "$bin" plane5.scn -o file5 --threads 1 -q; rc4=$?
@@ -45,6 +45,24 @@ sum6=$("$cmp_exr" s6.exr s5a.exr 1 | sed 's/.*sum \([0-9.e+-]*\).*/\1/')
 # 0.8 % (per-pixel noise at 64 spp measured 0.2): 3 % is 4 of them.
 check "seeds 5 and 6 agree within noise ($sum5, $sum6)" \
   python3 -c "import sys; a, b = float('$sum5'), float('$sum6'); sys.exit(0 if a > 0 and abs(a - b) < 0.03 * a else 1)"
+
+# --render replaces the render line: the line of plane5.scn given on the
+# command line is plane5.scn's film, byte for byte; --seed applies over it.
+"$bin" plane.scn -o r5 --render "integrator=path depth=2 spp=64 seed=5" --threads 1 -q; rc1=$?
+"$bin" plane.scn -o r1s5 --render "integrator=path depth=2 spp=64" --seed 5 --threads 1 -q; rc2=$?
+check "the --render runs run" test $rc1$rc2 = 00
+check "--render with plane5.scn's line is plane5.scn's film" cmp -s r5.spectral.exr file5.spectral.exr
+check "--seed 5 over --render's line (seed left out) is seed 5" cmp -s r1s5.spectral.exr file5.spectral.exr
+# Options left out take their defaults, not the file's: depth 8, not 2,
+# and the default integrator, photon mapping (another film).
+"$bin" plane.scn -o rdef --render "spp=64 seed=5" --threads 1 --stats rdef.json -q; rc=$?
+check "--render without integrator= renders" test $rc -eq 0
+check "... by photon mapping, the default" grep -q 'samples per pixel, photon mapping"' rdef.json
+check "... where the file's line path traces" grep -q 'samples per pixel, path tracing"' s5a.json
+check "--help lists --render" grep -q -- "--render OPTIONS" "$tmp/help"
+refuse render-override-bad "$bin" plane.scn -o bad --render "integrator=nope"
+check "... nothing written" test ! -e bad.exr -a ! -e bad.manifest.json
+refuse render-override-line-break "$bin" plane.scn -o bad --render "spp=4 # note"
 
 # Filters and samplers from the scene file: each renders, and a box of
 # radius 0.5 (the default written out) is the default image bit for bit.

@@ -635,8 +635,70 @@ static void read_file(void **state) {
   vr_scene_destroy(NULL);
 }
 
+/* vr-render --render: the command line's options replace the file's
+ * render line; those it leaves out take the defaults of
+ * docs/scene-format.md's render line (knn=50, depth=8, seed=1), not the
+ * file's; its errors name "--render" and the column in its own text. */
+static void render_line_override(void **state) {
+  (void)state;
+  vr_scene *s = NULL;
+  vr_error err = {0};
+  const char *file = "camera pinhole from=0,0,0 to=0,4,0\n"
+                     "render integrator=photon photons=2000000 knn=400 spp=16 depth=5 seed=9\n";
+  assert_int_equal(vr_scene_parse_with(file, strlen(file), NAME, "integrator=progressive spp=8",
+                                       &s, &err), VR_OK);
+  const vr_scene_settings *g = &s->settings;
+  assert_int_equal(g->integrator, VR_INT_PROGRESSIVE);
+  assert_int_equal(g->spp, 8);
+  assert_int_equal(g->photons, 200000); /* the default, not the file's 2000000 */
+  assert_int_equal(g->knn, 50);
+  assert_int_equal(g->max_depth, 8);
+  assert_true(g->seed == 1);
+  /* progressive's own rule (its 8 wavelengths) applies to the new line */
+  assert_int_equal(g->wavelengths, VR_SCENE_MAX_WAVELENGTHS);
+  assert_string_equal(g->source, "--render");
+  assert_int_equal(g->loc.line, 1);
+  vr_scene_destroy(s);
+  /* Without --render the file's line, its source the file. */
+  assert_int_equal(vr_scene_parse_with(file, strlen(file), NAME, NULL, &s, &err), VR_OK);
+  assert_int_equal(s->settings.knn, 400);
+  assert_null(s->settings.source);
+  vr_scene_destroy(s);
+  /* A file without a render line takes the command line's. */
+  const char *bare = "camera pinhole from=0,0,0 to=0,4,0\n";
+  assert_int_equal(vr_scene_parse_with(bare, strlen(bare), NAME, "integrator=path", &s, &err), VR_OK);
+  assert_int_equal(s->settings.integrator, VR_INT_PATH);
+  vr_scene_destroy(s);
+  /* An empty line: every default. */
+  assert_int_equal(vr_scene_parse_with(file, strlen(file), NAME, "", &s, &err), VR_OK);
+  assert_int_equal(s->settings.integrator, VR_INT_PHOTON);
+  assert_int_equal(s->settings.spp, 16);
+  vr_scene_destroy(s);
+  /* Errors: the word's column in the option's text. */
+  assert_int_equal(vr_scene_parse_with(file, strlen(file), NAME, "spp=4 integrator=nope", &s, &err),
+                   VR_E_PARSE);
+  assert_null(s);
+  assert_non_null(strstr(err.message, "--render:1:7:"));
+  assert_non_null(strstr(err.message, "integrator"));
+  assert_int_equal(vr_scene_parse_with(file, strlen(file), NAME, "spp=4 colour=red", &s, &err),
+                   VR_E_PARSE);
+  assert_non_null(strstr(err.message, "--render:1:7:"));
+  assert_int_equal(vr_scene_parse_with(file, strlen(file), NAME, "spp=4\ncamera x", &s, &err),
+                   VR_E_PARSE);
+  assert_non_null(strstr(err.message, "--render:1:6:"));
+  assert_int_equal(vr_scene_parse_with(file, strlen(file), NAME, "spp=4 # a comment", &s, &err),
+                   VR_E_PARSE);
+  assert_non_null(strstr(err.message, "no line break or comment"));
+  /* The file's own render line is still checked, and named. */
+  const char *badfile = "camera pinhole from=0,0,0 to=0,4,0\nrender spp=zero\n";
+  assert_int_equal(vr_scene_parse_with(badfile, strlen(badfile), NAME, "spp=4", &s, &err),
+                   VR_E_PARSE);
+  assert_non_null(strstr(err.message, NAME ":2:8:"));
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(render_line_override),
       cmocka_unit_test(full_scene),      cmocka_unit_test(defaults),
       cmocka_unit_test(bins_default),
       cmocka_unit_test(transform_order), cmocka_unit_test(errors),

@@ -381,6 +381,8 @@ typedef struct vr_scene_settings {
   /* Spectral film: bins of the spectral EXR. */
   double film_min_nm, film_max_nm, film_step_nm; /* default 400, 700, 10 */
   vr_scene_loc loc;
+  const char *source;         /* where the render line was written: NULL, the scene file;
+                                 "--render", the command line (vr_scene_parse_with) */
 } vr_scene_settings;
 
 /* The annual study of a scene whose sky is a whole weather file (vr/annual.h):
@@ -487,6 +489,15 @@ typedef struct vr_scene {
 vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scene **out,
                          vr_error *err);
 vr_status vr_scene_read(const char *path, vr_scene **out, vr_error *err);
+/* The same with the file's render line replaced by `render` (a render
+ * line's options, without the keyword: "integrator=progressive spp=16"),
+ * as vr-render --render gives it; NULL: the file's.  The file's own render
+ * line is still checked; the options `render` leaves out take their
+ * defaults, not the file's.  Its errors are "--render:1:col: message", the
+ * column that of the word in `render` (counted from 1). */
+vr_status vr_scene_parse_with(const char *text, size_t len, const char *name, const char *render,
+                              vr_scene **out, vr_error *err);
+vr_status vr_scene_read_with(const char *path, const char *render, vr_scene **out, vr_error *err);
 void vr_scene_destroy(vr_scene *s);
 
 /* Whether s has a grid or points-file sensor: the annual study's default

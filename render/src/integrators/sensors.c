@@ -398,7 +398,7 @@ static vr_status sensor_pass(vr_run *r, vr_rscene *rs, vr_sensor_state *c, vr_er
   if (set->sensors == VR_SENSORS_PHOTON) {
     long photons = r->opt->photons > 0 ? r->opt->photons : set->photons;
     if (photons < 1)
-      return vr_error_at(err, VR_E_ARG, rs->s->path, set->loc.line, set->loc.col,
+      return vr_error_at(err, VR_E_ARG, set->source ? set->source : rs->s->path, set->loc.line, set->loc.col,
                          "sensors=photon needs photons > 0");
     c->maps.fixed_radius = !isnan(set->radius_m);
     c->maps.edge_share = true;

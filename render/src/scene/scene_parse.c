@@ -314,7 +314,40 @@ static vr_status words(vr_scn_parser *p, char *line, char **w, size_t *nw) {
   return VR_OK;
 }
 
+/* The render line given on the command line (vr_scene_parse_with): parsed
+ * by the file's own grammar once the file is read, over the defaults, its
+ * messages naming "--render" and the column in that text. */
+static vr_status render_line(vr_scn_parser *p, const vr_scene_settings *dflt, const char *text) {
+  static const char WHERE[] = "--render";
+  size_t n = strlen(text);
+  char *line = malloc(n + 8);
+  if (!line) return scn_nomem(p);
+  memcpy(line, "render ", 7);
+  memcpy(line + 7, text, n + 1);
+  p->s->settings = *dflt;
+  p->have_render = false;
+  p->file = WHERE, p->line = 1, p->text = line + 7; /* columns counted in the option text */
+  char *w[SCN_MAX_WORDS];
+  size_t nw;
+  vr_status st = VR_OK;
+  if (memchr(text, '\n', n) || strchr(text, '#'))
+    st = scn_fail(p, line + 7 + strcspn(text, "\n#"), "one render line's options: no line break or comment");
+  if (!st) st = words(p, line, w, &nw);
+  if (!st) {
+    vr_scn_stmt t = {.p = p, .w = w, .nw = nw, .what = "render"};
+    st = scn_render(&t);
+  }
+  if (!st) p->s->settings.source = WHERE, p->s->settings.loc = (vr_scene_loc){1, 1};
+  free(line);
+  return st;
+}
+
 vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scene **out, vr_error *err) {
+  return vr_scene_parse_with(text, len, name, NULL, out, err);
+}
+
+vr_status vr_scene_parse_with(const char *text, size_t len, const char *name, const char *render,
+                              vr_scene **out, vr_error *err) {
   if (!out) return vr_error_set(err, VR_E_ARG, "vr_scene_parse: no place for the result");
   *out = NULL;
   if (!text && len) return vr_error_set(err, VR_E_ARG, "vr_scene_parse: no text");
@@ -323,6 +356,7 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
   vr_scene *s = calloc(1, sizeof *s);
   if (!s) return vr_error_set(err, VR_E_NOMEM, "out of memory");
   defaults(s);
+  const vr_scene_settings dflt = s->settings;
   s->path = strdup(name);
   const char *slash = strrchr(name, '/');
   s->dir = !slash ? strdup(".") : slash == name ? strdup("/") : strndup(name, (size_t)(slash - name));
@@ -356,6 +390,13 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
     else if (!(st = words(&p, line, w, &nw)) && nw) st = statement(&p, w, nw);
   }
   free(line);
+  /* The command line's render line replaces the file's, which was read
+   * (and checked) like any other line. */
+  if (!st && render) {
+    const char *file = p.file;
+    st = render_line(&p, &dflt, render);
+    p.file = file, p.line = 0;
+  }
   if (!st) st = finish(&p);
   for (size_t i = 0; i < p.nalias; i++) free(p.alias[i]);
   free(p.alias);
@@ -378,6 +419,10 @@ vr_status vr_scene_parse(const char *text, size_t len, const char *name, vr_scen
 }
 
 vr_status vr_scene_read(const char *path, vr_scene **out, vr_error *err) {
+  return vr_scene_read_with(path, NULL, out, err);
+}
+
+vr_status vr_scene_read_with(const char *path, const char *render, vr_scene **out, vr_error *err) {
   if (!out) return vr_error_set(err, VR_E_ARG, "vr_scene_read: no place for the result");
   *out = NULL;
   char *text;
@@ -388,7 +433,7 @@ vr_status vr_scene_read(const char *path, vr_scene **out, vr_error *err) {
     free(text);
     return st;
   }
-  st = vr_scene_parse(text, n, path, out, err);
+  st = vr_scene_parse_with(text, n, path, render, out, err);
   free(text);
   return st;
 }

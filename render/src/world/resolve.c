@@ -139,7 +139,7 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
   rs->nbins = (size_t)floor((set->film_max_nm - set->film_min_nm) / set->film_step_nm + 1e-9);
   vr_status st = VR_OK;
   if (rs->nwl < 1 || rs->nwl > VR_MAX_WL) {
-    st = vr_error_at(err, VR_E_ARG, s->path, set->loc.line, set->loc.col,
+    st = vr_error_at(err, VR_E_ARG, set->source ? set->source : s->path, set->loc.line, set->loc.col,
                      "wavelengths=%d: the renderer carries 1 to %d per path", rs->nwl, VR_MAX_WL);
     goto fail;
   }
