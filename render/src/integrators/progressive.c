@@ -23,6 +23,19 @@
  * point, unless the scene gives radius= (metres). */
 #define SPPM_RADIUS_PX 4.0
 
+/* ... or, where one iteration's photons are sparser, the radius that holds
+ * SPPM_PILOT_PHOTONS / I of them (at least one), I the chain's iterations:
+ * the first disc then meets about SPPM_PILOT_PHOTONS photons over the
+ * render (1/16 of relative noise in the photon light before the radius
+ * shrinks), and the more iterations, the smaller it starts (the less
+ * smoothing bias is left at the end).  The density is read in pilot maps
+ * of one iteration's photons traced apart, before the first iteration.
+ * Without it the first disc of a few pixels at 640 x 480 in the sample
+ * room held about half a photon an iteration, and 16 iterations left
+ * blotches of a few photons each (docs/benchmarks.md, "SPPM at the main
+ * job's 640 x 480"). */
+#define SPPM_PILOT_PHOTONS 256
+
 /* Progressive photon mapping renders spp iterations of one camera path a
  * pixel each; passes= is the older name of that count.  Each iteration's
  * wavelengths serve every pixel, so one iteration's spectral quadrature
@@ -139,8 +152,12 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
   bool any = need_global || need_caustic;
   vr_pass_record *rp =
       vr_run_record(r, "photons", any, "%s",
-                    any ? "progressive photon mapping: each iteration's photons reach the visible "
-                          "points where they land (no map kept)"
+                    any && isnan(set->radius_m)
+                        ? "progressive photon mapping: each iteration's photons reach the visible "
+                          "points where they land (first radii from a pilot map of one "
+                          "iteration's photons)"
+                    : any ? "progressive photon mapping: each iteration's photons reach the visible "
+                            "points where they land (no map kept; first radius from radius=)"
                     : !nd->diffuse ? "no diffuse surface for photons to reach"
                     : !job->lights_exist ? "no light with power"
                                          : "depth 1: no indirect light asked for");
@@ -164,13 +181,31 @@ static vr_status render(vr_camera_job *job, vr_error *err) {
   c.at_diffuse = at_diffuse;
   job->passes = job->spp;
   double t_photons = 0;
+  /* The pilot maps: one iteration's photons, with the sample block after
+   * the iterations' (independent of them), read only for first radii. */
+  vr_photon_maps pilot = {0};
+  bool piloted = any && isnan(set->radius_m);
   int per = job->spp / ch->n; /* check_denoise: spp is even when denoised */
+  int pilot_k = (SPPM_PILOT_PHOTONS + per - 1) / per;
+  if (piloted) {
+    double t0 = vr_run_now();
+    vr_pass pc = c;
+    pc.sample_offset = job->spp;
+    st = vr_photon_maps_trace(r, &pc, &pilot, job->photons, need_caustic, need_global, false, err);
+    t_photons += vr_run_now() - t0;
+    for (int i = 0; i < ch->n && !st; i++)
+      vr_sppm_set_pilot(&ch->s[i], &pilot, pilot_k, 0.1 * job->rs->scene_radius);
+  }
   for (int i = 0; i < ch->n && !st; i++) {
     c.state = &ch->s[i];
     c.fixed_wl = ch->s[i].wl;
     c.second_half = i == 1;
     for (int it = 0; !st && it < per; it++)
       st = iteration(job, &c, i * per + it, per, any, &t_photons, err);
+  }
+  if (piloted) {
+    for (int i = 0; i < ch->n; i++) vr_sppm_set_pilot(&ch->s[i], NULL, 0, 0);
+    vr_photon_maps_free(r, &pilot);
   }
   if (st) return st;
   double rlo, rmed, rhi;

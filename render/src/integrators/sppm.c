@@ -1,6 +1,7 @@
 /* Stochastic progressive photon mapping: visible points, their hash grid,
  * photon deposits and the per-pixel radius statistics (sppm.h). */
 #include "integrators/sppm.h"
+#include "integrators/photon_maps.h"
 #include "integrators/surface_disc.h"
 
 #include <math.h>
@@ -173,6 +174,31 @@ static double disc_share(const vr_sppm *s, const vr_rscene *rs, size_t i) {
   return vr_rect_disc_share(rs->t->rect_frame[o], s->ends[o], v + VP_P, s->radius[i], 0);
 }
 
+void vr_sppm_set_pilot(vr_sppm *s, const struct vr_photon_maps *maps, int k, double rmax) {
+  s->pilot = maps, s->pilot_k = k, s->pilot_rmax = rmax;
+}
+
+/* Photons a unit area of the point's surface receives from one iteration,
+ * on the side it is seen from, by the pilot maps: the k nearest of each map
+ * (on the point's object) over their disc, k / (pi r^2) summed over the
+ * maps; 0 where none lies within pilot_rmax. */
+static double pilot_density(const vr_sppm *s, const double *v) {
+  const vr_photon_set *sets[2] = {s->pilot->global, s->pilot->caustic};
+  double n[3] = {v[VP_NG], v[VP_NG + 1], v[VP_NG + 2]};
+  if (n[0] * v[VP_WO] + n[1] * v[VP_WO + 1] + n[2] * v[VP_WO + 2] < 0)
+    for (int a = 0; a < 3; a++) n[a] = -n[a];
+  double rho = 0, bins[512];
+  for (int m = 0; m < 2; m++) {
+    if (!sets[m] || !vr_photon_set_count(sets[m])) continue;
+    if (vr_photon_map_nbins(vr_photon_set_map(sets[m], 0)) > 512) continue;
+    double r = 0;
+    int got = vr_photon_set_irradiance_on(sets[m], v + VP_P, n, (uint32_t)(v[VP_OBJECT] - 1),
+                                          s->pilot_k, s->pilot_rmax, 0, bins, &r);
+    if (got > 0 && r > 0) rho += got / (M_PI * r * r);
+  }
+  return rho;
+}
+
 vr_status vr_sppm_build(vr_sppm *s, const vr_rscene *rs, vr_error *err) {
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   double rmax = 0;
@@ -186,6 +212,16 @@ vr_status vr_sppm_build(vr_sppm *s, const vr_rscene *rs, vr_error *err) {
       s->radius[i] = s->radius0 > 0
                          ? s->radius0
                          : s->radius0_px * s->footprint * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      /* Where one iteration's photons are sparse, the radius that would
+       * hold pilot_k of them (no larger than pilot_rmax): a disc of a few
+       * pixels would see one photon in several iterations, and its
+       * pixel's estimate would be a blotch of a few photons. */
+      if (s->radius0 <= 0 && s->pilot) {
+        double rho = pilot_density(s, v);
+        double rk = rho > 0 ? sqrt(s->pilot_k / (M_PI * rho)) : s->pilot_rmax;
+        if (rk > s->pilot_rmax) rk = s->pilot_rmax;
+        if (rk > s->radius[i]) s->radius[i] = rk;
+      }
       if (!(s->radius[i] > 0)) s->radius[i] = 1e-6;
     }
     s->share[i] = disc_share(s, rs, i);

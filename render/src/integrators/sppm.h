@@ -81,6 +81,12 @@ typedef struct vr_sppm {
   double radius0;            /* the first radius: metres, or */
   double radius0_px;         /* ... this many pixel footprints at the point (radius0 = 0) */
   double footprint;          /* a pixel's width at unit distance (pinhole) */
+  /* The first radius from the photon density (vr_sppm_set_pilot): at
+   * least the radius whose disc holds pilot_k photons of one iteration,
+   * found among the pilot maps' photons, at most pilot_rmax. */
+  const struct vr_photon_maps *pilot;
+  int pilot_k;
+  double pilot_rmax;
   double cam[3];             /* camera position, for the footprint */
   double gamma;              /* the share of new photons kept (alpha) */
   /* The grid of this iteration's visible points. */
@@ -98,6 +104,12 @@ vr_status vr_sppm_create(vr_sppm *s, const vr_rscene *rs, int width, int height,
                          double radius0, double radius0_px, double gamma, vr_error *err);
 void vr_sppm_destroy(vr_sppm *s);
 
+/* The photon maps of one iteration's photons (global and caustic: the
+ * light SPPM's photons carry), traced apart, from which new visible
+ * points take their first radius (NULL: pixel footprints only); the maps
+ * stay the caller's and must outlive every vr_sppm_build that places a
+ * pixel's first point. */
+void vr_sppm_set_pilot(vr_sppm *s, const struct vr_photon_maps *maps, int k, double rmax);
 /* Iteration `iteration` of `iterations`: picks its wavelengths and clears
  * the visible points and this iteration's sums. */
 void vr_sppm_begin(vr_sppm *s, const vr_rscene *rs, int iteration, int iterations);
