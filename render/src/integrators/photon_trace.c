@@ -5,8 +5,9 @@
  * into Jensen's maps (photon.c) or onto SPPM's visible points (sppm.c).  A
  * pane crossed straight does not make a caustic: its transmitted sunlight
  * is direct light, found by shadow rays through the pane.  With sky
- * portals, the far sources also emit through them and their usual photons
- * stop where they would enter by a portal (lights/portals.c). */
+ * portals, the far sources also emit through them, their usual photons
+ * stop where they would enter by a portal (lights/portals.c), and what an
+ * outdoor surface scatters is aimed at the portals (outside_portal_scatter). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,6 +74,59 @@ static void photon_generate(void *ctx, vr_flow_worker *w, long unit) {
   }
 }
 
+/* Outside, light reaches the room by the portals.  A photon scattered by
+ * a diffuse outdoor surface (outside=yes: a ground, a facade) finds a
+ * portal only in the small solid angle it subtends, so the light the
+ * outside reflects in would ride on a few photons of large power.  With
+ * photon portals, such a scattering draws its direction from a mixture:
+ * with probability OUTSIDE_PORTAL_SHARE a point uniform on a portal
+ * (vr_portal_sample, as the sky's next-event estimation does), otherwise
+ * the BSDF, and the photon is weighted by f |cos| over the mixture's
+ * density (the one-sample balance heuristic, Veach 1997, 9.2.4), unbiased
+ * for any portal.  The mixture holds for purely diffuse surfaces (no delta
+ * or glossy lobe to miss).  A photon sent at a portal skips Russian
+ * roulette: its small weight is the point (many light photons in the room
+ * in place of a few heavy ones). */
+#define OUTSIDE_PORTAL_SHARE 0.5
+
+static bool outside_portal_scatter(const vr_rscene *rs, const vr_rmaterial *m,
+                                   const vr_bsdf_point *pt, double state, const vr_hit *hit,
+                                   const double ns[3], const double wo[3], const vr_payload *p,
+                                   vr_rng_key *key, vr_bsdf_sample *bs, bool *to_portal) {
+  const vr_lights *L = &rs->L;
+  double wi[3];
+  *to_portal = vr_rng(key, VR_DIM_SKY_PICK) < OUTSIDE_PORTAL_SHARE;
+  if (*to_portal) {
+    if (!vr_portal_sample(L, hit->p, vr_rng(key, VR_DIM_SKY_W), vr_rng(key, VR_DIM_DIR_U),
+                          vr_rng(key, VR_DIM_DIR_V), wi))
+      return false;
+  } else {
+    vr_bsdf_sample b;
+    if (!vr_bsdf_sample_at(m->bsdf, pt, state, (vr_vec3){ns[0], ns[1], ns[2]},
+                           (vr_vec3){wo[0], wo[1], wo[2]}, p->nwl, p->wl, VR_TRANSPORT_IMPORTANCE,
+                           vr_rng(key, VR_DIM_LOBE), vr_rng(key, VR_DIM_DIR_U),
+                           vr_rng(key, VR_DIM_DIR_V), &b))
+      return false;
+    wi[0] = b.wi.x, wi[1] = b.wi.y, wi[2] = b.wi.z;
+  }
+  /* A reflection only: the other side of the surface is not outside. */
+  if (vr_dot3(hit->ng, wi) * vr_dot3(hit->ng, wo) <= 0) return false;
+  double f[VR_MAX_WL], pb = 0;
+  vr_bsdf_eval_at(m->bsdf, pt, state, (vr_vec3){ns[0], ns[1], ns[2]},
+                  (vr_vec3){wo[0], wo[1], wo[2]}, (vr_vec3){wi[0], wi[1], wi[2]}, p->nwl, p->wl,
+                  VR_TRANSPORT_IMPORTANCE, f, &pb);
+  double pmix = OUTSIDE_PORTAL_SHARE * vr_portal_pdf(L, hit->p, wi) + (1 - OUTSIDE_PORTAL_SHARE) * pb;
+  if (!(pmix > 0)) return false;
+  double cosi = fabs(vr_dot3(ns, wi));
+  memset(bs, 0, sizeof *bs);
+  bs->wi = (vr_vec3){wi[0], wi[1], wi[2]};
+  for (int k = 0; k < p->nwl; k++) bs->weight[k] = f[k] * cosi / pmix;
+  bs->pdf = pmix;
+  bs->lobe = VR_LOBE_DIFFUSE;
+  bs->eta = 1;
+  return true;
+}
+
 static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit) {
   vr_pass *c = ctx;
   const vr_rscene *rs = c->rs;
@@ -105,10 +159,16 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
   double tint[VR_MAX_WL];
   bool tinted = !vr_hit_pbr(rs, hit, 0, p.nwl, p.wl, &pt) &&
                 vr_hit_texture(rs, hit, 0, p.nwl, p.wl, tint);
-  if (!vr_bsdf_sample_at(m->bsdf, &pt, vr_hit_state(rs, hit), (vr_vec3){ns[0], ns[1], ns[2]},
-                         (vr_vec3){wo[0], wo[1], wo[2]}, p.nwl, p.wl, VR_TRANSPORT_IMPORTANCE,
-                         vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
-                         vr_rng(&key, VR_DIM_DIR_V), &bs))
+  bool to_portal = false;
+  if (rs->obj[hit->object].outside && rs->L.nportal_sources && lobes == VR_LOBE_DIFFUSE &&
+      !before_portal && !bent) {
+    if (!outside_portal_scatter(rs, m, &pt, vr_hit_state(rs, hit), hit, ns, wo, &p, &key, &bs,
+                                &to_portal))
+      return;
+  } else if (!vr_bsdf_sample_at(m->bsdf, &pt, vr_hit_state(rs, hit),
+                                (vr_vec3){ns[0], ns[1], ns[2]}, (vr_vec3){wo[0], wo[1], wo[2]},
+                                p.nwl, p.wl, VR_TRANSPORT_IMPORTANCE, vr_rng(&key, VR_DIM_LOBE),
+                                vr_rng(&key, VR_DIM_DIR_U), vr_rng(&key, VR_DIM_DIR_V), &bs))
     return;
   /* Around a normal map's normal, a reflection may point into the surface. */
   if (bent && vr_dot3(hit->ng, (double[3]){bs.wi.x, bs.wi.y, bs.wi.z}) * vr_dot3(hit->ng, wo) <= 0)
@@ -130,7 +190,7 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
   }
   if (!(mx > 0) || !(old > 0)) return;
   /* Russian roulette keeping the power per photon roughly constant. */
-  double q = fmin(1.0, mx / old);
+  double q = to_portal ? 1.0 : fmin(1.0, mx / old);
   if (vr_rng(&key, VR_DIM_ROULETTE) >= q) return;
   for (int k = 0; k < p.nwl; k++) p.beta[k] /= q;
   if (bs.lobe & (VR_LOBE_DIFFUSE))

@@ -21,7 +21,11 @@
  * shades it).  So that no light is counted twice, the far sources' usual
  * photons are killed where they cross a portal inwards before any
  * scattering (vr_portal_crossed_inward): their light in the room is the
- * portal photons', and only what the outside reflected enters with them. */
+ * portal photons', and only what the outside reflected enters with them.
+ * That light is aimed at the portals too: a photon scattered by a diffuse
+ * outdoor surface (outside=yes) draws its direction half the time towards
+ * a portal (vr_portal_sample from its point), weighted by the mixture's
+ * density (integrators/photon_trace.c). */
 #include <math.h>
 #include <stdlib.h>
 
