@@ -16,5 +16,6 @@ VR_DECLARE_TABLE(vr_data_cie_d50)
 VR_DECLARE_TABLE(vr_data_cie_f_series)
 VR_DECLARE_TABLE(vr_data_cie_led_series)
 VR_DECLARE_TABLE(vr_data_colorchecker_babelcolor)
+VR_DECLARE_TABLE(vr_data_cie_tcs)
 
 #endif

@@ -1,9 +1,12 @@
 /* vr-colour: the colour of spectra.  Reads a table of reflectance,
  * transmittance or emission spectra (first column wavelength, one spectrum
  * per further column) and prints CIE XYZ, xy, CIELAB and 8-bit sRGB for each
- * one, under a chosen illuminant and observer. */
+ * one, under a chosen illuminant and observer; for emission spectra, the
+ * correlated colour temperature, Duv and the CIE 13.3 colour rendering
+ * indices (vr/cri.h). */
 #include "vr/args.h"
 #include "vr/colour.h"
+#include "vr/cri.h"
 #include "vr/json.h"
 #include "vr/spectrum.h"
 
@@ -15,7 +18,7 @@
 static const vr_option OPTIONS[] = {
     {"illuminant", 'i', "NAME", "illuminant for reflectances (default D65); see --list-illuminants"},
     {"observer", 'o', "2|10", "CIE 1931 2° (default) or CIE 1964 10° observer"},
-    {"emitter", 'e', NULL, "the spectra are radiances in W/(sr m² nm): print absolute XYZ (cd/m²)"},
+    {"emitter", 'e', NULL, "the spectra are radiances in W/(sr m² nm): print absolute XYZ (cd/m²), CCT, Duv and the CIE 13.3 colour rendering index"},
     {"json", 'j', NULL, "print JSON instead of a table"},
     {"list-illuminants", 0, NULL, "list the built-in illuminant names and exit"},
     {"extend", 0, NULL, "a spectrum that stops inside 400-700 nm is extended by its end values"},
@@ -178,7 +181,8 @@ int main(int argc, char **argv) {
   if (json) printf("{\"illuminant\": \"%s\", \"observer\": \"%s\", \"spectra\": [", illum_name,
                    obs == VR_CIE1931_2DEG ? "CIE 1931 2" : "CIE 1964 10");
   else if (emitter)
-    printf("%-20s %12s %12s %12s %8s %8s\n", "spectrum", "X", "Y (cd/m2)", "Z", "x", "y");
+    printf("%-20s %12s %12s %12s %8s %8s %8s %8s %6s %6s\n", "spectrum", "X", "Y (cd/m2)", "Z", "x",
+           "y", "CCT (K)", "Duv", "Ra", "R9");
   else
     printf("%-20s %9s %9s %9s %8s %8s %8s %8s %8s %s\n", "spectrum", "X", "Y", "Z", "x", "y",
            "L*", "a*", "b*", "sRGB8");
@@ -191,6 +195,21 @@ int main(int argc, char **argv) {
     vr_xyz_to_lab(xyz, white, lab);
     vr_bradford(xyz, white, d65, adapted);
     bool clipped = vr_xyz_to_srgb8(adapted, rgb);
+    /* A lamp's CCT, Duv (CIE 1931 observer, as CIE 015 defines them) and
+     * colour rendering; a light far from the Planckian locus (a coloured
+     * LED) has none, and gets no figures rather than meaningless ones. */
+    /* The CCT shown is the chromaticity's at 1 nm over 360-830 nm; the
+     * rendering's reference takes CIE 13.3's own, from 5 nm sums. */
+    vr_cri cri = {.cct = NAN, .Ra = NAN};
+    double duv = NAN, cct = NAN;
+    if (emitter) {
+      double x31[3], uv[2];
+      vr_xyz_emitter(t.spectra[i], VR_CIE1931_2DEG, x31);
+      vr_xyz_to_uv1960(x31, uv);
+      if (!(x31[1] > 0) || vr_cct_from_uv(uv, &cct, &duv, NULL) ||
+          vr_cri_compute(t.spectra[i], &cri, NULL))
+        cri.Ra = cct = duv = NAN;
+    }
     if (json) {
       printf("%s\n  {\"name\": ", i ? "," : "");
       vr_json_string(stdout, t.names[i]);
@@ -199,10 +218,30 @@ int main(int argc, char **argv) {
       if (!emitter)
         printf(", \"Lab\": [%.4f, %.4f, %.4f], \"sRGB8\": [%d, %d, %d], \"out_of_gamut\": %s",
                lab[0], lab[1], lab[2], rgb[0], rgb[1], rgb[2], clipped ? "true" : "false");
+      if (emitter) {
+        printf(", \"CCT_K\": ");
+        vr_json_number(stdout, cct);
+        printf(", \"Duv\": ");
+        vr_json_number(stdout, duv);
+        printf(", \"Ra\": ");
+        vr_json_number(stdout, cri.Ra);
+        printf(", \"R\": ");
+        for (int j = 0; j < VR_CRI_SAMPLES && !isnan(cri.Ra); j++) {
+          printf(j ? ", " : "[");
+          vr_json_number(stdout, cri.R[j]);
+        }
+        printf(isnan(cri.Ra) ? "null" : "]");
+        printf(", \"cri_dc_ok\": %s", !isnan(cri.Ra) && cri.dc_ok ? "true" : "false");
+      }
       printf("}");
     } else if (emitter) {
-      printf("%-20.20s %12.6g %12.6g %12.6g %8.5f %8.5f\n", t.names[i], xyz[0], xyz[1], xyz[2],
+      printf("%-20.20s %12.6g %12.6g %12.6g %8.5f %8.5f", t.names[i], xyz[0], xyz[1], xyz[2],
              xyy[0], xyy[1]);
+      if (isnan(cri.Ra))
+        printf(" %8s %8s %6s %6s\n", "-", "-", "-", "-");
+      else
+        printf(" %8.0f %8.5f %6.1f %6.1f%s\n", cct, duv, cri.Ra, cri.R[8],
+               cri.dc_ok ? "" : " (DC > 5.4e-3: Ra not meaningful, CIE 13.3)");
     } else {
       printf("%-20.20s %9.5f %9.5f %9.5f %8.5f %8.5f %8.3f %8.3f %8.3f %3d %3d %3d%s\n", t.names[i],
              xyz[0], xyz[1], xyz[2], xyy[0], xyy[1], lab[0], lab[1], lab[2], rgb[0], rgb[1], rgb[2],

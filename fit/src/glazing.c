@@ -10,6 +10,7 @@
 
 #include "glazing_internal.h"
 #include "vr/colour.h"
+#include "vr/cri.h"
 #include "vr/optics.h"
 #include "vr/slab_invert.h"
 
@@ -347,6 +348,32 @@ static vr_status tristimulus(const vr_standard *std, const vr_spectrum *s, doubl
   return VR_OK;
 }
 
+/* EN 410 (4.9): D65 through the glazing, rendered against D65 (CIE 13.3 on
+ * its 5 nm grid, 380-780 nm).  Left NAN where the transmittance does not
+ * cover that range or is dark there (an opaque pane has no rendering). */
+static vr_status colour_rendering(const vr_spectrum *T, vr_glazing_metrics *out, vr_error *err) {
+  out->Ra = NAN;
+  for (int i = 0; i < 8; i++) out->R_i[i] = NAN;
+  if (!vr_spectrum_covers(T, 380.0, 780.0)) return VR_OK;
+  vr_spectrum *d65 = vr_illuminant("D65", err);
+  vr_spectrum *lit = d65 ? vr_spectrum_create_uniform(380.0, 5.0, 81, 0.0, err) : NULL;
+  if (!lit) {
+    vr_spectrum_destroy(d65);
+    return err ? err->status : VR_E_NOMEM;
+  }
+  for (size_t i = 0; i < lit->n; i++)
+    lit->value[i] = vr_spectrum_eval(d65, lit->nm[i], VR_INTERP_LINEAR) *
+                    vr_spectrum_eval(T, lit->nm[i], VR_INTERP_LINEAR);
+  vr_cri c;
+  if (!vr_cri_against(lit, d65, &c, NULL)) {
+    out->Ra = c.Ra;
+    for (int i = 0; i < 8; i++) out->R_i[i] = c.R[i];
+  }
+  vr_spectrum_destroy(lit);
+  vr_spectrum_destroy(d65);
+  return VR_OK;
+}
+
 vr_status vr_glazing_metrics_compute(const vr_standard *std, const vr_pane *pane,
                                      vr_glazing_metrics *out, vr_error *err) {
   memset(out, 0, sizeof *out);
@@ -364,6 +391,7 @@ vr_status vr_glazing_metrics_compute(const vr_standard *std, const vr_pane *pane
   if (!st && Rf) st = average(std, "SOLAR", Rf, &out->Rsol_front, true, err);
   if (!st && Rb) st = average(std, "SOLAR", Rb, &out->Rsol_back, true, err);
   if (!st) st = average(std, "TUV", T, &out->Tuv, false, err);
+  if (!st) st = colour_rendering(T, out, err);
   double white[3], xyz[3];
   bool ok = false;
   if (!st) st = tristimulus(std, T, out->T_xyz, white, &ok, err);

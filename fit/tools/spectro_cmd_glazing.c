@@ -83,6 +83,18 @@ static void print_metrics(const vr_glazing_metrics *m, const vr_standard *std, d
     }
     const char *labs[3] = {"T_Lab", "Rf_Lab", "Rb_Lab"};
     const double *lab[3] = {m->T_lab, m->Rf_lab, m->Rb_lab};
+    /* EN 410's colour rendering in transmission (D65 against D65). */
+    printf(", \"Ra\": ");
+    vr_json_number(stdout, m->Ra);
+    printf(", \"R_i\": ");
+    if (isnan(m->Ra))
+      printf("null");
+    else
+      for (int j = 0; j < 8; j++) {
+        printf(j ? ", " : "[");
+        vr_json_number(stdout, m->R_i[j]);
+      }
+    if (!isnan(m->Ra)) printf("]");
     printf(", \"has_reflectance\": %s", m->has_R ? "true" : "false");
     if (!m->has_R)
       printf(", \"note\": \"reflectance was not measured: the R figures and the reflected colour "
@@ -127,6 +139,7 @@ static void print_metrics(const vr_glazing_metrics *m, const vr_standard *std, d
   }
   if (!isnan(m->Tuv)) printf("Tuv         %.6f\n", m->Tuv);
   if (m->has_colour) printf("transmitted L*a*b*  %.2f %.2f %.2f\n", m->T_lab[0], m->T_lab[1], m->T_lab[2]);
+  if (!isnan(m->Ra)) printf("Ra          %.2f   (EN 410: D65 through the glazing against D65, CIE 13.3)\n", m->Ra);
   if (m->has_colour && m->has_R)
     printf("reflected (front)   %.2f %.2f %.2f\n", m->Rf_lab[0], m->Rf_lab[1], m->Rf_lab[2]);
 }

@@ -68,4 +68,28 @@ check "an emission spectrum dipping 0.5 % of its peak below 0 is read, zero beyo
   bash -c "test $? -eq 0 && grep -q 'emission is taken as zero' '$tmp/led.err'"
 printf 'nm,bad\n400,0.001\n450,0.01\n700,-0.001\n' > "$tmp/badled.csv"
 refuse colour-radiance-negative "$bin" --emitter "$tmp/badled.csv"
+
+# Lamps (--emitter): CCT, Duv and CIE 13.3 colour rendering of the sample
+# lamps (CIE F2, F7, F11 from the CIE's 5 nm table); CIE 015:2004 lists F2
+# at 4230 K with Ra 64, F7 at 6500 K with 90 and F11 at 4000 K with 83.  A
+# green LED (far from the Planckian locus) gets no CCT and no Ra.
+cp "$src/samples/spectra/lamps_cie_f.csv" "$tmp/lamps.csv"
+printf 'nm,green\n380,0\n500,0\n520,0.5\n530,1\n540,0.5\n560,0\n780,0\n' > "$tmp/green.csv"
+"$bin" --emitter --json "$tmp/lamps.csv" > "$tmp/lamps.json"; rc=$?
+check "lamps: runs" test $rc -eq 0
+python3 - "$tmp/lamps.json" <<'PY'
+import json, sys
+d = {s["name"]: s for s in json.load(open(sys.argv[1]))["spectra"]}
+for name, cct, ra in (("F2", 4230, 64), ("F7", 6500, 90), ("F11", 4000, 83)):
+    s = d[name]
+    assert abs(s["CCT_K"] - cct) <= 0.005 * cct, s
+    assert abs(s["Ra"] - ra) <= 0.5, s
+    assert len(s["R"]) == 14 and abs(sum(s["R"][:8]) / 8 - s["Ra"]) < 1e-9, s
+    assert s["cri_dc_ok"] is True
+PY
+check "lamps: CCT and Ra of F2, F7 and F11 as CIE 015 lists them" test $? -eq 0
+"$bin" --emitter "$tmp/green.csv" > "$tmp/green.out" 2>&1; rc=$?
+check "green LED: runs" test $rc -eq 0
+check "green LED: no CCT or Ra (far from the locus)" \
+  bash -c "grep '^green' '$tmp/green.out' | grep -q ' -  *-  *-  *-$'"
 finish

@@ -269,6 +269,56 @@ check "EN 410 figures of NFRC 18100 equal WinCalc's Test_CEN_18100" test $? -eq 
 import json, sys; m = json.load(sys.stdin)
 assert abs(m['Tvis'] - 0.86829208459208473) <= 1e-6 and abs(m['Rvis_back'] - 0.073958714858714872) <= 1e-6, m"
 check "--standard en410: NFRC 18100's light figures equal WinCalc's" test $? -eq 0
+# EN 410 (4.9) colour rendering in transmission, Ra: D65 through the pane
+# against D65 by CIE 13.3.  (1) A neutral pane changes no colour: every
+# R_i is 100 (the method's identity).  (2) NFRC 18100's Ra recomputed here
+# from the standard's formulas, in Python, from the CIE tables core/data
+# holds (TCS, CIE 1931 2 deg, D65) and the pane's own rows, to 1e-9: the
+# two share no code.
+printf 'wavelength_nm,T,Rf\n300,0.6,0.08\n1000,0.6,0.08\n2500,0.6,0.08\n' > "$tmp/neutral.csv"
+"$bin" metrics "$tmp/neutral.csv" --standard en410 --json | python3 -c "
+import json, sys; m = json.load(sys.stdin)
+assert abs(m['Ra'] - 100) < 1e-9 and all(abs(r - 100) < 1e-9 for r in m['R_i']), m"
+check "EN 410 Ra: a neutral pane renders every test colour at 100" test $? -eq 0
+"$bin" metrics "$tmp/nfrc18100.csv" --standard en410 --json > "$tmp/ra.json"
+python3 - "$tmp/ra.json" "$tmp/nfrc18100.csv" "$VR_SOURCE_DIR/core/data" <<'PY'
+import bisect, csv, json, math, sys
+m = json.load(open(sys.argv[1]))
+rows = [r for r in csv.reader(open(sys.argv[2])) if r and not r[0].startswith('#')][1:]
+wl = [1000 * float(r[0]) for r in rows]; T = [float(r[1]) for r in rows]
+def table(name):
+    t = [r for r in csv.reader(open(sys.argv[3] + '/' + name)) if r and not r[0].startswith('#')]
+    return {float(r[0]): [float(x) for x in r[1:]] for r in t[1:]}
+tcs, cmf, d65 = table('cie_tcs.csv'), table('cie1931_2deg.csv'), table('cie_d65.csv')
+def tau(x):  # linear between the pane's rows
+    i = bisect.bisect_right(wl, x) - 1
+    return T[i] + (T[i + 1] - T[i]) * (x - wl[i]) / (wl[i + 1] - wl[i])
+grid = [380 + 5 * i for i in range(81)]
+def xyz(S, rho):
+    k = 100 / sum(S[j] * cmf[l][1] for j, l in enumerate(grid))
+    return [k * sum(S[j] * rho(l) * cmf[l][c] for j, l in enumerate(grid)) for c in range(3)]
+def uv(X):
+    d = X[0] + 15 * X[1] + 3 * X[2]; return 4 * X[0] / d, 6 * X[1] / d
+Sr = [d65[l][0] for l in grid]; St = [d65[l][0] * tau(l) for l in grid]
+ur, vr = uv(xyz(Sr, lambda l: 1)); ut, vt = uv(xyz(St, lambda l: 1))
+c = lambda u, v: (4 - u - 10 * v) / v; d = lambda u, v: (1.708 * v + 0.404 - 1.481 * u) / v
+R = []
+for i in range(8):
+    Xt, Xr = xyz(St, lambda l: tcs[l][i]), xyz(Sr, lambda l: tcs[l][i])
+    (u1, v1), (u2, v2) = uv(Xt), uv(Xr)
+    ci, di = c(u1, v1), d(u1, v1)
+    q, p = c(ur, vr) / c(ut, vt), d(ur, vr) / d(ut, vt)
+    den = 16.518 + 1.481 * q * ci - p * di
+    ua, va = (10.872 + 0.404 * q * ci - 4 * p * di) / den, 5.520 / den
+    Wt, Wr = 25 * Xt[1] ** (1 / 3) - 17, 25 * Xr[1] ** (1 / 3) - 17
+    dE = math.sqrt((13 * Wt * (ua - ur) - 13 * Wr * (u2 - ur)) ** 2 +
+                   (13 * Wt * (va - vr) - 13 * Wr * (v2 - vr)) ** 2 + (Wt - Wr) ** 2)
+    R.append(100 - 4.6 * dE)
+assert all(abs(a - b) < 1e-9 for a, b in zip(R, m['R_i'])), (R, m['R_i'])
+assert abs(sum(R) / 8 - m['Ra']) < 1e-9 and m['Ra'] < 100, (sum(R) / 8, m['Ra'])
+print('# NFRC 18100: EN 410 Ra %.3f' % m['Ra'])
+PY
+check "EN 410 Ra of NFRC 18100 equals an independent CIE 13.3 computation" test $? -eq 0
 # The same pane under NFRC 300 against the IGSDB's own figures for NFRC 18100
 # (integrated_results_summary, NFRC, in WinCalc's test/products/nfrc_18100.json
 # at 65e615a3, given to 7 digits): Tvis 0.8683225, Rvis 0.07394106, Tuv 0.6823574.

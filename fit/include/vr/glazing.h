@@ -106,11 +106,17 @@ typedef struct vr_glazing_metrics {
   double Rf_lab[3], Rb_lab[3];  /* NAN without reflectance */
   bool has_colour;
   bool has_R;                  /* false: transmittance-only pane, R figures NAN */
+  /* Colour rendering in transmission, EN 410 (4.9): the light D65 sends
+   * through the glazing rendered against D65 by CIE 13.3 (vr/cri.h),
+   * whatever the standard; NAN when the pane does not cover 380-780 nm. */
+  double Ra;
+  double R_i[8];               /* the special indices R1..R8 it averages */
 } vr_glazing_metrics;
 
 /* Figures of a pane (unpolarised) under the standard's SOLAR, PHOTOPIC,
  * TUV and COLOR_TRISTIMX/Y/Z methods (missing colour or UV methods leave
- * those fields NAN / has_colour false). */
+ * those fields NAN / has_colour false), and its colour rendering index
+ * (EN 410, above). */
 vr_status vr_glazing_metrics_compute(const vr_standard *std, const vr_pane *pane,
                                      vr_glazing_metrics *out, vr_error *err);
 
