@@ -14,7 +14,10 @@
  * (with --sensors-only, the photon pass included) and the largest and the
  * root-mean-square relative error over the 23 points.
  *
- *   bench_daylight [THREADS] [REFERENCE_PATHS]    (defaults 2 and 524288)
+ *   bench_daylight [THREADS] [REFERENCE_PATHS] [ROWS]   (defaults 2, 524288, all)
+ *
+ * ROWS: all, or photon-portal (the reference and the photon + portal rows
+ * alone, the ones the outdoor splitting of photon_trace.c changes).
  *
  * The reference must be well inside 2 %: at 65 536 paths a point the worst
  * point of this room still has 2 % of noise; at 524 288 about 0.7 %. */
@@ -79,8 +82,10 @@ static void report(const char *what, double t, const double *m, const double *re
 int main(int argc, char **argv) {
   int threads = argc > 1 ? atoi(argv[1]) : 2;
   int ref_paths = argc > 2 ? atoi(argv[2]) : 524288;
-  if (threads < 1 || ref_paths < 1) {
-    fprintf(stderr, "usage: bench_daylight [THREADS] [REFERENCE_PATHS]\n");
+  const char *rows = argc > 3 ? argv[3] : "all";
+  bool all = !strcmp(rows, "all");
+  if (threads < 1 || ref_paths < 1 || (!all && strcmp(rows, "photon-portal"))) {
+    fprintf(stderr, "usage: bench_daylight [THREADS] [REFERENCE_PATHS] [all|photon-portal]\n");
     return 2;
   }
   static const char *const grounds[2][3] = {{"2,-4,0", "12,8", "12 x 8 m ground"},
@@ -95,20 +100,20 @@ int main(int argc, char **argv) {
     printf("| estimator | seconds | worst point | rms | map share |\n|---|---:|---:|---:|---:|\n");
     double best_path = INFINITY, best_portal = INFINITY, best_photon = INFINITY,
            best_photon_portal = INFINITY;
-    for (int paths = 1024; paths <= 65536; paths *= 2) {
+    for (int paths = 1024; all && paths <= 65536; paths *= 2) {
       snprintf(set, sizeof set, "sensors=path sensor_samples=%d seed=7", paths);
       double t = run(threads, grounds[g][0], grounds[g][1], false, set, m, NULL);
       snprintf(what, sizeof what, "path, %d paths/point", paths);
       report(what, t, m, ref, -1, &best_path);
     }
-    for (int paths = 512; paths <= 32768; paths *= 2) {
+    for (int paths = 512; all && paths <= 32768; paths *= 2) {
       snprintf(set, sizeof set, "sensors=path sensor_samples=%d seed=7", paths);
       double t = run(threads, grounds[g][0], grounds[g][1], true, set, m, NULL);
       snprintf(what, sizeof what, "path + portal, %d paths/point", paths);
       report(what, t, m, ref, -1, &best_portal);
     }
     static const long photons[] = {2000000, 8000000};
-    for (int paths = 4096; paths <= 65536; paths *= 4)
+    for (int paths = 4096; all && paths <= 65536; paths *= 4)
       for (int i = 0; i < 2; i++) {
         snprintf(set, sizeof set,
                  "sensors=photon photons=%ld sensor_knn=100 sensor_samples=%d seed=7", photons[i],

@@ -36,8 +36,9 @@ enum {
   VR_PF_VISIBLE_SET = 512,   /* SPPM: the pixel's visible point is set (a pbr surface's path
                                 went on by its specular part): later vertices are traced */
   VR_PF_FEATURED = 1024,     /* a camera path recorded the denoiser's features */
-  VR_PF_SEES_SUN = 2048      /* a camera path whose every vertex so far was delta (or a pane
+  VR_PF_SEES_SUN = 2048,     /* a camera path whose every vertex so far was delta (or a pane
                                 crossed straight): the eye sees the sun's disc along it */
+  VR_PF_SPLIT = 4096         /* photons: a copy of a photon split outside (photon_trace.c) */
 };
 
 /* Where the random-number streams of each kind of path begin

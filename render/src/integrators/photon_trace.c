@@ -7,7 +7,8 @@
  * is direct light, found by shadow rays through the pane.  With sky
  * portals, the far sources also emit through them, their usual photons
  * stop where they would enter by a portal (lights/portals.c), and what an
- * outdoor surface scatters is aimed at the portals (outside_portal_scatter). */
+ * outdoor surface scatters is split into lighter copies
+ * (outside_split_count) aimed at the portals (outside_portal_scatter). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -127,6 +128,95 @@ static bool outside_portal_scatter(const vr_rscene *rs, const vr_rmaterial *m,
   return true;
 }
 
+/* Splitting by weight: a photon of large power (a usual photon of the
+ * far sources, which start on a disc round the whole scene) scattered by
+ * an outdoor surface near a window would carry its power into the room
+ * on one heavy photon.  It is split into m copies of power 1/m each, each
+ * drawing its own direction from the mixture above, with m chosen so that
+ * the power aimed at the portals per copy is about a portal photon's:
+ * m = 2 rho beta F / P, where rho is the surface's albedo, beta the
+ * photon's power, F the form factor towards the portals
+ * (vr_portal_form_factor: the share of the reflected light that goes
+ * there), 2 the mixture's share and P the portal photons' power.  m is
+ * fixed before any direction is drawn, so the copies' mean is the one
+ * photon's estimate (unbiased for any m); copies do not split again.  At
+ * most OUTSIDE_SPLIT_MAX copies: the cost stays bounded (a ground point
+ * 1 m from a 2.4 m2 window, F about 0.16, would otherwise ask for
+ * hundreds); in the daylit room of docs/benchmarks.md at most 16, 64 or
+ * 256 copies gave the same errors. */
+#define OUTSIDE_SPLIT_MAX 64
+
+static int outside_split_count(const vr_rscene *rs, const vr_rmaterial *m, const vr_bsdf_point *pt,
+                               double state, const vr_hit *hit, const double ns[3],
+                               const vr_payload *p) {
+  const vr_lights *L = &rs->L;
+  if ((p->flags & VR_PF_SPLIT) || !(L->portal_photon_power > 0)) return 1;
+  double F = vr_portal_form_factor(L, hit->p, ns);
+  if (!(F > 0)) return 1;
+  /* The albedo of a diffuse surface: pi f at normal incidence. */
+  double f[VR_MAX_WL], pdf = 0, rho = 0, beta = 0;
+  vr_bsdf_eval_at(m->bsdf, pt, state, (vr_vec3){ns[0], ns[1], ns[2]},
+                  (vr_vec3){ns[0], ns[1], ns[2]}, (vr_vec3){ns[0], ns[1], ns[2]}, p->nwl, p->wl,
+                  VR_TRANSPORT_IMPORTANCE, f, &pdf);
+  for (int k = 0; k < p->nwl; k++) {
+    rho = fmax(rho, M_PI * f[k]);
+    beta += p->beta[k];
+  }
+  double want = 2.0 * fmin(rho, 1.0) * beta * F / L->portal_photon_power;
+  if (!(want > 1)) return 1;
+  return want >= OUTSIDE_SPLIT_MAX ? OUTSIDE_SPLIT_MAX : (int)ceil(want);
+}
+
+/* A copy's random numbers: its own stream, derived from the photon's
+ * (photon streams are VR_STREAM_PHOTON + the photon's number, far below
+ * 2^40, so copy j's stream + (j + 1) 2^40 meets no other photon's). */
+#define SPLIT_STREAM_SHIFT 40
+
+/* The photon leaves the vertex along bs: Russian roulette (none on a
+ * portal branch), its flags, and the next ray. */
+static void photon_continue(vr_flow_worker *w, const vr_hit *hit,
+                            vr_payload p, vr_rng_key *key, const vr_bsdf_sample *bs,
+                            bool to_portal, bool before_portal, const double *tint) {
+  if (before_portal) {
+    if (!(bs->lobe & VR_LOBE_STRAIGHT)) return; /* shaded before the portal */
+    p.portal_t -= hit->t;
+  }
+  double weight0 = bs->weight[0];
+  if (!(bs->lobe & VR_LOBE_STRAIGHT)) p.flags &= (uint16_t)~VR_PF_FAR_DIRECT;
+  if (bs->terminate_secondary) {
+    if (p.flags & VR_PF_TERMINATED) weight0 /= p.nwl;
+    p.flags |= VR_PF_TERMINATED;
+  }
+  double old = 0, mx = 0;
+  for (int k = 0; k < p.nwl; k++) {
+    if (p.beta[k] > old) old = p.beta[k];
+    p.beta[k] *= (k ? bs->weight[k] : weight0) * (tint ? tint[k] : 1.0);
+    if (p.beta[k] > mx) mx = p.beta[k];
+  }
+  if (!(mx > 0) || !(old > 0)) return;
+  /* Russian roulette keeping the power per photon roughly constant. */
+  double q = to_portal ? 1.0 : fmin(1.0, mx / old);
+  if (vr_rng(key, VR_DIM_ROULETTE) >= q) return;
+  for (int k = 0; k < p.nwl; k++) p.beta[k] /= q;
+  if (bs->lobe & (VR_LOBE_DIFFUSE))
+    p.flags |= VR_PF_HAS_DIFFUSE;
+  else if (bs->lobe & (VR_LOBE_SPECULAR_R | VR_LOBE_SPECULAR_T | VR_LOBE_GLOSSY_R | VR_LOBE_GLOSSY_T))
+    p.flags |= VR_PF_HAS_SPECULAR;
+  double wi[3] = {bs->wi.x, bs->wi.y, bs->wi.z};
+  if (bs->lobe & (VR_LOBE_SPECULAR_T | VR_LOBE_GLOSSY_T))
+    p.medium = vr_dot3(wi, hit->ng) < 0 ? (int32_t)hit->object : -1;
+  p.holes = 0;
+  p.depth++;
+  vr_ray nr = {0};
+  vr_spawn_origin(hit->p, hit->ng, wi, nr.org);
+  memcpy(nr.dir, wi, sizeof nr.dir);
+  nr.tmax = INFINITY;
+  nr.kind = VR_RAY_CLOSEST;
+  nr.purpose = VR_PURPOSE_PHOTON;
+  memcpy(nr.payload, &p, sizeof p);
+  vr_flow_push(w, &nr);
+}
+
 static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const vr_hit *hit) {
   vr_pass *c = ctx;
   const vr_rscene *rs = c->rs;
@@ -159,57 +249,34 @@ static void photon_closest(void *ctx, vr_flow_worker *w, const vr_ray *r, const 
   double tint[VR_MAX_WL];
   bool tinted = !vr_hit_pbr(rs, hit, 0, p.nwl, p.wl, &pt) &&
                 vr_hit_texture(rs, hit, 0, p.nwl, p.wl, tint);
-  bool to_portal = false;
+  double state = vr_hit_state(rs, hit);
   if (rs->obj[hit->object].outside && rs->L.nportal_sources && lobes == VR_LOBE_DIFFUSE &&
       !before_portal && !bent) {
-    if (!outside_portal_scatter(rs, m, &pt, vr_hit_state(rs, hit), hit, ns, wo, &p, &key, &bs,
-                                &to_portal))
-      return;
-  } else if (!vr_bsdf_sample_at(m->bsdf, &pt, vr_hit_state(rs, hit),
-                                (vr_vec3){ns[0], ns[1], ns[2]}, (vr_vec3){wo[0], wo[1], wo[2]},
-                                p.nwl, p.wl, VR_TRANSPORT_IMPORTANCE, vr_rng(&key, VR_DIM_LOBE),
-                                vr_rng(&key, VR_DIM_DIR_U), vr_rng(&key, VR_DIM_DIR_V), &bs))
+    int copies = outside_split_count(rs, m, &pt, state, hit, ns, &p);
+    for (int j = 0; j < copies; j++) {
+      vr_payload q = p;
+      vr_rng_key kq = key;
+      if (copies > 1) {
+        q.stream = p.stream + ((uint64_t)(j + 1) << SPLIT_STREAM_SHIFT);
+        q.flags |= VR_PF_SPLIT;
+        for (int k = 0; k < q.nwl; k++) q.beta[k] /= copies;
+        kq = (vr_rng_key){rs->seed, q.stream, q.sample, q.depth + 1};
+      }
+      bool to_portal = false;
+      if (outside_portal_scatter(rs, m, &pt, state, hit, ns, wo, &q, &kq, &bs, &to_portal))
+        photon_continue(w, hit, q, &kq, &bs, to_portal, false, tinted ? tint : NULL);
+    }
+    return;
+  }
+  if (!vr_bsdf_sample_at(m->bsdf, &pt, state, (vr_vec3){ns[0], ns[1], ns[2]},
+                         (vr_vec3){wo[0], wo[1], wo[2]}, p.nwl, p.wl, VR_TRANSPORT_IMPORTANCE,
+                         vr_rng(&key, VR_DIM_LOBE), vr_rng(&key, VR_DIM_DIR_U),
+                         vr_rng(&key, VR_DIM_DIR_V), &bs))
     return;
   /* Around a normal map's normal, a reflection may point into the surface. */
   if (bent && vr_dot3(hit->ng, (double[3]){bs.wi.x, bs.wi.y, bs.wi.z}) * vr_dot3(hit->ng, wo) <= 0)
     return;
-  if (before_portal) {
-    if (!(bs.lobe & VR_LOBE_STRAIGHT)) return; /* shaded before the portal */
-    p.portal_t -= hit->t;
-  }
-  if (!(bs.lobe & VR_LOBE_STRAIGHT)) p.flags &= (uint16_t)~VR_PF_FAR_DIRECT;
-  if (bs.terminate_secondary) {
-    if (p.flags & VR_PF_TERMINATED) bs.weight[0] /= p.nwl;
-    p.flags |= VR_PF_TERMINATED;
-  }
-  double old = 0, mx = 0;
-  for (int k = 0; k < p.nwl; k++) {
-    if (p.beta[k] > old) old = p.beta[k];
-    p.beta[k] *= bs.weight[k] * (tinted ? tint[k] : 1.0);
-    if (p.beta[k] > mx) mx = p.beta[k];
-  }
-  if (!(mx > 0) || !(old > 0)) return;
-  /* Russian roulette keeping the power per photon roughly constant. */
-  double q = to_portal ? 1.0 : fmin(1.0, mx / old);
-  if (vr_rng(&key, VR_DIM_ROULETTE) >= q) return;
-  for (int k = 0; k < p.nwl; k++) p.beta[k] /= q;
-  if (bs.lobe & (VR_LOBE_DIFFUSE))
-    p.flags |= VR_PF_HAS_DIFFUSE;
-  else if (bs.lobe & (VR_LOBE_SPECULAR_R | VR_LOBE_SPECULAR_T | VR_LOBE_GLOSSY_R | VR_LOBE_GLOSSY_T))
-    p.flags |= VR_PF_HAS_SPECULAR;
-  double wi[3] = {bs.wi.x, bs.wi.y, bs.wi.z};
-  if (bs.lobe & (VR_LOBE_SPECULAR_T | VR_LOBE_GLOSSY_T))
-    p.medium = vr_dot3(wi, hit->ng) < 0 ? (int32_t)hit->object : -1;
-  p.holes = 0;
-  p.depth++;
-  vr_ray nr = {0};
-  vr_spawn_origin(hit->p, hit->ng, wi, nr.org);
-  memcpy(nr.dir, wi, sizeof nr.dir);
-  nr.tmax = INFINITY;
-  nr.kind = VR_RAY_CLOSEST;
-  nr.purpose = VR_PURPOSE_PHOTON;
-  memcpy(nr.payload, &p, sizeof p);
-  vr_flow_push(w, &nr);
+  photon_continue(w, hit, p, &key, &bs, false, before_portal, tinted ? tint : NULL);
 }
 
 static bool photon_shadow_hit(void *ctx, vr_flow_worker *w, vr_ray *r, const vr_hit *hit) {

@@ -67,6 +67,10 @@ typedef struct vr_lights {
   size_t nsources;
   double *source_cdf;
   double total_power;
+  /* The power each portal photon starts with (their sources' power over
+   * their share of the photons), 0 without them: what a photon scattered
+   * outside towards a portal is split to match (photon_trace.c). */
+  double portal_photon_power;
 } vr_lights;
 
 /* The scene's light lines (emitters, the sky and the sources are added by
@@ -137,6 +141,11 @@ void vr_portal_point(const vr_lights *L, double u0, double u1, double u2, double
  * normal). */
 bool vr_portal_crossed_inward(const vr_lights *L, const double org[3], const double dir[3],
                               double tmax);
+/* The share of what a diffuse surface at x (normal n) reflects that goes
+ * through the portals: the point-to-rectangle form factor, each portal
+ * taken at its centre, A cos cos' / (pi d^2), summed and capped at 1.  An
+ * estimate for choosing how many photons to split into (never a weight). */
+double vr_portal_form_factor(const vr_lights *L, const double x[3], const double n[3]);
 
 /* ---- photon sources (sources.c) ---- */
 

@@ -25,7 +25,8 @@
  * That light is aimed at the portals too: a photon scattered by a diffuse
  * outdoor surface (outside=yes) draws its direction half the time towards
  * a portal (vr_portal_sample from its point), weighted by the mixture's
- * density (integrators/photon_trace.c). */
+ * density, after being split into copies by the share of its light the
+ * portals would take (vr_portal_form_factor; integrators/photon_trace.c). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -140,4 +141,18 @@ double vr_portal_pdf(const vr_lights *L, const double x[3], const double dir[3])
     pdf += w[j] / sum * t * t / (q->area * fabs(cn));
   }
   return pdf;
+}
+
+double vr_portal_form_factor(const vr_lights *L, const double x[3], const double n[3]) {
+  double F = 0;
+  for (size_t j = 0; j < L->nportals; j++) {
+    const vr_portal *q = &L->portals[j];
+    double d[3];
+    for (int k = 0; k < 3; k++) d[k] = q->corner[k] + 0.5 * (q->u[k] + q->v[k]) - x[k];
+    double d2 = vr_dot3(d, d);
+    if (!(d2 > 0)) continue;
+    double len = sqrt(d2), cx = vr_dot3(n, d) / len, cq = fabs(vr_dot3(q->n, d)) / len;
+    if (cx > 0) F += q->area * cx * cq / (M_PI * d2);
+  }
+  return F < 1 ? F : 1;
 }

@@ -176,6 +176,7 @@ vr_status vr_lights_sources_create(vr_lights *L, bool photon_portals, vr_error *
     L->source_cdf[base + i] = (1 - q) + q * (pacc += pp[i]) / portal_total;
   if (L->nportal_sources) L->source_cdf[n - 1] = 1.0;
   if (L->nportal_sources) L->total_power += portal_total;
+  L->portal_photon_power = L->nportal_sources && q > 0 ? portal_total / q : 0.0;
   return VR_OK;
 }
 
