@@ -528,6 +528,37 @@ static void sensor_knn_follows_knn(void **state) {
           "rect center=0,0,0 normal=0,0,1 size=9,9 material=g outside=maybe\n", "outside");
 }
 
+/* photon_portals: off unless written, except for photon sensors in a
+ * scene with portals (vr_scene_photon_portals; docs/scene-format.md). */
+static void photon_portals_default(void **state) {
+  (void)state;
+  static const char BASE[] = "camera pinhole from=0,0,0 to=0,1,0\n"
+                             "sky cie type=1 illuminance=15000lx\n%s%s%s";
+  static const char PORTAL[] = "portal center=0,2,1.5 normal=0,-1,0 size=2,1\n";
+  static const char SENSOR[] = "sensor s point position=0,0,1 normal=0,0,1\n";
+  static const struct {
+    const char *portal, *sensor, *render;
+    bool want;
+  } C[] = {
+      {PORTAL, SENSOR, "render sensors=photon\n", true},
+      {PORTAL, SENSOR, "render sensors=photon photon_portals=off\n", false},
+      {PORTAL, SENSOR, "render sensors=path\n", false},
+      {PORTAL, SENSOR, "render integrator=photon\n", false},
+      {"", SENSOR, "render sensors=photon\n", false},
+      {PORTAL, "", "render sensors=photon\n", false},
+      {PORTAL, "", "render integrator=progressive photon_portals=on\n", true},
+  };
+  for (size_t i = 0; i < sizeof C / sizeof C[0]; i++) {
+    char text[1024];
+    snprintf(text, sizeof text, BASE, C[i].portal, C[i].sensor, C[i].render);
+    vr_scene *s = NULL;
+    vr_error err = {0};
+    if (vr_scene_parse(text, strlen(text), NAME, &s, &err)) fail_msg("case %zu: %s", i, err.message);
+    if (vr_scene_photon_portals(s) != C[i].want) fail_msg("case %zu: photon portals %d", i, !C[i].want);
+    vr_scene_destroy(s);
+  }
+}
+
 static void errors(void **state) {
   (void)state;
   for (size_t i = 0; i < sizeof ERRORS / sizeof ERRORS[0]; i++) {
@@ -704,6 +735,7 @@ int main(void) {
       cmocka_unit_test(transform_order), cmocka_unit_test(errors),
       cmocka_unit_test(whole_file_errors), cmocka_unit_test(text_robustness),
       cmocka_unit_test(read_file), cmocka_unit_test(sensor_knn_follows_knn),
+      cmocka_unit_test(photon_portals_default),
       cmocka_unit_test(sun_by_site_and_time), cmocka_unit_test(sky_needs_the_sun)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

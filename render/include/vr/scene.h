@@ -368,6 +368,9 @@ typedef struct vr_scene_settings {
                                  estimates, so fewer than an image's direct view needs */
   bool photon_portals;        /* photon_portals=on: the far sources also emit photons
                                  through the portals (portals.c); default off */
+  bool photon_portals_given;  /* photon_portals= was written: when it was not, photon
+                                 sensors (sensors=photon) in a scene with portals turn it
+                                 on (vr_scene_photon_portals) */
   double radius_m;            /* fixed radius; NAN -> k-nearest */
   bool final_gather;          /* default false */
   int gather_rays;            /* default 32 */
@@ -503,6 +506,14 @@ void vr_scene_destroy(vr_scene *s);
 /* Whether s has a grid or points-file sensor: the annual study's default
  * work plane is theirs (vr_scene_annual.workplane). */
 bool vr_scene_has_grid(const vr_scene *s);
+
+/* Whether the far sources also emit photons through the portals: the
+ * render line's photon_portals= when written; otherwise on for photon
+ * sensors (sensors=photon, with sensor lines) in a scene with portals,
+ * where the maps then hold the light that comes in by the windows
+ * (docs/benchmarks.md, "The daylit room"), and off for the rest (an
+ * image's photons gained nothing from them in the sample room). */
+bool vr_scene_photon_portals(const vr_scene *s);
 
 /* The spectrum reference light l uses: its own spectrum=, or its kind's
  * default (D65 for lamps, db:ASTM-G173-AM1.5D for the sun). */

@@ -291,6 +291,11 @@ bool vr_scene_has_grid(const vr_scene *s) {
   return false;
 }
 
+bool vr_scene_photon_portals(const vr_scene *s) {
+  if (s->settings.photon_portals_given) return s->settings.photon_portals;
+  return s->settings.sensors == VR_SENSORS_PHOTON && s->nsensors > 0 && s->nportals > 0;
+}
+
 /* Splits a line into words in place; the rest of the line after '#' is a
  * comment, unless the '#' opens a value ("color=#c8b49a").  A value that
  * opens with '[' ("spectrum=[400 0.1 700 0.5]") runs to its ']', spaces

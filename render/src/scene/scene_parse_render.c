@@ -135,6 +135,7 @@ vr_status scn_render(vr_scn_stmt *t) {
    * 117 nm cannot follow a lamp's spectrum. */
   if (spectral == VR_SPECTRAL_BINS && !scn_get(t, "wavelengths")) wl = VR_SCENE_MAX_WAVELENGTHS;
   g->photon_portals = pport;
+  g->photon_portals_given = scn_get(t, "photon_portals") != NULL;
   g->integrator = (vr_integrator)integ, g->spectral = (vr_spectral_mode)spectral, g->final_gather = fg;
   g->sensors = (vr_sensor_estimator)sensors;
   g->spp = (int)spp, g->max_depth = (int)depth, g->wavelengths = (int)wl, g->photons = (long)photons;

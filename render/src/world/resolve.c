@@ -183,7 +183,7 @@ vr_status vr_rscene_create(const vr_scene *s, vr_matdb *db, const vr_render_opti
   }
   if (!st) st = vr_lights_sky_create(&rs->L, s, err);
   if (!st) st = vr_lights_portals_create(&rs->L, s, err);
-  if (!st) st = vr_lights_sources_create(&rs->L, s->settings.photon_portals, err);
+  if (!st) st = vr_lights_sources_create(&rs->L, vr_scene_photon_portals(s), err);
   if (st) goto fail;
   vr_camera_init(&rs->cam, &s->camera);
   *out = rs;
