@@ -139,9 +139,10 @@ static void print_metrics(const vr_glazing_metrics *m, const vr_standard *std, d
   }
   if (!isnan(m->Tuv)) printf("Tuv         %.6f\n", m->Tuv);
   if (m->has_colour) printf("transmitted L*a*b*  %.2f %.2f %.2f\n", m->T_lab[0], m->T_lab[1], m->T_lab[2]);
-  if (!isnan(m->Ra)) printf("Ra          %.2f   (EN 410: D65 through the glazing against D65, CIE 13.3)\n", m->Ra);
   if (m->has_colour && m->has_R)
     printf("reflected (front)   %.2f %.2f %.2f\n", m->Rf_lab[0], m->Rf_lab[1], m->Rf_lab[2]);
+  if (!isnan(m->Ra))
+    printf("Ra          %.2f   (EN 410: D65 through the glazing against D65, CIE 13.3)\n", m->Ra);
 }
 
 vr_status spectro_pane_items(const vr_args *a, char **list, char **items, size_t *n, vr_error *err) {
