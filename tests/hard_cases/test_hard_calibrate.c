@@ -127,7 +127,13 @@ static void fine_grid(void **state) {
     double pk = ct_peak_nm(cal.n, cal.grid_nm, cal.sens[c]);
     print_message("2 nm grid, channel %d: peak %.0f, lambda %.3g, dof %.2f, rms %.2e\n", c, pk,
                   cal.lambda[c], cal.dof[c], cal.rms[c]);
-    assert_near(pk, TRUE_PEAK[c], 20.0);
+    /* The peak within half the resolution the fit has: dof effective
+     * parameters over the 300 nm band resolve about 300 / dof nm (a
+     * smoothing fit's resolution element), so the peak may sit anywhere
+     * in half of one (here 13, 15 and 20 nm for dof 11.2, 9.9, 7.3; the
+     * bound was a flat 20 nm before). */
+    double half_element = 0.5 * (grid[150] - grid[0]) / cal.dof[c];
+    assert_near(pk, TRUE_PEAK[c], half_element);
     assert_true(cal.dof[c] < 24.0);
     for (size_t j = 0; j < cal.n; j++) assert_true(isfinite(cal.sens[c][j]) && cal.sens[c][j] >= 0);
   }
