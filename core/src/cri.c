@@ -99,22 +99,27 @@ static vr_status sample(const vr_spectrum *s, const char *what, double out[CRI_N
   return VR_OK;
 }
 
+/* The CIE 1931 observer at CIE 13.3's 81 wavelengths. */
+static void cmf_grid(double cmf[CRI_N][3]) {
+  for (int i = 0; i < CRI_N; i++) vr_cmf_eval(VR_CIE1931_2DEG, CRI_LO + CRI_STEP * i, cmf[i]);
+}
+
 /* XYZ of the test colour sample j (-1: the source itself) under S, the
- * source's Y at 100. */
-static void tristimulus(const double S[CRI_N], int j, double xyz[3]) {
+ * source's Y at 100; returns sum S ybar (0: a source without luminance,
+ * xyz then not finite). */
+static double tristimulus(const double S[CRI_N], const double cmf[CRI_N][3], int j, double xyz[3]) {
   const double *t = vr_data_cie_tcs;
   unsigned cols = vr_data_cie_tcs_cols;
   double sum[3] = {0, 0, 0}, norm = 0;
   for (int i = 0; i < CRI_N; i++) {
-    double nm = CRI_LO + CRI_STEP * i, cmf[3];
-    vr_cmf_eval(VR_CIE1931_2DEG, nm, cmf);
     /* The samples' table starts at 360 nm, 5 nm apart. */
-    unsigned row = (unsigned)lround((nm - t[0]) / CRI_STEP);
+    unsigned row = (unsigned)lround((CRI_LO + CRI_STEP * i - t[0]) / CRI_STEP);
     double rho = j < 0 ? 1.0 : t[row * cols + 1 + (unsigned)j];
-    for (int k = 0; k < 3; k++) sum[k] += S[i] * rho * cmf[k];
-    norm += S[i] * cmf[1];
+    for (int k = 0; k < 3; k++) sum[k] += S[i] * rho * cmf[i][k];
+    norm += S[i] * cmf[i][1];
   }
   for (int k = 0; k < 3; k++) xyz[k] = 100.0 * sum[k] / norm;
+  return norm;
 }
 
 static double cd_c(const double uv[2]) { return (4.0 - uv[0] - 10.0 * uv[1]) / uv[1]; }
@@ -122,30 +127,24 @@ static double cd_d(const double uv[2]) { return (1.708 * uv[1] + 0.404 - 1.481 *
 
 static vr_status rendering(const double St[CRI_N], const double Sr[CRI_N], vr_cri *out,
                            vr_error *err) {
-  double lum_t = 0, lum_r = 0;
-  for (int i = 0; i < CRI_N; i++) {
-    double cmf[3];
-    vr_cmf_eval(VR_CIE1931_2DEG, CRI_LO + CRI_STEP * i, cmf);
-    lum_t += St[i] * cmf[1];
-    lum_r += Sr[i] * cmf[1];
-  }
+  double cmf[CRI_N][3], xyz[3], uv_t[2], uv_r[2];
+  cmf_grid(cmf);
+  double lum_t = tristimulus(St, cmf, -1, xyz);
+  vr_xyz_to_uv1960(xyz, uv_t);
+  double lum_r = tristimulus(Sr, cmf, -1, xyz);
+  vr_xyz_to_uv1960(xyz, uv_r);
   if (!(lum_t > 0) || !(lum_r > 0))
     return vr_error_set(err, VR_E_RANGE,
                         "the %s has no luminance between 380 and 780 nm: no colour rendering",
                         lum_t > 0 ? "reference" : "source");
-  double xyz[3], uv_t[2], uv_r[2];
-  tristimulus(St, -1, xyz);
-  vr_xyz_to_uv1960(xyz, uv_t);
-  tristimulus(Sr, -1, xyz);
-  vr_xyz_to_uv1960(xyz, uv_r);
   out->dc = hypot(uv_t[0] - uv_r[0], uv_t[1] - uv_r[1]);
   out->dc_ok = out->dc < VR_CRI_DC_LIMIT;
   double ct = cd_c(uv_t), dt = cd_d(uv_t), cr = cd_c(uv_r), dr = cd_d(uv_r);
   double sum8 = 0;
   for (int j = 0; j < VR_CRI_SAMPLES; j++) {
     double xt[3], xr[3], ut[2], ur[2];
-    tristimulus(St, j, xt);
-    tristimulus(Sr, j, xr);
+    tristimulus(St, cmf, j, xt);
+    tristimulus(Sr, cmf, j, xr);
     vr_xyz_to_uv1960(xt, ut);
     vr_xyz_to_uv1960(xr, ur);
     /* CIE 13.3 eq. (6): the test sample's chromaticity adapted to the
@@ -180,8 +179,9 @@ vr_status vr_cri_compute(const vr_spectrum *source, vr_cri *out, vr_error *err) 
   double St[CRI_N], Sr[CRI_N], xyz[3], uv[2], T;
   vr_status st = sample(source, "source", St, err);
   if (st) return st;
-  tristimulus(St, -1, xyz);
-  if (!(xyz[1] > 0))
+  double cmf[CRI_N][3];
+  cmf_grid(cmf);
+  if (!(tristimulus(St, cmf, -1, xyz) > 0))
     return vr_error_set(err, VR_E_RANGE,
                         "the source has no luminance between 380 and 780 nm: no colour rendering");
   vr_xyz_to_uv1960(xyz, uv);

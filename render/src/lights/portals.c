@@ -92,10 +92,15 @@ bool vr_portal_crossed_inward(const vr_lights *L, const double org[3], const dou
 /* How much portal j is worth sampling from x: its area over the squared
  * distance to its centre, times the cosine there (a solid-angle estimate,
  * capped at 2 pi), 0 when x lies in its plane. */
+/* d = portal q's centre - x; returns |d|^2. */
+static double to_centre(const vr_portal *q, const double x[3], double d[3]) {
+  for (int k = 0; k < 3; k++) d[k] = q->corner[k] + 0.5 * (q->u[k] + q->v[k]) - x[k];
+  return vr_dot3(d, d);
+}
+
 static double weight(const vr_portal *q, const double x[3]) {
   double d[3], h = 0;
-  for (int k = 0; k < 3; k++) d[k] = q->corner[k] + 0.5 * (q->u[k] + q->v[k]) - x[k];
-  double d2 = vr_dot3(d, d);
+  double d2 = to_centre(q, x, d);
   double plane = vr_dot3(q->n, q->corner) - vr_dot3(q->n, x);
   if (fabs(plane) <= 1e-9 * (1 + sqrt(d2))) return 0;
   h = fabs(vr_dot3(q->n, d)) / sqrt(d2);
@@ -147,9 +152,7 @@ double vr_portal_form_factor(const vr_lights *L, const double x[3], const double
   double F = 0;
   for (size_t j = 0; j < L->nportals; j++) {
     const vr_portal *q = &L->portals[j];
-    double d[3];
-    for (int k = 0; k < 3; k++) d[k] = q->corner[k] + 0.5 * (q->u[k] + q->v[k]) - x[k];
-    double d2 = vr_dot3(d, d);
+    double d[3], d2 = to_centre(q, x, d);
     if (!(d2 > 0)) continue;
     double len = sqrt(d2), cx = vr_dot3(n, d) / len, cq = fabs(vr_dot3(q->n, d)) / len;
     if (cx > 0) F += q->area * cx * cq / (M_PI * d2);
