@@ -7,6 +7,8 @@
 
 #include "vr/args.h"
 #include "vr/glazing.h"
+#include "vr/glazing_en673.h"
+#include "vr/glazing_thermal.h"
 #include "vr/optical_standard.h"
 #include "vr/matdb.h"
 #include "vr/spectro_data.h"
@@ -77,6 +79,15 @@ int spectro_cmd_btdf(vr_args *a);
 int spectro_cmd_chromogenic(vr_args *a);
 int spectro_cmd_state(vr_args *a);
 int spectro_cmd_thermal(vr_args *a);
+
+/* thermal --method en673 (spectro_cmd_en673.c): --edition, and the report
+ * of EN 673's U and EN 410's g for the system sys (emissivities already
+ * corrected, from[i] saying where each came from), tau_e its solar
+ * transmittance under std_name. */
+vr_status spectro_en673_parse_edition(const char *s, vr_en673_edition *e, vr_error *err);
+vr_status spectro_en673_report(const vr_thermal_system *sys, char **items,
+                               const char *const (*from)[2], const char *std_name, double tau_e,
+                               vr_en673_edition edition, bool json, vr_error *err);
 
 /* The state of a chromogenic material asked for by --state S, --charge Q
  * or --uv E [--temperature T]; 0 (bleached) when none is given. */

@@ -1,5 +1,6 @@
 /* vr-spectro thermal: U-factor and SHGC of a glazing by ISO 15099 under the
- * NFRC 100/200 environments (vr/glazing_thermal.h), from measured panes. */
+ * NFRC 100/200 environments (vr/glazing_thermal.h), from measured panes;
+ * with --method en673, EN 673's U and EN 410's g (spectro_cmd_en673.c). */
 #include "spectro_cli.h"
 
 #include <math.h>
@@ -19,6 +20,7 @@
 
 typedef struct pane_info {
   const char *emis_from[2];
+  bool from_ir[2], coated[2]; /* an emissivity from the pane's IR data, and of a coated face */
   bool conductivity_assumed;
 } pane_info;
 
@@ -126,6 +128,8 @@ static vr_status pane_thermal(const vr_standard *std, const vr_spectro_data *d, 
                     (f == 1 && cs == VR_COATED_BACK);
       if (cs == VR_COATED_UNKNOWN) coated = en[f] < COATED_BELOW;
       tp->emis[f] = vr_emissivity_hemispherical(en[f], coated);
+      info->from_ir[f] = true;
+      info->coated[f] = coated;
       info->emis_from[f] = cs == VR_COATED_UNKNOWN
                                ? (coated ? "IR data, NFRC 301 coated (normal emissivity < 0.84)"
                                          : "IR data, NFRC 301 uncoated")
@@ -148,6 +152,30 @@ static vr_status pane_thermal(const vr_standard *std, const vr_spectro_data *d, 
     info->emis_from[f] = "the file's header";
   }
   return VR_OK;
+}
+
+/* EN 673 wants corrected emissivities (EN 12898): an uncoated face (by
+ * its IR data, or a header value of uncoated glass, 0.84 or more) takes
+ * the standard's 0.837 for soda-lime glass; a coated one from IR data
+ * keeps its NFRC 301 hemispherical value, said so; a coated header value
+ * or one given by --emissivity is taken as the corrected one. */
+static void en673_emissivities(vr_thermal_pane *tp, pane_info *info) {
+  for (int f = 0; f < 2; f++) {
+    if (!info->from_ir[f]) {
+      if (strcmp(info->emis_from[f], "--emissivity") && tp->emis[f] >= COATED_BELOW) {
+        tp->emis[f] = VR_EN673_UNCOATED;
+        info->emis_from[f] = "the file's header: uncoated, EN 673's 0.837";
+      }
+      continue;
+    }
+    if (!info->coated[f]) {
+      tp->emis[f] = VR_EN673_UNCOATED;
+      info->emis_from[f] = "IR data: uncoated, EN 673's 0.837";
+    } else {
+      info->emis_from[f] = "IR data, NFRC 301 hemispherical; EN 12898's corrected value may "
+                           "differ (--emissivity)";
+    }
+  }
 }
 
 static void print_state(const char *name, const vr_thermal_state *s, size_t n, bool json) {
@@ -180,8 +208,28 @@ int spectro_cmd_thermal(vr_args *a) {
   pane_info info[SPECTRO_MAX_PANES] = {0};
   vr_thermal_system sys = {0};
   int rc = 1;
-  const char *stdname = vr_args_get(a, "standard");
+  const char *stdname = vr_args_get(a, "standard"), *method = vr_args_get(a, "method");
   bool json = vr_args_flag(a, "json");
+  vr_standard *emis_std = NULL; /* EN 673: the emissivities from IR data by NFRC's THERMAL IR */
+  vr_en673_edition edition = VR_EN673_2011;
+  bool en673 = method && !strcmp(method, "en673");
+  if (method && !en673 && strcmp(method, "iso15099")) {
+    vr_error_set(&err, VR_E_RANGE, "--method '%s': expected iso15099 (the heat balance under NFRC "
+                                   "100/200, the default) or en673 (EN 673's U, EN 410's g)",
+                 method);
+    goto out;
+  }
+  if (vr_args_get(a, "edition") && !en673) {
+    vr_error_set(&err, VR_E_RANGE, "--edition: only with --method en673");
+    goto out;
+  }
+  if (en673 && (spectro_en673_parse_edition(vr_args_get(a, "edition"), &edition, &err))) goto out;
+  if (en673 && vr_args_get(a, "height")) {
+    vr_error_set(&err, VR_E_RANGE, "--height: EN 673's declared U has no height (its Nusselt "
+                                   "correlation is the gap's alone); drop it or use --method "
+                                   "iso15099");
+    goto out;
+  }
   if (vr_args_double(a, "height", 1.0, &sys.height_m, &err) ||
       vr_args_double(a, "tilt", 90.0, &sys.tilt_deg, &err))
     goto out;
@@ -190,12 +238,18 @@ int spectro_cmd_thermal(vr_args *a) {
                  sys.height_m);
     goto out;
   }
+  if (en673 && sys.tilt_deg != 90.0) {
+    vr_error_set(&err, VR_E_RANGE, "--tilt %g: EN 673's declared U is for vertical glazing (90)",
+                 sys.tilt_deg);
+    goto out;
+  }
   if (!(sys.tilt_deg >= 0 && sys.tilt_deg <= 180)) {
     vr_error_set(&err, VR_E_RANGE, "--tilt %g: expected 0 to 180 degrees (90: vertical)",
                  sys.tilt_deg);
     goto out;
   }
-  if (vr_standard_open(stdname ? stdname : "nfrc", &std, &err)) goto out;
+  if (vr_standard_open(stdname ? stdname : en673 ? "en410" : "nfrc", &std, &err)) goto out;
+  if (en673 && vr_standard_open("nfrc", &emis_std, &err)) goto out;
   if (spectro_pane_items(a, &list, items, &n, &err)) goto out;
   if (n > VR_THERMAL_MAX_PANES) {
     vr_error_set(&err, VR_E_ARG, "%zu panes: the heat balance takes at most %d", n,
@@ -215,8 +269,10 @@ int spectro_cmd_thermal(vr_args *a) {
       vr_error_prefix(&err, "%s: ", items[i]);
       goto out;
     }
-    if (pane_thermal(std, data[i], panes[i], items[i], given[i], &sys.pane[i], &info[i], &err))
+    if (pane_thermal(en673 ? emis_std : std, data[i], panes[i], items[i], given[i], &sys.pane[i],
+                     &info[i], &err))
       goto out;
+    if (en673) en673_emissivities(&sys.pane[i], &info[i]);
   }
   double A[SPECTRO_MAX_PANES];
   vr_glazing_metrics m;
@@ -225,6 +281,15 @@ int spectro_cmd_thermal(vr_args *a) {
       vr_glazing_layer_absorptance(std, "SOLAR", panes, n, false, A, &err))
     goto out;
   for (size_t i = 0; i < n; i++) sys.pane[i].absorptance = A[i];
+  if (en673) {
+    const char *from[SPECTRO_MAX_PANES][2];
+    for (size_t i = 0; i < n; i++) from[i][0] = info[i].emis_from[0], from[i][1] = info[i].emis_from[1];
+    if (spectro_en673_report(&sys, items, (const char *const(*)[2])from, std->name, m.Tsol, edition,
+                             json, &err))
+      goto out;
+    rc = 0;
+    goto out;
+  }
   vr_thermal_figures f;
   if (vr_thermal_nfrc(&sys, m.Tsol, &f, &err)) goto out;
   if (json) {
@@ -287,6 +352,7 @@ out:
   }
   vr_pane_destroy(sys_optics);
   vr_standard_destroy(std);
+  vr_standard_destroy(emis_std);
   vr_matdb_close(db);
   free(list);
   return rc;

@@ -47,6 +47,8 @@ static const vr_option OPTIONS[] = {
     {"height", 0, "M", "thermal: glazing height for natural convection (default 1 m, NFRC)"},
     {"tilt", 0, "DEG", "thermal: tilt from horizontal (default 90: vertical)"},
     {"emissivity", 0, "LIST", "thermal: hemispherical emissivity per pane, F or F:B, comma-separated ('-': the pane's own)"},
+    {"method", 0, "iso15099|en673", "thermal: the ISO 15099 heat balance under NFRC 100/200 (default) or EN 673's U and EN 410's g"},
+    {"edition", 0, "2011|1997", "thermal --method en673: the standards' edition and its film coefficients (default 2011)"},
     {"force", 0, NULL, "fit: accept (exit 0) and --save a fit that does not describe the data"},
 };
 #define NOPT (sizeof OPTIONS / sizeof OPTIONS[0])
@@ -59,6 +61,7 @@ static const char USAGE[] =
     "       vr-spectro btdf FILE|NAME|--stack FILE [--angles LIST] [--wavelengths A:B:S] [--scatter FILE] [--save NAME] [--json]\n"
     "       vr-spectro chromogenic FILES... --states LIST [--save NAME] [--json]\n"
     "       vr-spectro thermal FILE|NAME|--panes A,B --gaps MM:GAS,... [--emissivity LIST] [--state S] [--height M] [--tilt DEG] [--json]\n"
+    "       vr-spectro thermal --method en673 [--edition 2011|1997] FILE|NAME|--panes A,B --gaps MM:GAS,... [--emissivity LIST] [--json]\n"
     "       vr-spectro state NAME [--state S | --charge Q | --uv E [--temperature T] [--extrapolate]] [--json]";
 static const char ABOUT[] =
     "Spectrophotometry of glass (T, Rf, Rb; CSV, Cary/Lambda CSV exports, LBNL Optics/IGDB\n"
@@ -86,6 +89,8 @@ static const char ABOUT[] =
     "  Windows-CalcEngine: layer solar absorptances from the spectra, emissivities from\n"
     "  thermal-infrared data (NFRC 301) or the file's header, gas gaps of air, argon,\n"
     "  krypton, xenon or mixtures; chromogenic panes at --state/--charge/--uv.\n"
+    "  --method en673: the European declared figures, EN 673's U (fixed film coefficients,\n"
+    "  its gas table at 10 C, declared to one decimal) and EN 410's g, optics under en410.\n"
     "state: a chromogenic material's spectrum at a state, a charge (within the range the\n"
     "  model was fitted on) or a UV irradiance.";
 
@@ -392,6 +397,8 @@ static bool foreign_option(const vr_args *a, const char *cmd) {
       {"height", "thermal", NULL},
       {"tilt", "thermal", NULL},
       {"emissivity", "thermal", NULL},
+      {"method", "thermal", NULL},
+      {"edition", "thermal", NULL},
       {"angle", "metrics", NULL},
       {"phi", "metrics", NULL},
       {"out", "bsdf-xml", NULL},

@@ -128,6 +128,47 @@ assert clear['SHGC'] > dark['SHGC'] + 0.2, (clear['SHGC'], dark['SHGC'])
 assert abs(clear['U'] - dark['U']) < 1e-9, (clear['U'], dark['U'])
 PY
 
+# EN 673's U and EN 410's g (--method en673): recomputed from the report by
+# an independent Python implementation of the two standards
+# (tests/cli/en673_check.py, to 1e-9), for one pane, a double glazing with
+# a low-e pane from its IR data and a 90 % argon fill, and a triple glazing
+# under the 1997 edition's films; the panes' absorptances and the system's
+# tau_e and front rho_e close the first law (sum alpha_e = 1 - tau_e -
+# rho_e, under EN 410's solar spectrum, to 1e-9); NFRC 102 | 16 mm air |
+# NFRC 102 is declared 2.7, the U glass makers print for 4-16-4 air.
+en() { "$bin" thermal --method en673 "$@" --json > "$tmp/en.json" 2> "$tmp/en.err"; }
+en --panes "$clear3"; rc=$?
+check "EN 673: one pane runs" test $rc -eq 0
+check "EN 673 / EN 410: one pane recomputed" python3 "$VR_SOURCE_DIR/tests/cli/en673_check.py" "$tmp/en.json"
+en --panes "$tmp/2191.csv,$clear3" --gaps 16:argon:0.9+air:0.1
+check "EN 673 / EN 410: low-e | 90 % argon | clear recomputed" python3 "$VR_SOURCE_DIR/tests/cli/en673_check.py" "$tmp/en.json" argon:0.9+air:0.1
+check "EN 673: an uncoated face from IR data takes 0.837, the coated one its NFRC 301 value" python3 - "$tmp/en.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+e = m['panes'][0]['emissivity']
+assert e[0] == 0.837 and abs(e[1] - 0.06850712659610673) < 1e-6, e
+assert m['panes'][1]['emissivity'] == [0.837, 0.837], m['panes'][1]['emissivity']
+PY
+"$bin" metrics --standard en410 --panes "$tmp/2191.csv,$clear3" --json > "$tmp/en_m.json"
+check "EN 410: the panes' absorptances close the first law with tau_e and rho_e" python3 - "$tmp/en.json" "$tmp/en_m.json" <<'PY'
+import json, sys
+t, m = (json.load(open(f)) for f in sys.argv[1:3])
+a = sum(p['solar_absorptance'] for p in t['panes'])
+assert abs(t['tau_e'] - m['Tsol']) < 1e-12, (t['tau_e'], m['Tsol'])
+assert abs(a - (1 - m['Tsol'] - m['Rsol_front'])) < 1e-9, (a, m['Tsol'], m['Rsol_front'])
+PY
+en --edition 1997 --panes "$tmp/2191.csv,$clear3,$clear3" --gaps 12:krypton,14:argon
+check "EN 673:1997 / EN 410:1998: a triple glazing recomputed" python3 "$VR_SOURCE_DIR/tests/cli/en673_check.py" "$tmp/en.json" krypton argon
+en --panes "$clear3,$clear3" --gaps 16:air
+check "EN 673: clear | 16 mm air | clear declared 2.7" python3 -c "import json; m = json.load(open('$tmp/en.json')); assert m['U_declared'] == 2.7, m['U']"
+printf '# thickness: 4 mm\n# emissivity: 0.84\n# ir transmittance: 0.2\nwavelength_um,T,Rf,Rb\n0.3,0.5,0.1,0.1\n1.0,0.5,0.1,0.1\n2.5,0.5,0.1,0.1\n' > "$tmp/irt.csv"
+refuse spectro-thermal-method "$bin" thermal "$clear3" --method en410
+refuse spectro-thermal-edition-alone "$bin" thermal "$clear3" --edition 1997
+refuse spectro-thermal-edition "$bin" thermal "$clear3" --method en673 --edition 2004
+refuse spectro-thermal-en673-tilt "$bin" thermal "$clear3" --method en673 --tilt 45
+refuse spectro-thermal-en673-height "$bin" thermal "$clear3" --method en673 --height 2
+refuse spectro-thermal-en673-ir-transparent "$bin" thermal "$tmp/irt.csv" --method en673
+
 # Bad input.
 printf 'wavelength_um,T,Rf,Rb\n0.3,0.5,0.1,0.1\n1.0,0.5,0.1,0.1\n2.5,0.5,0.1,0.1\n' > "$tmp/noemis.csv"
 { echo "# thickness: 4 mm"; cat "$tmp/noemis.csv"; } > "$tmp/noemis_t.csv"
