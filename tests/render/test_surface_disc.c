@@ -10,7 +10,9 @@
  *     across its seams with its coplanar pieces of the same material, not
  *     across the window (no photon lands on glass) nor at the floor, and a
  *     floor does not carry on into the coplanar ground under its wall;
- *   - which photons belong to a point's sheet. */
+ *   - which photons belong to a point's sheet;
+ *   - a box's faces: each a rect whose edges all end, its photons told
+ *     apart by their normals. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -159,12 +161,62 @@ static void test_edges_ending(void **state) {
   vr_material_destroy(glass);
 }
 
+/* A box of 2 x 1 x 0.5 m turned 90 degrees about z and moved to (5, 0, 1):
+ * a world point on each face finds that face (its frame holds the point
+ * at (u, v) = (1/2, 1/2) and its normal is the face's), and a disc at a
+ * face's corner keeps a quarter (the right-angled corner above). */
+static void test_box_faces(void **state) {
+  (void)state;
+  vr_scene_object o;
+  memset(&o, 0, sizeof o);
+  o.shape = VR_SHAPE_BOX;
+  double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 0.5};
+  memcpy(o.bmin, lo, sizeof lo);
+  memcpy(o.bmax, hi, sizeof hi);
+  /* (x, y, z) -> (5 - y, x, z + 1). */
+  vr_xform_identity(&o.xform);
+  o.xform.m[0][0] = 0, o.xform.m[0][1] = -1, o.xform.m[0][3] = 5;
+  o.xform.m[1][0] = 1, o.xform.m[1][1] = 0;
+  o.xform.m[2][3] = 1;
+  /* Each face's centre in the box's own coordinates, and its outward normal. */
+  const double centre[6][3] = {{2, 0.5, 0.25}, {0, 0.5, 0.25}, {1, 1, 0.25},
+                               {1, 0, 0.25},   {1, 0.5, 0.5},  {1, 0.5, 0}};
+  const double normal[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (int k = 0; k < 6; k++) {
+    double x[3], n[3], f[9], fn[3];
+    vr_xform_point(&o.xform, centre[k], x);
+    vr_xform_vector(&o.xform, normal[k], n);
+    vr_box_face_frame(&o, x, f);
+    vr_cross3(f + 3, f + 6, fn);
+    double l = sqrt(vr_dot3(fn, fn));
+    assert_float_equal(fabs(vr_dot3(fn, n)) / l, 1.0, 1e-12);
+    /* (u, v) of x in the frame: the face's middle. */
+    double d[3] = {x[0] - f[0], x[1] - f[1], x[2] - f[2]};
+    assert_float_equal(vr_dot3(d, f + 3) / vr_dot3(f + 3, f + 3), 0.5, 1e-12);
+    assert_float_equal(vr_dot3(d, f + 6) / vr_dot3(f + 6, f + 6), 0.5, 1e-12);
+    assert_float_equal(vr_rect_disc_share(f, VR_EDGE_ALL, x, 0.2, 0), 1.0, 1e-12);
+    /* The face's corner: a quarter of the disc. */
+    assert_float_equal(vr_rect_disc_share(f, VR_EDGE_ALL, f, 0.2, 0), 0.25, 1e-12);
+  }
+  /* Photons on the point's face only: parallel normals, not the faces at
+   * right angles, not the opposite face; the facets' 25.8 degrees. */
+  double up[3] = {0, 0, 1}, side[3] = {1, 0, 0}, down[3] = {0, 0, -1};
+  double t20[3] = {sin(20 * M_PI / 180), 0, cos(20 * M_PI / 180)};
+  double t30[3] = {sin(30 * M_PI / 180), 0, cos(30 * M_PI / 180)};
+  assert_true(vr_box_same_face(up, up));
+  assert_false(vr_box_same_face(up, side));
+  assert_false(vr_box_same_face(up, down));
+  assert_true(vr_box_same_face(up, t20));
+  assert_false(vr_box_same_face(up, t30));
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_share_of_straight_edges),
       cmocka_unit_test(test_sheet_holds),
       cmocka_unit_test(test_same_sheet),
       cmocka_unit_test(test_edges_ending),
+      cmocka_unit_test(test_box_faces),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "vr/bsdf.h"
+#include "vr/scene.h"
 #include "vr/vec3.h"
 
 /* Coplanar: unit normals within 2.6 degrees, and a point of one within
@@ -116,6 +117,8 @@ uint8_t *vr_rect_edges_ending(const vr_rscene *rs) {
   for (size_t o = 0; o < t->nobjects; o++)
     if (t->is_rect[o]) boxes[o] = box_of(t->rect_frame[o]);
   for (size_t o = 0; o < t->nobjects; o++) {
+    if (rs->s && o < rs->s->nobjects && rs->s->objects[o].shape == VR_SHAPE_BOX)
+      ends[o] = VR_SHEET_BOX;
     if (!t->is_rect[o]) continue;
     const double *f = t->rect_frame[o];
     double Lu = sqrt(vr_dot3(f + 3, f + 3)), Lv = sqrt(vr_dot3(f + 6, f + 6));
@@ -191,6 +194,35 @@ bool vr_rect_sheet_holds(const double f[9], unsigned ends, const double x[3]) {
   if (!frame_coords(f, x, &u, &v, &dist)) return true;
   return !((u < 0 && ends & VR_EDGE_U0) || (u > 1 && ends & VR_EDGE_U1) ||
            (v < 0 && ends & VR_EDGE_V0) || (v > 1 && ends & VR_EDGE_V1));
+}
+
+void vr_box_face_frame(const vr_scene_object *o, const double x[3], double f[9]) {
+  const double *lo = o->bmin, *hi = o->bmax;
+  double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+  /* The faces as geometry.c's build_box lays them out. */
+  const double face[6][3][3] = {
+      {{hi[0], lo[1], lo[2]}, {0, dy, 0}, {0, 0, dz}}, {{lo[0], lo[1], lo[2]}, {0, 0, dz}, {0, dy, 0}},
+      {{lo[0], hi[1], lo[2]}, {0, 0, dz}, {dx, 0, 0}}, {{lo[0], lo[1], lo[2]}, {dx, 0, 0}, {0, 0, dz}},
+      {{lo[0], lo[1], hi[2]}, {dx, 0, 0}, {0, dy, 0}}, {{lo[0], lo[1], lo[2]}, {0, dy, 0}, {dx, 0, 0}},
+  };
+  double best = INFINITY;
+  for (int k = 0; k < 6; k++) {
+    double g[9], n[3];
+    vr_xform_point(&o->xform, face[k][0], g);
+    vr_xform_vector(&o->xform, face[k][1], g + 3);
+    vr_xform_vector(&o->xform, face[k][2], g + 6);
+    unit_normal(g, n);
+    double d = fabs((x[0] - g[0]) * n[0] + (x[1] - g[1]) * n[1] + (x[2] - g[2]) * n[2]);
+    if (d < best) {
+      best = d;
+      for (int a = 0; a < 9; a++) f[a] = g[a];
+    }
+  }
+}
+
+bool vr_box_same_face(const double np[3], const double n[3]) {
+  double c = vr_dot3(np, n);
+  return c > 0 && c * c >= SHEET_COS * SHEET_COS * vr_dot3(np, np) * vr_dot3(n, n);
 }
 
 bool vr_same_sheet(const double p[3], const double np[3], const double x[3], const double n[3],

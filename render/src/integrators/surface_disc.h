@@ -21,6 +21,10 @@
  *     rug on a floor).  Photons of other objects beyond an edge that ends
  *     are not the sheet's, and the estimate divides by the share of the
  *     disc inside the edges that end;
+ *   - on a box, each face is a rect whose four edges end: the point's
+ *     object's photons count only on the point's face (the normals tell
+ *     the faces apart), and the estimate divides by the disc's share on
+ *     that face;
  *   - elsewhere (meshes, spheres) the sheet is taken to cover the disc,
  *     and all of the point's own object's photons count (its faces are not
  *     told apart): a junction between two objects that are not rects reads
@@ -36,13 +40,26 @@
 #include "world/rscene.h"
 
 /* The edges of a rect (frame f: p = corner + u eu + v ev, u and v in
- * [0, 1]) where its sheet ends. */
-enum { VR_EDGE_U0 = 1, VR_EDGE_U1 = 2, VR_EDGE_V0 = 4, VR_EDGE_V1 = 8, VR_EDGE_ALL = 15 };
+ * [0, 1]) where its sheet ends; VR_SHEET_BOX marks a box, each of whose
+ * six faces is a sheet of its own, every edge of it ending (its
+ * neighbours stand on it at right angles). */
+enum { VR_EDGE_U0 = 1, VR_EDGE_U1 = 2, VR_EDGE_V0 = 4, VR_EDGE_V1 = 8, VR_EDGE_ALL = 15,
+       VR_SHEET_BOX = 16 };
 
 /* Per object: the VR_EDGE_* bits of a rect's edges where no coplanar rect
- * of a diffuse material carries on (VR_EDGE_ALL for a lone rect, 0 for an
- * object that is not a rect).  NULL when out of memory. */
+ * of a diffuse material carries on (VR_EDGE_ALL for a lone rect),
+ * VR_SHEET_BOX for a box, 0 for any other object.  NULL when out of
+ * memory. */
 uint8_t *vr_rect_edges_ending(const vr_rscene *rs);
+
+/* The face of box object o (shape box) whose plane point x lies nearest:
+ * its frame (corner, eu, ev in world space, as the geometry builds it). */
+void vr_box_face_frame(const vr_scene_object *o, const double x[3], double f[9]);
+
+/* Whether a photon on a face of geometric normal n lies on the same face
+ * of a box as a point of geometric normal np: the faces meet at right
+ * angles or face away, so the normals agree on one face only. */
+bool vr_box_same_face(const double np[3], const double n[3]);
 
 /* The share of a disc (radius r about x, on the rect's plane, weighted by
  * the cone filter of constant kc, or uniformly for kc <= 0) that lies
