@@ -382,26 +382,45 @@ static void rmse_falls_as_lights_are_added(void **state) {
 static void regularised_noise_free(void **state) {
   fixture *f = *state;
   vr_error err = {0};
-  /* Noise-free responses: GCV's lambda must not wreck the fit.  Measured
-   * (4 lights): mean RMSE 0.022, mean dE00 0.02, all spectra in [0, 1]. */
+  /* Noise-free responses c = A r_true, r_true in [0, 1].  The method
+   * returns the minimiser of ||A r - c||^2 + lambda ||D2 r||^2 over the
+   * box 0 <= r <= 1 (W = I: uniform noise), and r_true is in the box with
+   * no residual, so the minimum is at most lambda ||D2 r_true||^2: the
+   * responses of the recovered spectrum are off by at most
+   * sqrt(lambda) ||D2 r_true||, whatever GCV chose (the optimality of a
+   * minimiser, to the solver's 1e-9).  Measured (4 lights, 2026-12-02):
+   * squared residuals at most 0.078 of that bound, mean RMSE 0.020, mean
+   * dE00 0.08 under the four lights (printed, not held: the residual's
+   * bound is the derived one; the RMSE's 0.03 is vr-rgb2spec's acceptance
+   * criterion, above). */
   vr_recovery_system *s = system_of(f, 0, 4, NULL);
-  double de = 0.0, e = 0.0;
+  double de = 0.0, e = 0.0, worst = 0.0;
   for (size_t p = 0; p < PATCHES; p++) {
-    double c[12], r[N];
+    double c[12], r[N], cr[12];
+    const double *t = f->patch[p]->value;
     vr_recover_info info;
-    vr_render_rgb(s, f->patch[p]->value, c);
+    vr_render_rgb(s, t, c);
     assert_int_equal(vr_recover(s, VR_RECOVER_REGULARISED, c, NULL, r, &info, &err), VR_OK);
     assert_true(info.lambda > 0.0 && isfinite(info.lambda));
     assert_true(isfinite(info.gcv));
     for (size_t j = 0; j < N; j++) assert_true(r[j] >= 0.0 && r[j] <= 1.0);
+    vr_render_rgb(s, r, cr);
+    double res = 0.0, rough = 0.0;
+    for (size_t i = 0; i < 12; i++) res += (cr[i] - c[i]) * (cr[i] - c[i]);
+    for (size_t j = 1; j + 1 < N; j++) rough += (t[j - 1] - 2 * t[j] + t[j + 1]) * (t[j - 1] - 2 * t[j] + t[j + 1]);
+    double bound = info.lambda * rough;
+    if (bound > 0 && res / bound > worst) worst = res / bound;
+    if (!(res <= bound * (1 + 1e-9) + 1e-20))
+      fail_msg("patch %zu: squared residual %.6g over lambda ||D2 r_true||^2 = %.6g: not the "
+               "minimiser", p + 1, res, bound);
     for (size_t l = 0; l < 4; l++)
-      de += delta_e(r, f->patch[p]->value, f->light[l], vr_camera_grid(f->cam)) / 4.0;
-    e += rmse(r, f->patch[p]->value);
+      de += delta_e(r, t, f->light[l], vr_camera_grid(f->cam)) / 4.0;
+    e += rmse(r, t);
   }
-  print_message("regularised, 4 lights, exact data: mean RMSE %.4f, mean dE00 %.3f\n",
-                e / PATCHES, de / PATCHES);
+  print_message("regularised, 4 lights, exact data: mean RMSE %.4f, mean dE00 %.3f, squared "
+                "residual at most %.3f of its bound\n",
+                e / PATCHES, de / PATCHES, worst);
   assert_true(e / PATCHES < 0.03);
-  assert_true(de / PATCHES < 0.5);
   /* A fixed lambda is used as given, and one light makes GCV flat. */
   vr_recovery_options opt;
   vr_recovery_options_default(&opt);
