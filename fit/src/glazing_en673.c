@@ -3,6 +3,7 @@
 #include "vr/glazing_en673.h"
 
 #include <math.h>
+#include <stdbool.h>
 
 /* EN 673's gas table at 10 C, the column its declared values use:
  * density kg/m3, dynamic viscosity kg/(m s), conductivity W/(m K),
@@ -81,6 +82,7 @@ vr_status vr_en673_u(const vr_en673_system *s, vr_en673_result *out, vr_error *e
   size_t g = n - 1;
   for (size_t k = 0; k < g; k++) out->dT[k] = VR_EN673_DT / (double)g;
   double Rgaps = 0.0;
+  bool settled = g <= 1;
   for (int it = 1; it <= 200; it++) {
     double R[VR_EN673_MAX_PANES - 1], sum = 0.0;
     for (size_t k = 0; k < g; k++) {
@@ -95,8 +97,14 @@ vr_status vr_en673_u(const vr_en673_system *s, vr_en673_result *out, vr_error *e
     out->iterations = it;
     if (g <= 1) break;
     for (size_t k = 0; k < g; k++) out->dT[k] = VR_EN673_DT * R[k] / sum;
-    if (change <= 1e-13 * sum) break;
+    if (change <= 1e-13 * sum) {
+      settled = true;
+      break;
+    }
   }
+  if (!settled)
+    return vr_error_set(err, VR_E_NUMERIC, "EN 673: the gaps' shares of the 15 K did not settle in "
+                                           "%d iterations", out->iterations);
   out->U = 1.0 / (1.0 / out->he + glass + Rgaps + 1.0 / out->hi);
   out->U_declared = round(out->U * 10.0) / 10.0;
   /* EN 410's nodes: the outer face of pane 1, the centres of the middle
@@ -104,7 +112,8 @@ vr_status vr_en673_u(const vr_en673_system *s, vr_en673_result *out, vr_error *e
   for (size_t k = 0; k < g; k++) {
     double left = s->pane[k].thickness_m / s->pane[k].conductivity;
     double right = s->pane[k + 1].thickness_m / s->pane[k + 1].conductivity;
-    double R = (k == 0 ? left : 0.5 * left) + 1.0 / out->hs[k] + (k + 1 == n - 1 ? right : 0.5 * right);
+    double R = (k == 0 ? left : 0.5 * left) + 1.0 / out->hs[k] +
+               (k + 1 == n - 1 ? right : 0.5 * right);
     out->Lambda[k] = 1.0 / R;
   }
   return VR_OK;

@@ -277,7 +277,7 @@ vr_status vr_sppm_build(vr_sppm *s, const vr_rscene *rs, vr_error *err) {
             bool seen = false;
             for (int k = 0; k < nh && !seen; k++) seen = hs[k] == h;
             if (seen) continue;
-            hs[nh++] = h;
+            if (nh < 8) hs[nh++] = h; /* at most 2 x 2 x 2 cells: cells are 2 rmax wide */
             if (pass == 0) {
               s->start[h + 1]++;
               total++;
