@@ -21,6 +21,7 @@
 typedef struct pane_info {
   const char *emis_from[2];
   bool from_ir[2], coated[2]; /* an emissivity from the pane's IR data, and of a coated face */
+  bool given[2];              /* an emissivity given by --emissivity */
   bool conductivity_assumed;
 } pane_info;
 
@@ -116,6 +117,7 @@ static vr_status pane_thermal(const vr_standard *std, const vr_spectro_data *d, 
     for (int f = 0; f < 2; f++) {
       tp->emis[f] = given[f];
       info->emis_from[f] = "--emissivity";
+      info->given[f] = true;
     }
     return VR_OK;
   }
@@ -162,7 +164,7 @@ static vr_status pane_thermal(const vr_standard *std, const vr_spectro_data *d, 
 static void en673_emissivities(vr_thermal_pane *tp, pane_info *info) {
   for (int f = 0; f < 2; f++) {
     if (!info->from_ir[f]) {
-      if (strcmp(info->emis_from[f], "--emissivity") && tp->emis[f] >= COATED_BELOW) {
+      if (!info->given[f] && tp->emis[f] >= COATED_BELOW) {
         tp->emis[f] = VR_EN673_UNCOATED;
         info->emis_from[f] = "the file's header: uncoated, EN 673's 0.837";
       }

@@ -86,6 +86,11 @@ void vr_geometry_destroy(vr_geometry *g);
 void vr_geometry_sample_object(const vr_geometry *g, uint32_t object, double u1, double u2,
                                double u3, double p[3], double n[3]);
 
+/* The six faces of a box from lo to hi in its own coordinates, as the
+ * geometry builds them: corner, edge u, edge v, u x v pointing outwards,
+ * in the order +x, -x, +y, -y, +z, -z. */
+void vr_box_faces(const double lo[3], const double hi[3], double face[6][9]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -248,25 +248,26 @@ static vr_status build_rect(vr_mesh_builder *b, uint32_t object, const vr_scene_
   return add_quad(b, object, o, flip, p0, eu, ev);
 }
 
+void vr_box_faces(const double lo[3], const double hi[3], double face[6][9]) {
+  double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+  const double f[6][9] = {
+      {hi[0], lo[1], lo[2], 0, dy, 0, 0, 0, dz}, {lo[0], lo[1], lo[2], 0, 0, dz, 0, dy, 0},
+      {lo[0], hi[1], lo[2], 0, 0, dz, dx, 0, 0}, {lo[0], lo[1], lo[2], dx, 0, 0, 0, 0, dz},
+      {lo[0], lo[1], hi[2], dx, 0, 0, 0, dy, 0}, {lo[0], lo[1], lo[2], 0, dy, 0, dx, 0, 0},
+  };
+  memcpy(face, f, sizeof f);
+}
+
 static vr_status build_box(vr_mesh_builder *b, uint32_t object, const vr_scene_object *o, bool flip) {
   const double *lo = o->bmin, *hi = o->bmax;
   for (int k = 0; k < 3; k++)
     if (!(hi[k] > lo[k]) || !isfinite(lo[k]) || !isfinite(hi[k]))
       return fail(b, o, VR_E_RANGE, "min (%g, %g, %g) must be below max (%g, %g, %g)", lo[0],
                   lo[1], lo[2], hi[0], hi[1], hi[2]);
-  double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
-  /* Corner and two edges per face, edge u x edge v pointing outwards:
-   * +x, -x, +y, -y, +z, -z. */
-  const double face[6][3][3] = {
-      {{hi[0], lo[1], lo[2]}, {0, dy, 0}, {0, 0, dz}},
-      {{lo[0], lo[1], lo[2]}, {0, 0, dz}, {0, dy, 0}},
-      {{lo[0], hi[1], lo[2]}, {0, 0, dz}, {dx, 0, 0}},
-      {{lo[0], lo[1], lo[2]}, {dx, 0, 0}, {0, 0, dz}},
-      {{lo[0], lo[1], hi[2]}, {dx, 0, 0}, {0, dy, 0}},
-      {{lo[0], lo[1], lo[2]}, {0, dy, 0}, {dx, 0, 0}},
-  };
+  double face[6][9];
+  vr_box_faces(lo, hi, face);
   for (int f = 0; f < 6; f++) {
-    vr_status st = add_quad(b, object, o, flip, face[f][0], face[f][1], face[f][2]);
+    vr_status st = add_quad(b, object, o, flip, face[f], face[f] + 3, face[f] + 6);
     if (st != VR_OK) return st;
   }
   return VR_OK;

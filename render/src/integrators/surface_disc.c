@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "vr/bsdf.h"
+#include "vr/geometry.h"
 #include "vr/scene.h"
 #include "vr/vec3.h"
 
@@ -197,20 +198,13 @@ bool vr_rect_sheet_holds(const double f[9], unsigned ends, const double x[3]) {
 }
 
 void vr_box_face_frame(const vr_scene_object *o, const double x[3], double f[9]) {
-  const double *lo = o->bmin, *hi = o->bmax;
-  double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
-  /* The faces as geometry.c's build_box lays them out. */
-  const double face[6][3][3] = {
-      {{hi[0], lo[1], lo[2]}, {0, dy, 0}, {0, 0, dz}}, {{lo[0], lo[1], lo[2]}, {0, 0, dz}, {0, dy, 0}},
-      {{lo[0], hi[1], lo[2]}, {0, 0, dz}, {dx, 0, 0}}, {{lo[0], lo[1], lo[2]}, {dx, 0, 0}, {0, 0, dz}},
-      {{lo[0], lo[1], hi[2]}, {dx, 0, 0}, {0, dy, 0}}, {{lo[0], lo[1], lo[2]}, {0, dy, 0}, {dx, 0, 0}},
-  };
-  double best = INFINITY;
+  double face[6][9], best = INFINITY;
+  vr_box_faces(o->bmin, o->bmax, face);
   for (int k = 0; k < 6; k++) {
     double g[9], n[3];
-    vr_xform_point(&o->xform, face[k][0], g);
-    vr_xform_vector(&o->xform, face[k][1], g + 3);
-    vr_xform_vector(&o->xform, face[k][2], g + 6);
+    vr_xform_point(&o->xform, face[k], g);
+    vr_xform_vector(&o->xform, face[k] + 3, g + 3);
+    vr_xform_vector(&o->xform, face[k] + 6, g + 6);
     unit_normal(g, n);
     double d = fabs((x[0] - g[0]) * n[0] + (x[1] - g[1]) * n[1] + (x[2] - g[2]) * n[2]);
     if (d < best) {
