@@ -280,16 +280,41 @@ static vr_status chosen_outputs(const vr_render_result *r, unsigned asked, unsig
   return VR_OK;
 }
 
-static vr_status make_spectral(const vr_render_result *r, vr_spectral_image *sp, vr_error *err) {
-  vr_status st = vr_spectral_image_alloc(sp, r->width, r->height, r->nbins, r->bin_nm,
-                                         VR_SPECTRAL_EMISSIVE, err);
-  if (st) {
-    vr_error_prefix(err, "film bins: ");
-    return st;
-  }
-  size_t n = (size_t)r->width * (size_t)r->height * r->nbins;
-  for (size_t i = 0; i < n; i++) sp->data[i] = (float)r->spectral[i];
+/* The spectral EXR's rows, made from the film's doubles a chunk of lines
+ * at a time (vr_spectral_exr_write_rows): no float copy of the whole
+ * spectral film (4 bytes a pixel a bin, 950 MiB at 4K with 30 bins). */
+typedef struct spectral_rows {
+  const vr_render_result *r;
+  const vr_image *rgb;
+} spectral_rows;
+
+static vr_status fill_spectral_rows(void *user, int thread, int y0, int y1, float *spectra,
+                                    float *rgb, uint32_t *flags, vr_error *err) {
+  (void)thread;
+  (void)flags;
+  (void)err;
+  const spectral_rows *s = user;
+  size_t w = (size_t)s->r->width, nb = s->r->nbins, n = (size_t)(y1 - y0) * w;
+  const double *from = s->r->spectral + (size_t)y0 * w * nb;
+  for (size_t i = 0; i < n * nb; i++) spectra[i] = (float)from[i];
+  if (rgb) memcpy(rgb, s->rgb->data + (size_t)y0 * w * 3, n * 3 * sizeof(float));
   return VR_OK;
+}
+
+static vr_status write_spectral(const vr_render_result *r, const char *path, const vr_image *rgb,
+                                const vr_exr_colour *colour, vr_error *err) {
+  vr_spectral_exr_layout layout = {.width = r->width,
+                                   .height = r->height,
+                                   .nbands = r->nbins,
+                                   .wavelengths_nm = r->bin_nm,
+                                   .kind = VR_SPECTRAL_EMISSIVE,
+                                   .rgb = 1,
+                                   .emissive_units = EMISSIVE_UNITS,
+                                   .compression = VR_EXR_COMPRESSION_ZIP,
+                                   .threads = 1,
+                                   .colour = colour};
+  spectral_rows rows = {r, rgb};
+  return vr_spectral_exr_write_rows(path, &layout, fill_spectral_rows, &rows, err);
 }
 
 /* The luminance map on the options' scale, the film's Y. */
@@ -331,16 +356,15 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
     return vr_error_set(err, VR_E_ARG, "false colour: the render has no image (no camera pass)");
 
   vr_image rgb = {0}, png = {0}, fc = {0};
-  vr_spectral_image sp = {0};
   vr_film_set set = {0};
   vr_film_staged *g = NULL;
   char run_id[VR_FILM_RUN_ID_MAX];
   if (!o->run_id) vr_film_run_id(run_id);
   if ((st = film_set_begin(&set, prefix, err))) goto out;
   if (image) {
-    /* The EXRs' linear RGB (12 bytes a pixel, 95 MiB at 4K), beside the
-     * spectral EXR's float copy while that is written (4 bytes a pixel a
-     * bin), all freed before the PNG's image is made. */
+    /* The EXRs' linear RGB (12 bytes a pixel, 95 MiB at 4K), freed before
+     * the PNG's image is made; the spectral EXR is converted a chunk of
+     * lines at a time (write_spectral). */
     if ((exr || spectral) && (st = make_images(r, tm, &rgb, NULL, err))) goto out;
     /* For viewers: linear sRGB, pixels in cd/m2 (RGB (1,1,1) is 1 cd/m2),
      * and the exposure that makes the PNG's white (100 cd/m2 at EV 0) 1.0. */
@@ -350,11 +374,8 @@ vr_status vr_film_write_with(const vr_render_result *r, const char *prefix,
       if ((st = write_exr(r, g->stage, &rgb, &colour, err))) goto fail;
     }
     if (spectral) {
-      if ((st = make_spectral(r, &sp, err))) goto out;
       if ((st = film_set_add(&set, ".spectral.exr", &g, err))) goto out;
-      if ((st = vr_spectral_exr_write_with(g->stage, &sp, &rgb, EMISSIVE_UNITS, &colour, err)))
-        goto fail;
-      vr_spectral_image_free(&sp);
+      if ((st = write_spectral(r, g->stage, &rgb, &colour, err))) goto fail;
     }
     vr_image_free(&rgb);
     if (hdr) {
@@ -390,7 +411,6 @@ out:
   vr_image_free(&rgb);
   vr_image_free(&png);
   vr_image_free(&fc);
-  vr_spectral_image_free(&sp);
   return st;
 }
 
