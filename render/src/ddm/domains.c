@@ -2,8 +2,8 @@
  * built), the kd-tree walk of a ray through the cells, and cells loaded
  * and unloaded on demand with exact accounting of what they hold.
  *
- * Memory.  A loaded cell holds its payload (the cache file's arrays, used in
- * place) and its Embree scene.  Embree reports every allocation of the
+ * Memory.  A loaded cell holds its payload (the cache file's arrays, mapped
+ * from the file and used in place) and its Embree scene.  Embree reports every allocation of the
  * device to on_memory, which keeps the device's running total; builds and
  * releases happen one at a time under build_lock, so the change of the
  * total across one build is that cell's, exactly.  The cache folder is
@@ -354,7 +354,7 @@ void vr_domains_destroy(vr_domains *d) {
   if (!d) return;
   for (int c = 0; d->cells && c < d->m->ncells; c++) {
     if (d->cells[c].scene) rtcReleaseScene(d->cells[c].scene);
-    free(d->cells[c].payload);
+    vr_cell_file_release(d->cells[c].payload, d->cells[c].meta);
   }
   free(d->cells);
   if (d->device) rtcReleaseDevice(d->device);
@@ -511,7 +511,7 @@ vr_status vr_domains_load(vr_domains *d, int cell, vr_error *err) {
       atomic_store(&c->loaded, true);
     } else {
       vr_error_prefix(err, "sub-domain %d: ", cell);
-      free(payload);
+      vr_cell_file_release(payload, c->meta);
     }
   }
   d->load_seconds += now() - t0;
@@ -534,7 +534,7 @@ void vr_domains_unload(vr_domains *d, int cell) {
     atomic_store(&c->loaded, false);
     if (c->scene) rtcReleaseScene(c->scene);
     c->scene = NULL;
-    free(c->payload);
+    vr_cell_file_release(c->payload, c->meta);
     c->payload = NULL;
     memset(&c->view, 0, sizeof c->view);
     d->geometry_now -= (size_t)c->meta->payload_bytes;

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include "vr/hash64.h"
@@ -446,22 +447,31 @@ vr_status vr_cell_file_read(const char *path, uint32_t cell, const uint8_t key[3
   *payload = NULL;
   int fd = open(path, O_RDONLY | O_CLOEXEC);
   if (fd < 0) return vr_error_set(err, VR_E_IO, "%s: %s", path, strerror(errno));
+  /* The header, and the size the mapping needs: a file shorter than the
+   * manifest says is refused here, before it is mapped. */
   vr_status st = check_header(fd, path, cell, key, meta, err);
-  void *p = NULL;
-  if (!st && posix_memalign(&p, ALIGN, meta->payload_bytes ? meta->payload_bytes : ALIGN))
-    st = vr_error_set(err, VR_E_NOMEM, "%s: out of memory for %llu bytes", path,
-                      (unsigned long long)meta->payload_bytes);
-  if (!st && !read_all(fd, p, meta->payload_bytes))
-    st = vr_error_set(err, VR_E_PARSE, "%s: cut short while reading", path);
+  size_t len = VR_CELL_HEADER + (size_t)meta->payload_bytes;
+  void *base = MAP_FAILED;
+  if (!st) {
+    base = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_PRIVATE, fd, 0);
+    if (base == MAP_FAILED)
+      st = vr_error_set(err, errno == ENOMEM ? VR_E_NOMEM : VR_E_IO, "%s: cannot map %llu bytes: %s",
+                        path, (unsigned long long)len, strerror(errno));
+  }
   close(fd);
-  if (!st && vr_hash64_buffer(p, meta->payload_bytes, 0) != meta->payload_hash)
-    st = vr_error_set(err, VR_E_PARSE, "%s: damaged (checksum of its contents)", path);
-  if (st) {
-    free(p);
-    return st;
+  if (st) return st;
+  unsigned char *p = (unsigned char *)base + VR_CELL_HEADER;
+  if (vr_hash64_buffer(p, meta->payload_bytes, 0) != meta->payload_hash) {
+    munmap(base, len);
+    return vr_error_set(err, VR_E_PARSE, "%s: damaged (checksum of its contents)", path);
   }
   *payload = p;
   return VR_OK;
+}
+
+void vr_cell_file_release(void *payload, const vr_cell_meta *meta) {
+  if (!payload) return;
+  munmap((unsigned char *)payload - VR_CELL_HEADER, VR_CELL_HEADER + (size_t)meta->payload_bytes);
 }
 
 vr_status vr_cell_file_check(const char *path, uint32_t cell, const uint8_t key[32],
