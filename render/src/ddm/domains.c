@@ -511,6 +511,7 @@ vr_status vr_domains_load(vr_domains *d, int cell, vr_error *err) {
       atomic_store(&c->loaded, true);
     } else {
       vr_error_prefix(err, "sub-domain %d: ", cell);
+      memset(&c->view, 0, sizeof c->view); /* it pointed into the payload */
       vr_cell_file_release(payload, c->meta);
     }
   }

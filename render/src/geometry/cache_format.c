@@ -453,10 +453,23 @@ vr_status vr_cell_file_read(const char *path, uint32_t cell, const uint8_t key[3
   size_t len = VR_CELL_HEADER + (size_t)meta->payload_bytes;
   void *base = MAP_FAILED;
   if (!st) {
-    base = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_PRIVATE, fd, 0);
-    if (base == MAP_FAILED)
-      st = vr_error_set(err, errno == ENOMEM ? VR_E_NOMEM : VR_E_IO, "%s: cannot map %llu bytes: %s",
-                        path, (unsigned long long)len, strerror(errno));
+    base = mmap(NULL, len, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (base == MAP_FAILED && errno != ENOMEM) {
+      /* A file system that cannot map files: the file read into anonymous
+       * memory instead, released the same way. */
+      base = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+      if (base != MAP_FAILED) {
+        bool ok = lseek(fd, 0, SEEK_SET) == 0 && read_all(fd, base, len);
+        if (!ok || mprotect(base, len, PROT_READ) != 0) {
+          munmap(base, len);
+          base = MAP_FAILED;
+          st = vr_error_set(err, VR_E_PARSE, "%s: cut short while reading", path);
+        }
+      }
+    }
+    if (base == MAP_FAILED && !st)
+      st = vr_error_set(err, VR_E_NOMEM, "%s: out of memory for %llu bytes", path,
+                        (unsigned long long)len);
   }
   close(fd);
   if (st) return st;

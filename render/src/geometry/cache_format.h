@@ -79,13 +79,14 @@ vr_status vr_cell_file_write(const char *path, uint32_t cell, const uint8_t key[
                              vr_error *err);
 /* Maps and verifies a cell file against the manifest's record of it:
  * header, key, counts, size and checksum.  *payload is the file's
- * meta->payload_bytes after its header, 64-byte aligned, mapped private
- * (copy on write) from the page cache: no copy of the file and no fresh
- * memory to clear (a load of the hotel's 67 MB cells took 0.30 s to read
- * into new memory and check, 0.03 s mapped).  Release it with
- * vr_cell_file_release.  The cache's writers replace files by rename, so
- * a mapping keeps the file it mapped; a file cut short in place while
- * mapped would fault.  VR_E_PARSE says what is wrong. */
+ * meta->payload_bytes after its header, 64-byte aligned, mapped read-only
+ * from the page cache: no copy of the file and no fresh memory to clear (a
+ * load of the hotel's 67 MB cells took 0.30 s to read into new memory and
+ * check, 0.03 s mapped); where the file system cannot map files, read
+ * into anonymous memory.  Release it with vr_cell_file_release.  The
+ * cache's writers replace files by rename, so a mapping keeps the file it
+ * mapped; a file changed or cut short in place while mapped would change
+ * the geometry or fault.  VR_E_PARSE says what is wrong. */
 vr_status vr_cell_file_read(const char *path, uint32_t cell, const uint8_t key[32],
                             const vr_cell_meta *meta, void **payload, vr_error *err);
 /* Releases a payload of vr_cell_file_read (NULL: nothing). */
