@@ -104,6 +104,19 @@ static void portals_keep_the_answer(void **state) {
   assert_true(err[1] < 0.5 * err[0]);
 }
 
+/* A 4 x 4 x 3 m room (y 0..4) whose wall y = 0 has a 2 x 2 m window,
+ * x -1..1, z 0.5..2.5, every surface of material m (a string literal). */
+#define FACADE_ROOM(m)                                                                             \
+  "rect center=0,2,0 normal=0,0,1 size=4,4 material=" m "\n"                                       \
+  "rect center=0,2,3 normal=0,0,-1 size=4,4 material=" m "\n"                                      \
+  "rect center=-2,2,1.5 normal=1,0,0 size=4,3 material=" m "\n"                                    \
+  "rect center=2,2,1.5 normal=-1,0,0 size=4,3 material=" m "\n"                                    \
+  "rect center=0,4,1.5 normal=0,-1,0 size=4,3 material=" m "\n"                                    \
+  "rect center=0,0,0.25 normal=0,1,0 size=4,0.5 material=" m "\n"                                  \
+  "rect center=0,0,2.75 normal=0,1,0 size=4,0.5 material=" m "\n"                                  \
+  "rect center=-1.5,0,1.5 normal=0,1,0 size=1,2 material=" m "\n"                                  \
+  "rect center=1.5,0,1.5 normal=0,1,0 size=1,2 material=" m "\n"
+
 /* A 2 x 2 m window in the wall y = 0, z 0.5 to 2.5; a vertical sensor
  * 1 m in front of its centre at z = 1.5, facing it.  The window's upper
  * half shows sky, its lower half the ground (rho 0.2): SC = 100 F_u,
@@ -115,16 +128,7 @@ static void facade_window(void **state) {
   char scn[2048];
   const char *fmt =
       "material inside lambert reflectance=%s\n"
-      "rect center=0,2,0 normal=0,0,1 size=4,4 material=inside\n"
-      "rect center=0,2,3 normal=0,0,-1 size=4,4 material=inside\n"
-      "rect center=-2,2,1.5 normal=1,0,0 size=4,3 material=inside\n"
-      "rect center=2,2,1.5 normal=-1,0,0 size=4,3 material=inside\n"
-      "rect center=0,4,1.5 normal=0,-1,0 size=4,3 material=inside\n"
-      /* the wall y = 0 around the window x -1..1, z 0.5..2.5 */
-      "rect center=0,0,0.25 normal=0,1,0 size=4,0.5 material=inside\n"
-      "rect center=0,0,2.75 normal=0,1,0 size=4,0.5 material=inside\n"
-      "rect center=-1.5,0,1.5 normal=0,1,0 size=1,2 material=inside\n"
-      "rect center=1.5,0,1.5 normal=0,1,0 size=1,2 material=inside\n"
+      FACADE_ROOM("inside")
       "sky cie type=5 illuminance=10000lx spectrum=D65 ground=0.2\n"
       "sensor p point position=0,1,1.5 normal=0,-1,0\n"
       "render sensors=path sensor_samples=65536 depth=16\n";
@@ -147,6 +151,44 @@ static void facade_window(void **state) {
   vr_render_result_destroy(r);
 }
 
+/* A portal over a facade window seen from above its sill: the sky gives
+ * nothing below the horizon, so the portal is sampled only above the
+ * sensor's level (portals.c, above_part), its density divided by that
+ * part's share.  The facade_window room, black, the sky's ground black
+ * (ground=0), the sensor 1 m in front of the window's middle, facing it, at
+ * three heights: the sky component is then the window's part above the
+ * sensor, 100 x 2 F(1, 2.5 - z, 1), and 0 from above the window's head.  A
+ * density that left out the share would read high by 1/share (2 at
+ * z = 1.5, 10 at 2.3). */
+static void portal_above_the_horizon(void **state) {
+  (void)state;
+  const char *fmt =
+      "material black lambert reflectance=0\n"
+      FACADE_ROOM("black")
+      "portal center=0,0,1.5 normal=0,1,0 size=2,2\n"
+      "sky cie type=5 illuminance=10000lx spectrum=D65 ground=0\n"
+      "sensor p point position=0,1,%.2f normal=0,-1,0\n"
+      "render sensors=path sensor_samples=16384 depth=1\n";
+  const double heights[3] = {1.5, 2.3, 2.6};
+  for (int i = 0; i < 3; i++) {
+    char scn[2048];
+    double z = heights[i];
+    snprintf(scn, sizeof scn, fmt, z);
+    vr_render_result *r = render_text_with(scn, 1, 2, true);
+    const vr_sensor_reading *p = &r->readings[0];
+    double want = z < 2.5 ? 100 * 2 * corner_factor(1, 2.5 - z, 1) : 0;
+    double sd = 100 * p->stderr_lx / r->sky_horizontal_lx;
+    print_message("  sensor at z = %.1f m: SC %.4f %% +- %.4f (analytic %.4f %%)\n", z,
+                  p->df_sc_pct, sd, want);
+    /* 4 standard errors of 16 batches, or 0.2 % of the value: the
+     * estimate's noise, with room for the stated error's own scatter. */
+    if (!(fabs(p->df_sc_pct - want) <= fmax(4 * sd, 0.002 * want)))
+      fail_msg("z = %.1f: SC %.4f %%, analytic %.4f %%, stated error %.4f", z, p->df_sc_pct, want,
+               sd);
+    vr_render_result_destroy(r);
+  }
+}
+
 /* An exterior surface marked outside=yes: the light it reflects is
  * externally reflected, and sunlight is kept apart from sky light.  The
  * window of facade_window, black inside, a white ground (0.8) outside,
@@ -159,15 +201,7 @@ static void facade_window(void **state) {
 static const char OUTSIDE[] =
     "material black lambert reflectance=0\n"
     "material white lambert reflectance=0.8\n"
-    "rect center=0,2,0 normal=0,0,1 size=4,4 material=black\n"
-    "rect center=0,2,3 normal=0,0,-1 size=4,4 material=black\n"
-    "rect center=-2,2,1.5 normal=1,0,0 size=4,3 material=black\n"
-    "rect center=2,2,1.5 normal=-1,0,0 size=4,3 material=black\n"
-    "rect center=0,4,1.5 normal=0,-1,0 size=4,3 material=black\n"
-    "rect center=0,0,0.25 normal=0,1,0 size=4,0.5 material=black\n"
-    "rect center=0,0,2.75 normal=0,1,0 size=4,0.5 material=black\n"
-    "rect center=-1.5,0,1.5 normal=0,1,0 size=1,2 material=black\n"
-    "rect center=1.5,0,1.5 normal=0,1,0 size=1,2 material=black\n"
+    FACADE_ROOM("black")
     "rect center=0,-1000,0 normal=0,0,1 size=2000,2000 material=white outside=yes\n"
     "%s"
     "sensor p point position=0,1,1.5 normal=0,-1,0\n"
@@ -206,6 +240,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(roof_opening),
       cmocka_unit_test(portals_keep_the_answer),
+      cmocka_unit_test(portal_above_the_horizon),
       cmocka_unit_test(facade_window),
       cmocka_unit_test(outside_surfaces_and_sun),
   };

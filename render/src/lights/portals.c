@@ -4,10 +4,13 @@
  * sky's own importance sampler (by luminance over the whole hemisphere)
  * then sends most shadow rays into walls.  With portals declared, a sky
  * sample is drawn from a mixture: with probability VR_PORTAL_SHARE a point
- * uniform on one portal's area (the portal chosen in proportion to the
- * solid angle it roughly subtends from the shading point), otherwise the
- * sky's sampler.  The sample is weighted by the mixture's density
- *   p(w) = q sum_j P_j [ray hits portal j] t_j^2 / (A_j |n_j . w|) + (1 - q) p_sky(w),
+ * uniform on one portal's part above the shading point's horizontal plane
+ * (the sky gives nothing below the horizon; above_part), the portal chosen
+ * in proportion to the solid angle it roughly subtends from the shading
+ * point times that part's share, otherwise the sky's sampler.  The sample
+ * is weighted by the mixture's density
+ *   p(w) = q sum_j P_j [ray hits portal j] t_j^2 / (a_j A_j |n_j . w|) + (1 - q) p_sky(w)
+ * for a rising w (a_j the share of portal j above the point),
  * the one-sample balance heuristic of the two strategies (Veach 1997,
  * section 9.2.4), so the estimate stays unbiased whatever the portals
  * cover: light that enters another way is still found by the sky share.
@@ -108,24 +111,104 @@ static double weight(const vr_portal *q, const double x[3]) {
   return w < 2 * M_PI ? w : 2 * M_PI;
 }
 
-/* The weights of all portals at x and their sum. */
-static double weights(const vr_lights *L, const double x[3], double *w) {
+/* The area of triangle (poly[0], poly[k], poly[k + 1]). */
+static double fan_triangle(const double poly[5][2], int k) {
+  return 0.5 * fabs((poly[k][0] - poly[0][0]) * (poly[k + 1][1] - poly[0][1]) -
+                    (poly[k + 1][0] - poly[0][0]) * (poly[k][1] - poly[0][1]));
+}
+
+/* The part of portal q above the horizontal plane through x, as a convex
+ * polygon in its (s, t) square (the point corner + s u + t v): the square
+ * clipped by z(s, t) >= x_z (Sutherland-Hodgman, one plane), at most 5
+ * vertices.  Returns its area, a share of the square's 1.  The sky gives
+ * nothing below the horizon, so a window seen from above its sill is only
+ * worth sampling above x's level: from a point 2 m up a wall facing a
+ * window 4 m away whose head is 0.1 m higher, 15 in 16 of the window's
+ * directions point down. */
+static double above_part(const vr_portal *q, const double x[3], double poly[5][2], int *n) {
+  static const double SQ[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  double a = q->corner[2] - x[2], b = q->u[2], c = q->v[2];
+  int m = 0;
+  for (int i = 0; i < 4; i++) {
+    const double *P = SQ[i], *Q = SQ[(i + 1) % 4];
+    double fp = a + b * P[0] + c * P[1], fq = a + b * Q[0] + c * Q[1];
+    if (fp >= 0) poly[m][0] = P[0], poly[m][1] = P[1], m++;
+    if ((fp >= 0) != (fq >= 0)) {
+      double t = fp / (fp - fq);
+      poly[m][0] = P[0] + t * (Q[0] - P[0]), poly[m][1] = P[1] + t * (Q[1] - P[1]), m++;
+    }
+  }
+  *n = m;
+  /* The area as the sum of the fan's triangles about poly[0], the same
+   * sum vr_portal_sample walks, so the share the density divides by is the
+   * area sampled even for a sliver (a shoelace about the origin would
+   * cancel its terms there). */
+  double area = 0;
+  for (int k = 1; k + 1 < m; k++) area += fan_triangle(poly, k);
+  return m >= 3 ? area : 0;
+}
+
+/* The share of portal q a sky sample from x may use: 1 for a portal
+ * wholly above x (then the square is sampled as it is), its part above
+ * x's horizontal plane otherwise. */
+static double sky_share(const vr_portal *q, const double x[3]) {
+  double lo = q->corner[2] + fmin(0, q->u[2]) + fmin(0, q->v[2]);
+  if (lo >= x[2]) return 1;
+  double poly[5][2];
+  int n;
+  return above_part(q, x, poly, &n);
+}
+
+/* The weights of all portals at x and their sum; for the sky, each times
+ * its share above x (sky_share). */
+static double weights(const vr_lights *L, const double x[3], bool sky, double *w, double *share) {
   double sum = 0;
-  for (size_t j = 0; j < L->nportals; j++) sum += w[j] = weight(&L->portals[j], x);
+  for (size_t j = 0; j < L->nportals; j++) {
+    share[j] = sky ? sky_share(&L->portals[j], x) : 1;
+    sum += w[j] = share[j] > 0 ? weight(&L->portals[j], x) * share[j] : 0;
+  }
   return sum;
 }
 
-bool vr_portal_sample(const vr_lights *L, const double x[3], double u0, double u1, double u2,
-                      double dir[3]) {
-  double w[VR_MAX_PORTALS], sum = weights(L, x, w);
+bool vr_portal_usable(const vr_lights *L, const double x[3], bool sky) {
+  double w[VR_MAX_PORTALS], share[VR_MAX_PORTALS];
+  return L->nportals && weights(L, x, sky, w, share) > 0;
+}
+
+bool vr_portal_sample(const vr_lights *L, const double x[3], bool sky, double u0, double u1,
+                      double u2, double dir[3]) {
+  double w[VR_MAX_PORTALS], share[VR_MAX_PORTALS], sum = weights(L, x, sky, w, share);
   if (!(sum > 0)) return false;
   double t = u0 * sum;
   size_t j = 0;
   while (j + 1 < L->nportals && t >= w[j]) t -= w[j++];
+  /* Rounding can carry t past the last usable portal onto one of weight 0
+   * (a window wholly below x): nothing to sample there. */
+  if (!(w[j] > 0)) return false;
   const vr_portal *q = &L->portals[j];
+  double s = u1, r = u2;
+  if (share[j] < 1) {
+    /* Uniform over the part above x: a triangle of its fan, chosen by
+     * area with u1 (reused within it), then a point uniform in it. */
+    double poly[5][2];
+    int n;
+    double total = above_part(q, x, poly, &n), pick = u1 * total, acc = 0;
+    if (n < 3) return false;
+    int k = 1;
+    double tri = 0;
+    for (; k + 1 < n; k++) {
+      tri = fan_triangle(poly, k);
+      if (pick < acc + tri || k + 2 >= n) break;
+      acc += tri;
+    }
+    double f = tri > 0 ? fmin(fmax((pick - acc) / tri, 0), 1) : 0, sf = sqrt(f);
+    double b0 = 1 - sf, b1 = u2 * sf, b2 = 1 - b0 - b1;
+    s = b0 * poly[0][0] + b1 * poly[k][0] + b2 * poly[k + 1][0];
+    r = b0 * poly[0][1] + b1 * poly[k][1] + b2 * poly[k + 1][1];
+  }
   double y[3], len2 = 0;
   for (int k = 0; k < 3; k++) {
-    y[k] = q->corner[k] + u1 * q->u[k] + u2 * q->v[k] - x[k];
+    y[k] = q->corner[k] + s * q->u[k] + r * q->v[k] - x[k];
     len2 += y[k] * y[k];
   }
   if (!(len2 > 0)) return false;
@@ -134,16 +217,18 @@ bool vr_portal_sample(const vr_lights *L, const double x[3], double u0, double u
   return fabs(vr_dot3(q->n, dir)) > 1e-12;
 }
 
-double vr_portal_pdf(const vr_lights *L, const double x[3], const double dir[3]) {
-  double w[VR_MAX_PORTALS], sum = weights(L, x, w), pdf = 0;
+double vr_portal_pdf(const vr_lights *L, const double x[3], bool sky, const double dir[3]) {
+  double w[VR_MAX_PORTALS], share[VR_MAX_PORTALS], sum = weights(L, x, sky, w, share), pdf = 0;
   if (!(sum > 0)) return 0;
+  /* For the sky, only directions that rise: the part sampled is above x. */
+  if (sky && dir[2] < 0) return 0;
   for (size_t j = 0; j < L->nportals; j++) {
     if (!(w[j] > 0)) continue;
     const vr_portal *q = &L->portals[j];
     double cn = vr_dot3(q->n, dir);
     double t = crossing(q, x, dir, INFINITY);
     if (!(t > 0)) continue;
-    pdf += w[j] / sum * t * t / (q->area * fabs(cn));
+    pdf += w[j] / sum * t * t / (q->area * share[j] * fabs(cn));
   }
   return pdf;
 }
