@@ -96,9 +96,11 @@ static bool outside_portal_scatter(const vr_rscene *rs, const vr_rmaterial *m,
                                    vr_rng_key *key, vr_bsdf_sample *bs, bool *to_portal) {
   const vr_lights *L = &rs->L;
   double wi[3];
+  vr_portal_weights pw;
+  vr_portal_weights_at(L, hit->p, false, &pw);
   *to_portal = vr_rng(key, VR_DIM_SKY_PICK) < OUTSIDE_PORTAL_SHARE;
   if (*to_portal) {
-    if (!vr_portal_sample(L, hit->p, false, vr_rng(key, VR_DIM_SKY_W), vr_rng(key, VR_DIM_DIR_U),
+    if (!vr_portal_sample(L, hit->p, &pw, vr_rng(key, VR_DIM_SKY_W), vr_rng(key, VR_DIM_DIR_U),
                           vr_rng(key, VR_DIM_DIR_V), wi))
       return false;
   } else {
@@ -116,7 +118,7 @@ static bool outside_portal_scatter(const vr_rscene *rs, const vr_rmaterial *m,
   vr_bsdf_eval_at(m->bsdf, pt, state, (vr_vec3){ns[0], ns[1], ns[2]},
                   (vr_vec3){wo[0], wo[1], wo[2]}, (vr_vec3){wi[0], wi[1], wi[2]}, p->nwl, p->wl,
                   VR_TRANSPORT_IMPORTANCE, f, &pb);
-  double pmix = OUTSIDE_PORTAL_SHARE * vr_portal_pdf(L, hit->p, false, wi) + (1 - OUTSIDE_PORTAL_SHARE) * pb;
+  double pmix = OUTSIDE_PORTAL_SHARE * vr_portal_pdf(L, hit->p, &pw, wi) + (1 - OUTSIDE_PORTAL_SHARE) * pb;
   if (!(pmix > 0)) return false;
   double cosi = fabs(vr_dot3(ns, wi));
   memset(bs, 0, sizeof *bs);

@@ -127,18 +127,24 @@ double vr_lights_ground_power(const vr_lights *L);
 
 /* ---- portals (portals.c) ---- */
 
+/* How much each portal is worth sampling from x, once per shading point:
+ * a solid-angle estimate, for the sky (sky) times the share of the portal
+ * above x's horizontal plane (the sky gives nothing below the horizon), and
+ * that share.  sum 0: no portal is usable from x. */
+typedef struct vr_portal_weights {
+  bool sky;
+  double sum, w[VR_MAX_PORTALS], share[VR_MAX_PORTALS];
+} vr_portal_weights;
+void vr_portal_weights_at(const vr_lights *L, const double x[3], bool sky, vr_portal_weights *pw);
 /* A direction through one of the portals from x (u0 picks the portal, u1
  * and u2 the point; false if none is usable from x), and the portal
- * strategy's density in solid angle at x for a direction.  With sky, only
- * the part of each portal above x's horizontal plane is sampled (the sky
- * gives nothing below the horizon), and the density is that of the
- * directions that rise (0 for the others). */
-bool vr_portal_sample(const vr_lights *L, const double x[3], bool sky, double u0, double u1,
-                      double u2, double dir[3]);
-double vr_portal_pdf(const vr_lights *L, const double x[3], bool sky, const double dir[3]);
-/* Whether some portal can be sampled from x (for the sky: some part of one
- * lies above x). */
-bool vr_portal_usable(const vr_lights *L, const double x[3], bool sky);
+ * strategy's density in solid angle at x for a direction, both with x's
+ * weights.  For the sky only the part of each portal above x is sampled,
+ * and the density is that of the directions that rise (0 for the others). */
+bool vr_portal_sample(const vr_lights *L, const double x[3], const vr_portal_weights *pw,
+                      double u0, double u1, double u2, double dir[3]);
+double vr_portal_pdf(const vr_lights *L, const double x[3], const vr_portal_weights *pw,
+                     const double dir[3]);
 /* A point uniform over the portals' total area (u0 picks the portal by
  * area, u1 and u2 the point), and which portal. */
 void vr_portal_point(const vr_lights *L, double u0, double u1, double u2, double y[3],

@@ -159,25 +159,18 @@ static double sky_share(const vr_portal *q, const double x[3]) {
   return above_part(q, x, poly, &n);
 }
 
-/* The weights of all portals at x and their sum; for the sky, each times
- * its share above x (sky_share). */
-static double weights(const vr_lights *L, const double x[3], bool sky, double *w, double *share) {
-  double sum = 0;
+void vr_portal_weights_at(const vr_lights *L, const double x[3], bool sky, vr_portal_weights *pw) {
+  pw->sky = sky;
+  pw->sum = 0;
   for (size_t j = 0; j < L->nportals; j++) {
-    share[j] = sky ? sky_share(&L->portals[j], x) : 1;
-    sum += w[j] = share[j] > 0 ? weight(&L->portals[j], x) * share[j] : 0;
+    pw->share[j] = sky ? sky_share(&L->portals[j], x) : 1;
+    pw->sum += pw->w[j] = pw->share[j] > 0 ? weight(&L->portals[j], x) * pw->share[j] : 0;
   }
-  return sum;
 }
 
-bool vr_portal_usable(const vr_lights *L, const double x[3], bool sky) {
-  double w[VR_MAX_PORTALS], share[VR_MAX_PORTALS];
-  return L->nportals && weights(L, x, sky, w, share) > 0;
-}
-
-bool vr_portal_sample(const vr_lights *L, const double x[3], bool sky, double u0, double u1,
-                      double u2, double dir[3]) {
-  double w[VR_MAX_PORTALS], share[VR_MAX_PORTALS], sum = weights(L, x, sky, w, share);
+bool vr_portal_sample(const vr_lights *L, const double x[3], const vr_portal_weights *pw,
+                      double u0, double u1, double u2, double dir[3]) {
+  const double *w = pw->w, *share = pw->share, sum = pw->sum;
   if (!(sum > 0)) return false;
   double t = u0 * sum;
   size_t j = 0;
@@ -217,11 +210,13 @@ bool vr_portal_sample(const vr_lights *L, const double x[3], bool sky, double u0
   return fabs(vr_dot3(q->n, dir)) > 1e-12;
 }
 
-double vr_portal_pdf(const vr_lights *L, const double x[3], bool sky, const double dir[3]) {
-  double w[VR_MAX_PORTALS], share[VR_MAX_PORTALS], sum = weights(L, x, sky, w, share), pdf = 0;
+double vr_portal_pdf(const vr_lights *L, const double x[3], const vr_portal_weights *pw,
+                     const double dir[3]) {
+  const double *w = pw->w, *share = pw->share, sum = pw->sum;
+  double pdf = 0;
   if (!(sum > 0)) return 0;
   /* For the sky, only directions that rise: the part sampled is above x. */
-  if (sky && dir[2] < 0) return 0;
+  if (pw->sky && dir[2] < 0) return 0;
   for (size_t j = 0; j < L->nportals; j++) {
     if (!(w[j] > 0)) continue;
     const vr_portal *q = &L->portals[j];

@@ -23,18 +23,20 @@ bool vr_lights_sample_sky(const vr_lights *L, const double x[3], const double n[
                          const double *wl, const vr_rng_key *key, vr_light_sample *out) {
   if (!L->has_sky) return false;
   double pdf, u = vr_rng(key, VR_DIM_SKY_U), v = vr_rng(key, VR_DIM_SKY_V);
-  if (L->nportals && vr_portal_usable(L, x, true)) {
+  vr_portal_weights pw = {0};
+  if (L->nportals) vr_portal_weights_at(L, x, true, &pw);
+  if (pw.sum > 0) {
     /* The portal / sky mixture of portals.c, weighted by its density.
      * Where no portal has a part above x (a ceiling, a point above every
      * window's head) the sky's own sampler takes every sample. */
     double q = VR_PORTAL_SHARE;
     if (vr_rng(key, VR_DIM_SKY_PICK) < q) {
-      if (!vr_portal_sample(L, x, true, vr_rng(key, VR_DIM_SKY_W), u, v, out->dir)) return false;
+      if (!vr_portal_sample(L, x, &pw, vr_rng(key, VR_DIM_SKY_W), u, v, out->dir)) return false;
     } else {
       vr_sky_sample(L->sky, u, v, out->dir, &pdf);
     }
     if (out->dir[2] < 0) return false; /* the sky gives nothing below the horizon */
-    pdf = q * vr_portal_pdf(L, x, true, out->dir) + (1 - q) * vr_sky_pdf(L->sky, out->dir);
+    pdf = q * vr_portal_pdf(L, x, &pw, out->dir) + (1 - q) * vr_sky_pdf(L->sky, out->dir);
   } else {
     vr_sky_sample(L->sky, u, v, out->dir, &pdf);
   }
